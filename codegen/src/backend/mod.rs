@@ -1,0 +1,206 @@
+//! Translation of a validated module to the non-WGSL targets, one entry point at a time.
+//!
+//! Overrides are baked first (`process_overrides`, then `compact` so no stale `override` or
+//! unused item remains), the result is re-validated, and each backend is called with every
+//! option set explicitly so that debug and release builds emit the same bytes.
+
+mod glsl;
+mod hlsl;
+mod msl;
+mod spirv;
+
+use naga::back::PipelineConstants;
+use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
+use nimbus_dsl::ir::{GlobalKind, Module as DslModule, Stage};
+
+use crate::manifest::{BindingManifest, ManifestBinding, ManifestOverride, ManifestStruct, ManifestField};
+use crate::target::Target;
+use crate::validate::Validated;
+
+/// The contents of one emitted file.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Contents {
+    Text(String),
+    SpirV(Vec<u32>),
+}
+
+impl Contents {
+    /// Bytes as written to disk (SPIR-V little-endian words).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        match self {
+            Contents::Text(s) => s.as_bytes().to_vec(),
+            Contents::SpirV(words) => words.iter().flat_map(|w| w.to_le_bytes()).collect(),
+        }
+    }
+
+    pub fn len_bytes(&self) -> usize {
+        match self {
+            Contents::Text(s) => s.len(),
+            Contents::SpirV(words) => words.len() * 4,
+        }
+    }
+}
+
+pub(crate) fn naga_stage(stage: Stage) -> naga::ShaderStage {
+    match stage {
+        Stage::Vertex => naga::ShaderStage::Vertex,
+        Stage::Fragment => naga::ShaderStage::Fragment,
+        Stage::Compute => naga::ShaderStage::Compute,
+    }
+}
+
+/// The override values of a module (its defaults; a host may bake others).
+pub fn default_constants(dsl: &DslModule) -> PipelineConstants {
+    let mut pc = PipelineConstants::default();
+    for g in &dsl.globals {
+        if let GlobalKind::Override { default } = g.kind {
+            let v = match default {
+                nimbus_dsl::ir::Literal::F32(b) => f64::from(f32::from_bits(b)),
+                nimbus_dsl::ir::Literal::I32(v) => f64::from(v),
+                nimbus_dsl::ir::Literal::U32(v) => f64::from(v),
+                nimbus_dsl::ir::Literal::Bool(v) => f64::from(u8::from(v)),
+            };
+            pc.insert(g.name.clone(), v);
+        }
+    }
+    pc
+}
+
+/// A module specialised for one entry point with overrides baked.
+pub(crate) struct Baked {
+    pub module: naga::Module,
+    pub info: ModuleInfo,
+}
+
+pub(crate) fn bake(
+    v: &Validated,
+    stage: Stage,
+    entry: &str,
+    constants: &PipelineConstants,
+) -> Result<Baked, String> {
+    let (m, _) = naga::back::pipeline_constants::process_overrides(
+        &v.module,
+        &v.info,
+        Some((naga_stage(stage), entry)),
+        constants,
+    )
+    .map_err(|e| e.to_string())?;
+    let mut module = m.into_owned();
+    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+    let info = Validator::new(ValidationFlags::all(), Capabilities::default())
+        .validate(&module)
+        .map_err(|e| format!("re-validation after baking overrides failed: {}", e.as_inner()))?;
+    Ok(Baked { module, info })
+}
+
+/// Translates one entry point to `target`; returns the file contents and, for targets that
+/// need one, the binding manifest.
+pub fn translate(
+    v: &Validated,
+    dsl: &DslModule,
+    variant: &str,
+    target: Target,
+    stage: Stage,
+    entry: &str,
+) -> Result<(Contents, Option<BindingManifest>), String> {
+    let constants = default_constants(dsl);
+    let baked = bake(v, stage, entry, &constants)?;
+    let (contents, names) = match target {
+        Target::Wgsl => return Err("WGSL is printed, not translated".into()),
+        Target::GlslEs300 | Target::Glsl450 => glsl::write(&baked, target, stage, entry)?,
+        Target::Hlsl => hlsl::write(&baked, stage, entry)?,
+        Target::Msl => msl::write(&baked, dsl, stage, entry)?,
+        Target::SpirV => (spirv::write(&baked, stage, entry)?, Vec::new()),
+    };
+    if !target.has_binding_manifest() {
+        return Ok((contents, None));
+    }
+    let manifest = manifest_for(&baked, dsl, variant, target, stage, entry, &constants, &names);
+    Ok((contents, Some(manifest)))
+}
+
+/// Target-specific names, keyed by the WGSL global name.
+pub(crate) type TargetNames = Vec<(String, String)>;
+
+#[allow(clippy::too_many_arguments, reason = "plain data gathered for one manifest")]
+fn manifest_for(
+    baked: &Baked,
+    dsl: &DslModule,
+    variant: &str,
+    target: Target,
+    stage: Stage,
+    entry: &str,
+    constants: &PipelineConstants,
+    names: &TargetNames,
+) -> BindingManifest {
+    let mut bindings = Vec::new();
+    for (_, g) in baked.module.global_variables.iter() {
+        let (Some(name), Some(rb)) = (&g.name, &g.binding) else {
+            continue;
+        };
+        let Some(src) = dsl.globals.iter().find(|d| &d.name == name) else {
+            continue;
+        };
+        let kind = match (&src.kind, src.ty) {
+            (GlobalKind::Uniform { .. }, _) => "uniform",
+            (GlobalKind::Storage { .. }, _) => "storage",
+            (GlobalKind::Handle { .. }, nimbus_dsl::ir::Type::Sampler) => "sampler",
+            (GlobalKind::Handle { .. }, _) => "texture",
+            (GlobalKind::Override { .. }, _) => continue,
+        };
+        let target_name = names
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, t)| t.clone())
+            .unwrap_or_default();
+        bindings.push(ManifestBinding {
+            name: name.clone(),
+            kind,
+            group: rb.group,
+            binding: rb.binding,
+            wgsl_type: src.ty.wgsl(),
+            target_name,
+        });
+    }
+    bindings.sort_by(|a, b| (a.group, a.binding).cmp(&(b.group, b.binding)));
+    let mut structs = Vec::new();
+    for (_, ty) in baked.module.types.iter() {
+        if let naga::TypeInner::Struct { members, span } = &ty.inner {
+            let Some(name) = &ty.name else { continue };
+            let Some(def) = dsl.structs.iter().find(|s| s.name == name) else {
+                continue;
+            };
+            structs.push(ManifestStruct {
+                name: name.clone(),
+                size: *span,
+                fields: members
+                    .iter()
+                    .zip(def.fields)
+                    .map(|(m, f)| ManifestField {
+                        name: m.name.clone().unwrap_or_default(),
+                        wgsl_type: f.ty.wgsl(),
+                        offset: m.offset,
+                    })
+                    .collect(),
+            });
+        }
+    }
+    let mut overrides: Vec<ManifestOverride> = constants
+        .iter()
+        .map(|(k, v)| ManifestOverride {
+            name: k.clone(),
+            value: *v,
+        })
+        .collect();
+    overrides.sort_by(|a, b| a.name.cmp(&b.name));
+    BindingManifest {
+        module: dsl.name.clone(),
+        variant: variant.to_string(),
+        target: target.name().to_string(),
+        entry_point: entry.to_string(),
+        stage: stage.wgsl().to_string(),
+        bindings,
+        structs,
+        overrides,
+    }
+}

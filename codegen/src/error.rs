@@ -1,0 +1,89 @@
+//! Codegen errors. Each names what is wrong and where: the module and variant, the
+//! `#[shader_fn]` and Rust line behind a rejected line of WGSL, the target, or the output path.
+
+use std::path::PathBuf;
+
+use nimbus_dsl::ir::SourceLoc;
+use thiserror::Error;
+
+use crate::target::Target;
+
+/// Where in the Rust source a generated line came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Origin {
+    /// The Rust name of the `#[shader_fn]` or entry point.
+    pub function: String,
+    pub loc: SourceLoc,
+    /// The offending WGSL line, for context.
+    pub wgsl_line: String,
+}
+
+impl std::fmt::Display for Origin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "in `{}` at {} (generated WGSL: `{}`)",
+            self.function,
+            self.loc,
+            self.wgsl_line.trim()
+        )
+    }
+}
+
+fn origin_text(origin: &Option<Origin>) -> String {
+    match origin {
+        Some(o) => o.to_string(),
+        None => "(naga gave no location)".to_string(),
+    }
+}
+
+#[derive(Debug, Error)]
+pub enum CodegenError {
+    #[error(transparent)]
+    Dsl(#[from] nimbus_dsl::DslError),
+
+    #[error("`{function}` ({loc}) contains a non-finite literal (NaN or infinity), which WGSL cannot spell")]
+    NonFiniteLiteral { function: String, loc: SourceLoc },
+
+    #[error("unknown target `{given}`; known targets: {known}")]
+    UnknownTarget { given: String, known: String },
+
+    #[error("unknown module or variant `{given}`; run `nimbus list` to see them (known: {known})")]
+    UnknownVariant { given: String, known: String },
+
+    #[error("module `{module}` variant `{variant}`: naga could not parse the generated WGSL {}: {message}", origin_text(.origin))]
+    Parse {
+        module: String,
+        variant: String,
+        origin: Option<Origin>,
+        message: String,
+    },
+
+    #[error("module `{module}` variant `{variant}`: naga rejected the generated WGSL {}: {message}", origin_text(.origin))]
+    Validation {
+        module: String,
+        variant: String,
+        origin: Option<Origin>,
+        message: String,
+    },
+
+    #[error("module `{module}` variant `{variant}`: the {target} backend failed for entry point `{entry_point}`: {message}")]
+    Backend {
+        module: String,
+        variant: String,
+        target: Target,
+        entry_point: String,
+        message: String,
+    },
+
+    #[error("cannot {action} `{}`: {source}", path.display())]
+    Output {
+        action: &'static str,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+
+    #[error("output folder `{}` exists and is not a Nimbus output folder (no {marker}); refusing to replace it", path.display())]
+    ForeignOutput { path: PathBuf, marker: &'static str },
+}

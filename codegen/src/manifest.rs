@@ -1,0 +1,65 @@
+//! Binding manifests: JSON written beside each GLSL, HLSL and MSL file so another engine can
+//! bind uniforms and textures by name (naga renames them per target), plus the uniform struct
+//! layouts and the override values that were baked in.
+
+use serde::Serialize;
+
+/// One resource binding of an entry point.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ManifestBinding {
+    /// The WGSL (source) name of the global.
+    pub name: String,
+    /// `uniform`, `storage`, `texture` or `sampler`.
+    pub kind: &'static str,
+    pub group: u32,
+    pub binding: u32,
+    /// The WGSL type.
+    pub wgsl_type: String,
+    /// What to bind in the target: a GLSL block or sampler name, an HLSL register, an MSL slot.
+    pub target_name: String,
+}
+
+/// One member of a uniform struct, with its byte offset (from naga's layout).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ManifestField {
+    pub name: String,
+    pub wgsl_type: String,
+    pub offset: u32,
+}
+
+/// A struct's layout.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ManifestStruct {
+    pub name: String,
+    pub size: u32,
+    pub fields: Vec<ManifestField>,
+}
+
+/// A pipeline-overridable constant and the value baked into this output.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ManifestOverride {
+    pub name: String,
+    pub value: f64,
+}
+
+/// Everything a host needs to bind one entry point of one target.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BindingManifest {
+    pub module: String,
+    pub variant: String,
+    pub target: String,
+    pub entry_point: String,
+    pub stage: String,
+    pub bindings: Vec<ManifestBinding>,
+    pub structs: Vec<ManifestStruct>,
+    pub overrides: Vec<ManifestOverride>,
+}
+
+impl BindingManifest {
+    /// Pretty JSON with a trailing newline.
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+        s.push('\n');
+        s
+    }
+}

@@ -1,0 +1,346 @@
+//! Specialisation: what a variant fixes is folded, and what it leaves unreachable is removed.
+//!
+//! Most specialisation already happened while recording (an `if` on a `#[spec]` value records
+//! only the taken branch). This pass finishes the job on the IR: literal arithmetic is folded,
+//! an `if` whose condition folded to a literal keeps only the taken arm, statements after a
+//! `return`/`break` are dropped, and functions, globals and structs that no entry point reaches
+//! are removed, so a branch decided at generation time leaves no code, binding or helper behind.
+
+use std::collections::BTreeSet;
+
+use nimbus_dsl::ir::{
+    BinaryOp, Block, ExprId, ExprKind, Function, Literal, Module, Stmt, Type, UnaryOp,
+};
+
+/// Specialises a recorded module in place.
+pub fn specialise(module: &mut Module) {
+    for f in &mut module.functions {
+        fold_constants(f);
+        let body = std::mem::take(&mut f.body);
+        f.body = prune_block(f, body);
+    }
+    remove_unreachable(module);
+}
+
+fn lit(f: &Function, id: ExprId) -> Option<Literal> {
+    match f.expr(id).kind {
+        ExprKind::Literal(l) => Some(l),
+        _ => None,
+    }
+}
+
+fn fold_binary(op: BinaryOp, a: Literal, b: Literal) -> Option<Literal> {
+    use Literal::*;
+    Some(match (a, b) {
+        (F32(x), F32(y)) => {
+            let (x, y) = (f32::from_bits(x), f32::from_bits(y));
+            let r = match op {
+                BinaryOp::Add => Literal::f32(x + y),
+                BinaryOp::Sub => Literal::f32(x - y),
+                BinaryOp::Mul => Literal::f32(x * y),
+                BinaryOp::Div => Literal::f32(x / y),
+                BinaryOp::Lt => Bool(x < y),
+                BinaryOp::Le => Bool(x <= y),
+                BinaryOp::Gt => Bool(x > y),
+                BinaryOp::Ge => Bool(x >= y),
+                BinaryOp::Eq => Bool(x == y),
+                BinaryOp::Ne => Bool(x != y),
+                _ => return None,
+            };
+            // Never fold into a value WGSL cannot spell; naga reports the expression instead.
+            if let F32(bits) = r {
+                if !f32::from_bits(bits).is_finite() {
+                    return None;
+                }
+            }
+            r
+        }
+        (I32(x), I32(y)) => match op {
+            BinaryOp::Add => I32(x.wrapping_add(y)),
+            BinaryOp::Sub => I32(x.wrapping_sub(y)),
+            BinaryOp::Mul => I32(x.wrapping_mul(y)),
+            BinaryOp::Lt => Bool(x < y),
+            BinaryOp::Le => Bool(x <= y),
+            BinaryOp::Gt => Bool(x > y),
+            BinaryOp::Ge => Bool(x >= y),
+            BinaryOp::Eq => Bool(x == y),
+            BinaryOp::Ne => Bool(x != y),
+            // Division and remainder are left to naga, which reports division by zero.
+            _ => return None,
+        },
+        (U32(x), U32(y)) => match op {
+            BinaryOp::Add => U32(x.wrapping_add(y)),
+            BinaryOp::Sub => U32(x.wrapping_sub(y)),
+            BinaryOp::Mul => U32(x.wrapping_mul(y)),
+            BinaryOp::BitAnd => U32(x & y),
+            BinaryOp::BitOr => U32(x | y),
+            BinaryOp::BitXor => U32(x ^ y),
+            BinaryOp::Lt => Bool(x < y),
+            BinaryOp::Le => Bool(x <= y),
+            BinaryOp::Gt => Bool(x > y),
+            BinaryOp::Ge => Bool(x >= y),
+            BinaryOp::Eq => Bool(x == y),
+            BinaryOp::Ne => Bool(x != y),
+            _ => return None,
+        },
+        (Bool(x), Bool(y)) => match op {
+            BinaryOp::And | BinaryOp::BitAnd => Bool(x && y),
+            BinaryOp::Or | BinaryOp::BitOr => Bool(x || y),
+            BinaryOp::Eq => Bool(x == y),
+            BinaryOp::Ne | BinaryOp::BitXor => Bool(x != y),
+            _ => return None,
+        },
+        _ => return None,
+    })
+}
+
+/// Folds literal-only expressions. Children are always recorded before their parents, so one
+/// pass in index order sees folded children.
+fn fold_constants(f: &mut Function) {
+    for i in 0..f.exprs.len() {
+        let id = ExprId(i as u32);
+        let folded = match f.expr(id).kind.clone() {
+            ExprKind::Unary(op, a) => match (op, lit(f, a)) {
+                (UnaryOp::Neg, Some(Literal::F32(x))) => Some(Literal::f32(-f32::from_bits(x))),
+                (UnaryOp::Neg, Some(Literal::I32(x))) if x != i32::MIN => Some(Literal::I32(-x)),
+                (UnaryOp::Not, Some(Literal::Bool(x))) => Some(Literal::Bool(!x)),
+                _ => None,
+            },
+            ExprKind::Binary(op, a, b) => match (lit(f, a), lit(f, b)) {
+                (Some(x), Some(y)) => fold_binary(op, x, y),
+                _ => None,
+            },
+            ExprKind::Convert(s, a) => match lit(f, a) {
+                Some(Literal::I32(x)) if s == nimbus_dsl::ir::Scalar::F32 => {
+                    Some(Literal::f32(x as f32))
+                }
+                Some(Literal::U32(x)) if s == nimbus_dsl::ir::Scalar::F32 => {
+                    Some(Literal::f32(x as f32))
+                }
+                _ => None,
+            },
+            ExprKind::Select {
+                if_false,
+                if_true,
+                cond,
+            } => match lit(f, cond) {
+                Some(Literal::Bool(c)) => {
+                    let pick = if c { if_true } else { if_false };
+                    f.exprs[i].kind = f.expr(pick).kind.clone();
+                    None
+                }
+                _ => None,
+            },
+            _ => None,
+        };
+        if let Some(l) = folded {
+            if l.ty() == f.exprs[i].ty {
+                f.exprs[i].kind = ExprKind::Literal(l);
+            }
+        }
+    }
+}
+
+/// Drops arms decided by a literal condition and statements after one that diverges.
+fn prune_block(f: &Function, block: Block) -> Block {
+    let mut out = Block::new();
+    for stmt in block {
+        let stmts = match stmt {
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                loc,
+            } => match lit(f, cond) {
+                Some(Literal::Bool(true)) => prune_block(f, then),
+                Some(Literal::Bool(false)) => prune_block(f, otherwise),
+                _ => vec![Stmt::If {
+                    cond,
+                    then: prune_block(f, then),
+                    otherwise: prune_block(f, otherwise),
+                    loc,
+                }],
+            },
+            Stmt::For {
+                counter,
+                start,
+                end,
+                body,
+                loc,
+            } => vec![Stmt::For {
+                counter,
+                start,
+                end,
+                body: prune_block(f, body),
+                loc,
+            }],
+            other => vec![other],
+        };
+        for s in stmts {
+            let diverges = s.diverges();
+            out.push(s);
+            if diverges {
+                return out;
+            }
+        }
+    }
+    out
+}
+
+/// Calls `visit` on every expression reachable from the statements of `block`.
+pub fn walk_block(f: &Function, block: &Block, visit: &mut impl FnMut(ExprId)) {
+    for stmt in block {
+        match stmt {
+            Stmt::Let { value, .. } | Stmt::Assign { value, .. } => walk_expr(f, *value, visit),
+            Stmt::Var { init, .. } => {
+                if let Some(i) = init {
+                    walk_expr(f, *i, visit);
+                }
+            }
+            Stmt::Store { target, value, .. } => {
+                walk_expr(f, *target, visit);
+                walk_expr(f, *value, visit);
+            }
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                ..
+            } => {
+                walk_expr(f, *cond, visit);
+                walk_block(f, then, visit);
+                walk_block(f, otherwise, visit);
+            }
+            Stmt::For {
+                start, end, body, ..
+            } => {
+                walk_expr(f, *start, visit);
+                walk_expr(f, *end, visit);
+                walk_block(f, body, visit);
+            }
+            Stmt::Return { value, .. } => {
+                if let Some(v) = value {
+                    walk_expr(f, *v, visit);
+                }
+            }
+            Stmt::Break { .. } | Stmt::Continue { .. } => {}
+        }
+    }
+}
+
+/// Calls `visit` on `id` and every expression it depends on.
+pub fn walk_expr(f: &Function, id: ExprId, visit: &mut impl FnMut(ExprId)) {
+    visit(id);
+    match &f.expr(id).kind {
+        ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
+        ExprKind::Unary(_, a)
+        | ExprKind::Swizzle(a, _)
+        | ExprKind::Member(a, _)
+        | ExprKind::Convert(_, a)
+        | ExprKind::Bitcast(_, a) => walk_expr(f, *a, visit),
+        ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
+            walk_expr(f, *a, visit);
+            walk_expr(f, *b, visit);
+        }
+        ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
+            for a in args {
+                walk_expr(f, *a, visit);
+            }
+        }
+        ExprKind::Select {
+            if_false,
+            if_true,
+            cond,
+        } => {
+            walk_expr(f, *if_false, visit);
+            walk_expr(f, *if_true, visit);
+            walk_expr(f, *cond, visit);
+        }
+        ExprKind::Sample {
+            texture,
+            sampler,
+            coords,
+            kind,
+        } => {
+            walk_expr(f, *texture, visit);
+            walk_expr(f, *sampler, visit);
+            walk_expr(f, *coords, visit);
+            if let nimbus_dsl::ir::SampleKind::Level(l) = kind {
+                walk_expr(f, *l, visit);
+            }
+        }
+    }
+}
+
+fn collect_struct(ty: Type, out: &mut BTreeSet<&'static str>) {
+    if let Type::Struct(def) = ty {
+        if out.insert(def.name) {
+            for field in def.fields {
+                collect_struct(field.ty, out);
+            }
+        }
+    }
+}
+
+/// Removes functions, globals and structs that no entry point reaches.
+fn remove_unreachable(module: &mut Module) {
+    let mut live_fns: BTreeSet<String> =
+        module.entry_points.iter().map(|e| e.function.clone()).collect();
+    let mut live_globals = BTreeSet::new();
+    let mut live_structs = BTreeSet::new();
+    // Callees are recorded before callers, so walking from the back reaches a fixed point.
+    for f in module.functions.iter().rev() {
+        if !live_fns.contains(&f.name) {
+            continue;
+        }
+        for p in &f.params {
+            collect_struct(p.ty, &mut live_structs);
+        }
+        if let Some(r) = f.result {
+            collect_struct(r, &mut live_structs);
+        }
+        let mut visit = |id: ExprId| {
+            let e = f.expr(id);
+            collect_struct(e.ty, &mut live_structs);
+            match &e.kind {
+                ExprKind::Call(name, _) => {
+                    live_fns.insert(name.clone());
+                }
+                ExprKind::Global(g) => {
+                    live_globals.insert(g.0);
+                }
+                _ => {}
+            }
+        };
+        walk_block(f, &f.body, &mut visit);
+        for l in &f.locals {
+            collect_struct(l.ty, &mut live_structs);
+        }
+    }
+    module.functions.retain(|f| live_fns.contains(&f.name));
+    for (i, g) in module.globals.iter().enumerate() {
+        if live_globals.contains(&(i as u32)) {
+            collect_struct(g.ty, &mut live_structs);
+        }
+    }
+    // Globals are referenced by index; keep indices stable by renumbering through a map.
+    let mut remap = vec![None; module.globals.len()];
+    let mut kept = Vec::new();
+    for (i, g) in module.globals.drain(..).enumerate() {
+        if live_globals.contains(&(i as u32)) {
+            remap[i] = Some(kept.len() as u32);
+            kept.push(g);
+        }
+    }
+    module.globals = kept;
+    for f in &mut module.functions {
+        for e in &mut f.exprs {
+            if let ExprKind::Global(g) = &mut e.kind {
+                if let Some(Some(new)) = remap.get(g.0 as usize) {
+                    g.0 = *new;
+                }
+            }
+        }
+    }
+    module.structs.retain(|s| live_structs.contains(s.name));
+}

@@ -1,0 +1,97 @@
+//! naga as the single gate: the printed WGSL is parsed and validated with every check on, and
+//! naga's errors are mapped back through the span table to the Rust source.
+
+use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
+
+use crate::error::{CodegenError, Origin};
+use crate::wgsl::SpanTable;
+
+/// A parsed and validated module.
+pub struct Validated {
+    pub module: naga::Module,
+    pub info: ModuleInfo,
+}
+
+fn origin_at(wgsl: &str, spans: &SpanTable, offset: usize) -> Option<Origin> {
+    let entry = spans.lookup(offset)?;
+    let line_start = wgsl[..offset.min(wgsl.len())].rfind('\n').map_or(0, |i| i + 1);
+    let line_end = wgsl[line_start..]
+        .find('\n')
+        .map_or(wgsl.len(), |i| line_start + i);
+    Some(Origin {
+        function: entry.rust_name.clone(),
+        loc: entry.loc,
+        wgsl_line: wgsl[line_start..line_end].to_string(),
+    })
+}
+
+fn chain(e: &dyn std::error::Error) -> String {
+    let mut msg = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        let text = s.to_string();
+        if !msg.contains(&text) {
+            msg.push_str(": ");
+            msg.push_str(&text);
+        }
+        source = s.source();
+    }
+    msg
+}
+
+/// Parses and validates `wgsl`; errors name the module, variant and Rust origin.
+pub fn validate(
+    wgsl: &str,
+    spans: &SpanTable,
+    module_name: &str,
+    variant: &str,
+) -> Result<Validated, CodegenError> {
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
+        let origin = e
+            .labels()
+            .filter_map(|(span, _)| span.to_range())
+            .find_map(|r| origin_at(wgsl, spans, r.start));
+        let mut message = e.message().to_string();
+        for (_, label) in e.labels() {
+            if !label.is_empty() && !message.contains(label) {
+                message.push_str(&format!(" ({label})"));
+            }
+        }
+        CodegenError::Parse {
+            module: module_name.to_string(),
+            variant: variant.to_string(),
+            origin,
+            message,
+        }
+    })?;
+    let mut validator = Validator::new(ValidationFlags::all(), Capabilities::default());
+    let info = validator.validate(&module).map_err(|e| {
+        let mut origin = e
+            .spans()
+            .filter_map(|(span, _)| span.to_range())
+            .find_map(|r| origin_at(wgsl, spans, r.start));
+        if origin.is_none() {
+            // Some errors (e.g. a stage using a forbidden operation) carry no span; they still
+            // name the function or entry point, which the span table knows.
+            let name = match e.as_inner() {
+                naga::valid::ValidationError::Function { name, .. }
+                | naga::valid::ValidationError::EntryPoint { name, .. } => Some(name.clone()),
+                _ => None,
+            };
+            origin = name.and_then(|n| {
+                spans.function(&n).map(|entry| Origin {
+                    function: entry.rust_name.clone(),
+                    loc: entry.loc,
+                    wgsl_line: format!("fn {n}(..)"),
+                })
+            });
+        }
+        CodegenError::Validation {
+            module: module_name.to_string(),
+            variant: variant.to_string(),
+            origin,
+            message: chain(e.as_inner()),
+        }
+    })?;
+    Ok(Validated { module, info })
+}

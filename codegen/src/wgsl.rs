@@ -1,0 +1,511 @@
+//! The WGSL printer: the primary output people review, so it is written for reading.
+//!
+//! Names and doc comments come from the Rust source, expressions get only the parentheses WGSL
+//! needs, formatting is fixed, and a span table maps every printed statement back to the
+//! `#[shader_fn]` and Rust line it came from (see [`SpanTable`]).
+
+use std::fmt::Write as _;
+use std::ops::Range;
+
+use nimbus_dsl::ir::{
+    BinaryOp, Block, ExprId, ExprKind, Function, GlobalKind, Literal, Module, SampleKind,
+    SourceLoc, Stmt, Type, UnaryOp,
+};
+
+use crate::error::CodegenError;
+
+/// Where one range of printed WGSL came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpanEntry {
+    pub range: Range<usize>,
+    /// WGSL name of the function (or `<module>` for declarations).
+    pub function: String,
+    /// Rust name of the `#[shader_fn]` (or entry point).
+    pub rust_name: String,
+    pub loc: SourceLoc,
+}
+
+/// Printed-byte-range → source table for one printed module.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SpanTable {
+    entries: Vec<SpanEntry>,
+}
+
+impl SpanTable {
+    /// The innermost entry containing byte `offset`.
+    pub fn lookup(&self, offset: usize) -> Option<&SpanEntry> {
+        self.entries
+            .iter()
+            .filter(|e| e.range.start <= offset && offset < e.range.end.max(e.range.start + 1))
+            .min_by_key(|e| e.range.end - e.range.start)
+    }
+
+    /// The entry of a whole function by WGSL name.
+    pub fn function(&self, name: &str) -> Option<&SpanEntry> {
+        self.entries
+            .iter()
+            .filter(|e| e.function == name)
+            .max_by_key(|e| e.range.end - e.range.start)
+    }
+
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+}
+
+/// Operator precedence classes (WGSL forbids mixing some of them without parentheses).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Prec {
+    Or = 1,
+    And = 2,
+    Bitwise = 3,
+    Relational = 4,
+    Shift = 5,
+    Additive = 6,
+    Multiplicative = 7,
+}
+
+fn prec(op: BinaryOp) -> Prec {
+    match op {
+        BinaryOp::Or => Prec::Or,
+        BinaryOp::And => Prec::And,
+        BinaryOp::BitAnd | BinaryOp::BitOr | BinaryOp::BitXor => Prec::Bitwise,
+        BinaryOp::Shl | BinaryOp::Shr => Prec::Shift,
+        BinaryOp::Add | BinaryOp::Sub => Prec::Additive,
+        BinaryOp::Mul | BinaryOp::Div | BinaryOp::Rem => Prec::Multiplicative,
+        _ => Prec::Relational,
+    }
+}
+
+/// Whether a binary child needs parentheses under parent `op` (on the right when `right`).
+fn needs_parens(parent: BinaryOp, child: BinaryOp, right: bool) -> bool {
+    let (p, c) = (prec(parent), prec(child));
+    match p {
+        Prec::Additive | Prec::Multiplicative => c < p || (right && c == p),
+        // Shift and bitwise operands are unary expressions in WGSL's grammar; bitwise chains of
+        // the same operator are allowed on the left.
+        Prec::Shift => true,
+        Prec::Bitwise => !(parent == child && !right),
+        Prec::Relational => c <= Prec::Relational,
+        Prec::And | Prec::Or => {
+            if c == Prec::Relational || c > Prec::Relational {
+                false
+            } else {
+                !(parent == child && !right)
+            }
+        }
+    }
+}
+
+fn float_literal(v: f32) -> Option<String> {
+    if !v.is_finite() {
+        return None;
+    }
+    let s = format!("{v:?}");
+    // `{:?}` prints the shortest string that round-trips in f32 ("0.75", "1e-6", "6400000.0").
+    Some(if s.contains(['.', 'e']) { s } else { format!("{s}.0") })
+}
+
+fn literal(l: Literal) -> Option<String> {
+    Some(match l {
+        Literal::F32(bits) => return float_literal(f32::from_bits(bits)),
+        Literal::I32(i32::MIN) => "i32(-2147483647 - 1)".to_string(),
+        Literal::I32(v) => format!("{v}i"),
+        Literal::U32(v) => format!("{v}u"),
+        Literal::Bool(v) => v.to_string(),
+    })
+}
+
+const SWIZZLE: [char; 4] = ['x', 'y', 'z', 'w'];
+
+struct Printer<'m> {
+    module: &'m Module,
+    out: String,
+    spans: Vec<SpanEntry>,
+    indent: usize,
+}
+
+/// Prints a specialised module as WGSL, with its span table.
+pub fn print_module(module: &Module, variant: &str) -> Result<(String, SpanTable), CodegenError> {
+    let mut p = Printer {
+        module,
+        out: String::new(),
+        spans: Vec::new(),
+        indent: 0,
+    };
+    p.module_header(variant);
+    for s in &module.structs {
+        p.struct_decl(s);
+    }
+    p.globals();
+    for f in &module.functions {
+        p.function(f)?;
+    }
+    // One trailing newline, no trailing blank line.
+    while p.out.ends_with("\n\n") {
+        p.out.pop();
+    }
+    Ok((p.out, SpanTable { entries: p.spans }))
+}
+
+impl Printer<'_> {
+    fn line(&mut self, text: &str) {
+        for _ in 0..self.indent {
+            self.out.push_str("    ");
+        }
+        self.out.push_str(text);
+        self.out.push('\n');
+    }
+
+    fn module_header(&mut self, variant: &str) {
+        let m = self.module;
+        self.line(&format!(
+            "// Generated by Nimbus from module `{}`, variant `{variant}`. Do not edit: change the Rust source.",
+            m.name
+        ));
+        for d in &m.doc {
+            self.line(&format!("// {d}").trim_end().to_string());
+        }
+        self.out.push('\n');
+    }
+
+    fn doc(&mut self, doc: &str) {
+        for d in doc.lines() {
+            self.line(format!("/// {d}").trim_end());
+        }
+    }
+
+    fn struct_decl(&mut self, s: &nimbus_dsl::ir::StructDef) {
+        self.doc(s.doc);
+        self.line(&format!("struct {} {{", s.name));
+        self.indent += 1;
+        for f in s.fields {
+            self.doc(f.doc);
+            self.line(&format!("{}: {},", f.name, f.ty.wgsl()));
+        }
+        self.indent -= 1;
+        self.line("}");
+        self.out.push('\n');
+    }
+
+    fn globals(&mut self) {
+        let m = self.module;
+        if m.globals.is_empty() {
+            return;
+        }
+        for g in &m.globals {
+            self.doc(&g.doc);
+            let decl = match &g.kind {
+                GlobalKind::Uniform { group, binding } => format!(
+                    "@group({group}) @binding({binding}) var<uniform> {}: {};",
+                    g.name,
+                    g.ty.wgsl()
+                ),
+                GlobalKind::Storage {
+                    group,
+                    binding,
+                    read_write,
+                } => format!(
+                    "@group({group}) @binding({binding}) var<storage, {}> {}: {};",
+                    if *read_write { "read_write" } else { "read" },
+                    g.name,
+                    g.ty.wgsl()
+                ),
+                GlobalKind::Handle { group, binding } => format!(
+                    "@group({group}) @binding({binding}) var {}: {};",
+                    g.name,
+                    g.ty.wgsl()
+                ),
+                GlobalKind::Override { default } => format!(
+                    "override {}: {} = {};",
+                    g.name,
+                    g.ty.wgsl(),
+                    literal(*default).unwrap_or_else(|| "0.0".into())
+                ),
+            };
+            self.line(&decl);
+        }
+        self.out.push('\n');
+    }
+
+    fn function(&mut self, f: &Function) -> Result<(), CodegenError> {
+        let start = self.out.len();
+        let entry = self.module.entry_point(&f.name);
+        for d in &f.doc {
+            self.line(format!("/// {d}").trim_end());
+        }
+        // The file but not the line: a line number would churn every snapshot on unrelated edits.
+        let mut origin = format!("// nimbus: `{}` from {}", f.rust_name, f.loc.file);
+        if !f.specialised.is_empty() {
+            let _ = write!(origin, ", specialised for {}", f.specialised.join(", "));
+        }
+        self.line(&origin);
+        let params: Vec<String> = f
+            .params
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let attr = entry
+                    .and_then(|e| e.inputs.get(i))
+                    .map(|a| format!("{a} "))
+                    .unwrap_or_default();
+                format!("{attr}{}: {}", p.name, p.ty.wgsl())
+            })
+            .collect();
+        let result = match (f.result, entry.and_then(|e| e.output)) {
+            (Some(t), Some(attr)) => format!(" -> {attr} {}", t.wgsl()),
+            (Some(t), None) => format!(" -> {}", t.wgsl()),
+            (None, _) => String::new(),
+        };
+        if let Some(e) = entry {
+            let stage = e.stage.wgsl();
+            if e.stage == nimbus_dsl::ir::Stage::Compute {
+                let [x, y, z] = e.workgroup_size;
+                self.line(&format!("@{stage} @workgroup_size({x}, {y}, {z})"));
+            } else {
+                self.line(&format!("@{stage}"));
+            }
+        }
+        self.line(&format!("fn {}({}){result} {{", f.name, params.join(", ")));
+        self.indent += 1;
+        self.block(f, &f.body)?;
+        self.indent -= 1;
+        self.line("}");
+        self.spans.push(SpanEntry {
+            range: start..self.out.len(),
+            function: f.name.clone(),
+            rust_name: f.rust_name.clone(),
+            loc: f.loc,
+        });
+        self.out.push('\n');
+        Ok(())
+    }
+
+    fn block(&mut self, f: &Function, block: &Block) -> Result<(), CodegenError> {
+        for stmt in block {
+            self.stmt(f, stmt)?;
+            if stmt.diverges() {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    fn span(&mut self, f: &Function, start: usize, loc: SourceLoc) {
+        self.spans.push(SpanEntry {
+            range: start..self.out.len(),
+            function: f.name.clone(),
+            rust_name: f.rust_name.clone(),
+            loc,
+        });
+    }
+
+    fn stmt(&mut self, f: &Function, stmt: &Stmt) -> Result<(), CodegenError> {
+        let start = self.out.len();
+        match stmt {
+            Stmt::Let { local, value, .. } => {
+                let v = self.expr(f, *value)?;
+                self.line(&format!("let {} = {v};", f.local(*local).name));
+            }
+            Stmt::Var { local, init, .. } => {
+                let l = f.local(*local);
+                match init {
+                    Some(i) => {
+                        let v = self.expr(f, *i)?;
+                        self.line(&format!("var {}: {} = {v};", l.name, l.ty.wgsl()));
+                    }
+                    None => self.line(&format!("var {}: {};", l.name, l.ty.wgsl())),
+                }
+            }
+            Stmt::Assign { local, value, .. } => {
+                let v = self.expr(f, *value)?;
+                self.line(&format!("{} = {v};", f.local(*local).name));
+            }
+            Stmt::Store { target, value, .. } => {
+                let t = self.expr(f, *target)?;
+                let v = self.expr(f, *value)?;
+                self.line(&format!("{t} = {v};"));
+            }
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                ..
+            } => {
+                let c = self.expr(f, *cond)?;
+                self.line(&format!("if {c} {{"));
+                self.if_rest(f, then, otherwise)?;
+            }
+            Stmt::For {
+                counter,
+                start: from,
+                end,
+                body,
+                ..
+            } => {
+                let l = f.local(*counter);
+                let a = self.expr(f, *from)?;
+                let b = self.expr(f, *end)?;
+                let one = if l.ty == Type::I32 { "1i" } else { "1u" };
+                self.line(&format!(
+                    "for (var {n}: {t} = {a}; {n} < {b}; {n} += {one}) {{",
+                    n = l.name,
+                    t = l.ty.wgsl()
+                ));
+                self.indent += 1;
+                self.block(f, body)?;
+                self.indent -= 1;
+                self.line("}");
+            }
+            Stmt::Break { .. } => self.line("break;"),
+            Stmt::Continue { .. } => self.line("continue;"),
+            Stmt::Return { value, .. } => match value {
+                Some(v) => {
+                    let v = self.expr(f, *v)?;
+                    self.line(&format!("return {v};"));
+                }
+                None => self.line("return;"),
+            },
+        }
+        self.span(f, start, stmt.loc());
+        Ok(())
+    }
+
+    /// The arms of an `if` whose header line is printed; folds `else { if .. }` into `else if`.
+    fn if_rest(&mut self, f: &Function, then: &Block, otherwise: &Block) -> Result<(), CodegenError> {
+        self.indent += 1;
+        self.block(f, then)?;
+        self.indent -= 1;
+        match otherwise.as_slice() {
+            [] => self.line("}"),
+            [Stmt::If {
+                cond,
+                then: t2,
+                otherwise: o2,
+                loc,
+            }] => {
+                let start = self.out.len();
+                let c = self.expr(f, *cond)?;
+                self.line(&format!("}} else if {c} {{"));
+                self.if_rest(f, t2, o2)?;
+                self.span(f, start, *loc);
+            }
+            _ => {
+                self.line("} else {");
+                self.indent += 1;
+                self.block(f, otherwise)?;
+                self.indent -= 1;
+                self.line("}");
+            }
+        }
+        Ok(())
+    }
+
+    fn operand(&mut self, f: &Function, id: ExprId, parent: BinaryOp, right: bool) -> Result<String, CodegenError> {
+        let s = self.expr(f, id)?;
+        Ok(match f.expr(id).kind {
+            ExprKind::Binary(op, ..) if needs_parens(parent, op, right) => format!("({s})"),
+            _ => s,
+        })
+    }
+
+    fn postfix_base(&mut self, f: &Function, id: ExprId) -> Result<String, CodegenError> {
+        let s = self.expr(f, id)?;
+        Ok(match f.expr(id).kind {
+            ExprKind::Binary(..) | ExprKind::Unary(..) => format!("({s})"),
+            _ => s,
+        })
+    }
+
+    fn args(&mut self, f: &Function, args: &[ExprId]) -> Result<String, CodegenError> {
+        let mut v = Vec::with_capacity(args.len());
+        for a in args {
+            v.push(self.expr(f, *a)?);
+        }
+        Ok(v.join(", "))
+    }
+
+    fn expr(&mut self, f: &Function, id: ExprId) -> Result<String, CodegenError> {
+        let e = f.expr(id);
+        Ok(match &e.kind {
+            ExprKind::Literal(l) => literal(*l).ok_or_else(|| CodegenError::NonFiniteLiteral {
+                function: f.rust_name.clone(),
+                loc: f.loc,
+            })?,
+            ExprKind::Arg(i) => f.params[*i as usize].name.clone(),
+            ExprKind::Local(l) => f.local(*l).name.clone(),
+            ExprKind::Global(g) => self.module.globals[g.0 as usize].name.clone(),
+            ExprKind::Unary(op, a) => {
+                let inner = self.expr(f, *a)?;
+                let inner = match f.expr(*a).kind {
+                    ExprKind::Binary(..) | ExprKind::Unary(..) => format!("({inner})"),
+                    ExprKind::Literal(Literal::F32(b)) if f32::from_bits(b) < 0.0 => format!("({inner})"),
+                    ExprKind::Literal(Literal::I32(v)) if v < 0 => format!("({inner})"),
+                    _ => inner,
+                };
+                let sym = match op {
+                    UnaryOp::Neg => "-",
+                    UnaryOp::Not => "!",
+                };
+                format!("{sym}{inner}")
+            }
+            ExprKind::Binary(op, a, b) => {
+                let l = self.operand(f, *a, *op, false)?;
+                let r = self.operand(f, *b, *op, true)?;
+                format!("{l} {} {r}", op.wgsl())
+            }
+            ExprKind::Builtin(b, args) => format!("{}({})", b.wgsl(), self.args(f, args)?),
+            ExprKind::Call(name, args) => format!("{name}({})", self.args(f, args)?),
+            ExprKind::Construct(ty, args) => format!("{}({})", ty.wgsl(), self.args(f, args)?),
+            ExprKind::Swizzle(v, idx) => {
+                let base = self.postfix_base(f, *v)?;
+                let s: String = idx.iter().map(|i| SWIZZLE[*i as usize]).collect();
+                format!("{base}.{s}")
+            }
+            ExprKind::Member(v, i) => {
+                let base = self.postfix_base(f, *v)?;
+                let name = match f.expr(*v).ty {
+                    Type::Struct(def) => def.fields[*i as usize].name,
+                    _ => "?",
+                };
+                format!("{base}.{name}")
+            }
+            ExprKind::Index(a, i) => {
+                let base = self.postfix_base(f, *a)?;
+                format!("{base}[{}]", self.expr(f, *i)?)
+            }
+            ExprKind::Convert(_, a) => format!("{}({})", e.ty.wgsl(), self.expr(f, *a)?),
+            ExprKind::Bitcast(_, a) => format!("bitcast<{}>({})", e.ty.wgsl(), self.expr(f, *a)?),
+            ExprKind::Select {
+                if_false,
+                if_true,
+                cond,
+            } => format!(
+                "select({}, {}, {})",
+                self.expr(f, *if_false)?,
+                self.expr(f, *if_true)?,
+                self.expr(f, *cond)?
+            ),
+            ExprKind::Sample {
+                texture,
+                sampler,
+                coords,
+                kind,
+            } => {
+                let t = self.expr(f, *texture)?;
+                let s = self.expr(f, *sampler)?;
+                let c = self.expr(f, *coords)?;
+                match kind {
+                    SampleKind::Level(l) => {
+                        format!("textureSampleLevel({t}, {s}, {c}, {})", self.expr(f, *l)?)
+                    }
+                    SampleKind::Implicit => format!("textureSample({t}, {s}, {c})"),
+                }
+            }
+        })
+    }
+}

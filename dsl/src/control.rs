@@ -1,0 +1,308 @@
+//! Statements of the shader twin: `let`, `let mut`, assignment, `if`, bounded `for`, `break`,
+//! `continue` and `return`. `#[shader_fn]` rewrites the Rust statements into calls to these.
+//!
+//! Each dispatches on its operand: for a DSL value it records a statement; for a plain Rust value
+//! (a generation-time `#[spec]` parameter or a literal) it just evaluates, so an `if` on a Rust
+//! `bool` is decided while the shader is generated and only the taken branch is recorded.
+
+use std::marker::PhantomData;
+
+use crate::ir::{ExprId, ExprKind, LocalId, SourceLoc, Stmt, Type};
+use crate::record::{begin_block, end_block, new_local, push_expr, push_stmt, temp_name};
+use crate::value::{Bool, I32, IntoValueOf, U32, Value};
+
+/// A value an `if` arm can produce: `()` or any DSL value.
+pub trait BranchValue: Sized {
+    /// The recorded expression and its type, or `None` for `()`.
+    fn expr(&self) -> Option<(ExprId, Type)>;
+    /// Rebuilds the value from the merged local.
+    fn from_expr(id: ExprId) -> Self;
+    /// A placeholder for code after a `return` (never executed; dropped by the printer).
+    fn placeholder() -> Self;
+}
+
+impl BranchValue for () {
+    fn expr(&self) -> Option<(ExprId, Type)> {
+        None
+    }
+    fn from_expr(_: ExprId) -> Self {}
+    fn placeholder() -> Self {}
+}
+
+impl<T: Value> BranchValue for T {
+    fn expr(&self) -> Option<(ExprId, Type)> {
+        Some((self.id(), T::TYPE))
+    }
+    fn from_expr(id: ExprId) -> Self {
+        T::from_id(id)
+    }
+    fn placeholder() -> Self {
+        // The zero value `T()` is valid for every constructible type.
+        T::from_id(push_expr(ExprKind::Construct(T::TYPE, Vec::new()), T::TYPE))
+    }
+}
+
+/// The condition of an `if`: a Rust `bool` (decided now) or a DSL [`Bool`] (recorded).
+pub trait Condition {
+    fn branch<T: BranchValue>(
+        self,
+        loc: SourceLoc,
+        then: impl FnOnce() -> T,
+        otherwise: impl FnOnce() -> T,
+    ) -> T;
+}
+
+impl Condition for bool {
+    fn branch<T: BranchValue>(
+        self,
+        _loc: SourceLoc,
+        then: impl FnOnce() -> T,
+        otherwise: impl FnOnce() -> T,
+    ) -> T {
+        if self { then() } else { otherwise() }
+    }
+}
+
+impl Condition for Bool {
+    fn branch<T: BranchValue>(
+        self,
+        loc: SourceLoc,
+        then: impl FnOnce() -> T,
+        otherwise: impl FnOnce() -> T,
+    ) -> T {
+        begin_block();
+        let a = then();
+        let mut then_block = end_block();
+        begin_block();
+        let b = otherwise();
+        let mut else_block = end_block();
+        let merged = match (a.expr(), b.expr()) {
+            (Some((ea, ty)), Some((eb, _))) => {
+                let local = new_local(&temp_name("branch"), ty, true);
+                then_block.push(Stmt::Assign {
+                    local,
+                    value: ea,
+                    loc,
+                });
+                else_block.push(Stmt::Assign {
+                    local,
+                    value: eb,
+                    loc,
+                });
+                push_stmt(Stmt::Var {
+                    local,
+                    init: None,
+                    loc,
+                });
+                Some((local, ty))
+            }
+            _ => None,
+        };
+        push_stmt(Stmt::If {
+            cond: self.id(),
+            then: then_block,
+            otherwise: else_block,
+            loc,
+        });
+        match merged {
+            Some((local, ty)) => T::from_expr(push_expr(ExprKind::Local(local), ty)),
+            None => T::placeholder(),
+        }
+    }
+}
+
+/// `if cond { then } else { otherwise }`.
+pub fn branch<C: Condition, T: BranchValue>(
+    loc: SourceLoc,
+    cond: C,
+    then: impl FnOnce() -> T,
+    otherwise: impl FnOnce() -> T,
+) -> T {
+    cond.branch(loc, then, otherwise)
+}
+
+/// A value `let` can name: DSL values are recorded as `let`, Rust values pass through.
+pub trait Bind: Sized {
+    fn bind(self, name: &str, loc: SourceLoc) -> Self;
+}
+
+impl<T: Value> Bind for T {
+    fn bind(self, name: &str, loc: SourceLoc) -> Self {
+        let local = new_local(name, T::TYPE, false);
+        push_stmt(Stmt::Let {
+            local,
+            value: self.id(),
+            loc,
+        });
+        T::from_id(push_expr(ExprKind::Local(local), T::TYPE))
+    }
+}
+
+macro_rules! bind_rust {
+    ($($t:ty),*) => {$(
+        impl Bind for $t {
+            fn bind(self, _name: &str, _loc: SourceLoc) -> Self {
+                self
+            }
+        }
+    )*};
+}
+bind_rust!(f32, i32, u32, bool, usize, u8);
+
+/// `let name = value;`
+pub fn bind<T: Bind>(name: &str, loc: SourceLoc, value: T) -> T {
+    value.bind(name, loc)
+}
+
+/// A `var`: a mutable local of the shader twin (`let mut` in the Rust source).
+#[derive(Debug)]
+pub struct Var<T: Value> {
+    local: LocalId,
+    _ty: PhantomData<T>,
+}
+
+impl<T: Value> Clone for Var<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T: Value> Copy for Var<T> {}
+
+impl<T: Value> Var<T> {
+    /// Reads the current value.
+    pub fn get(self) -> T {
+        T::from_id(push_expr(ExprKind::Local(self.local), T::TYPE))
+    }
+
+    /// Assigns a new value.
+    pub fn set(self, loc: SourceLoc, value: impl Into<T>) {
+        let value = value.into().id();
+        push_stmt(Stmt::Assign {
+            local: self.local,
+            value,
+            loc,
+        });
+    }
+}
+
+/// `let mut name = init;` with the type taken from `init`.
+pub fn var<V: IntoValueOf>(name: &str, loc: SourceLoc, init: V) -> Var<V::Value> {
+    var_typed(name, loc, init.into_value_id())
+}
+
+/// `let mut name: T = init;`
+pub fn var_typed<T: Value>(name: &str, loc: SourceLoc, init: impl Into<T>) -> Var<T> {
+    let init = init.into().id();
+    let local = new_local(name, T::TYPE, true);
+    push_stmt(Stmt::Var {
+        local,
+        init: Some(init),
+        loc,
+    });
+    Var {
+        local,
+        _ty: PhantomData,
+    }
+}
+
+/// The bounds of `for i in start..end`: an integer pair, Rust or DSL, of one kind.
+pub trait LoopRange {
+    type Counter: Value;
+    fn bounds(self) -> (ExprId, ExprId);
+}
+
+macro_rules! loop_range {
+    ($counter:ident: $(($a:ty, $b:ty)),*) => {$(
+        impl LoopRange for ($a, $b) {
+            type Counter = $counter;
+            fn bounds(self) -> (ExprId, ExprId) {
+                (self.0.into_value_id().id(), self.1.into_value_id().id())
+            }
+        }
+    )*};
+}
+loop_range!(U32: (U32, U32), (u32, U32), (U32, u32), (u32, u32));
+loop_range!(I32: (I32, I32), (i32, I32), (I32, i32), (i32, i32));
+
+/// `for name in start..end { body }`, always a bounded loop.
+pub fn for_range<R: LoopRange>(
+    name: &str,
+    loc: SourceLoc,
+    range: R,
+    body: impl FnOnce(R::Counter),
+) {
+    let (start, end) = range.bounds();
+    let counter = new_local(name, R::Counter::TYPE, true);
+    begin_block();
+    body(R::Counter::from_id(push_expr(
+        ExprKind::Local(counter),
+        R::Counter::TYPE,
+    )));
+    let body = end_block();
+    push_stmt(Stmt::For {
+        counter,
+        start,
+        end,
+        body,
+        loc,
+    });
+}
+
+/// `break;`
+pub fn brk(loc: SourceLoc) {
+    push_stmt(Stmt::Break { loc });
+}
+
+/// `continue;`
+pub fn cont(loc: SourceLoc) {
+    push_stmt(Stmt::Continue { loc });
+}
+
+/// `return value;`
+pub fn ret<T: BranchValue>(loc: SourceLoc, value: T) {
+    push_stmt(Stmt::Return {
+        value: value.expr().map(|(id, _)| id),
+        loc,
+    });
+}
+
+/// The value of an expression that follows a `return` in the same Rust expression (never
+/// executed; the printer drops statements after a `return`).
+pub fn unreachable<T: BranchValue>() -> T {
+    T::placeholder()
+}
+
+/// The tail expression of a function body, converted to the function's result type `R`.
+/// `()` means the body ends without a value (every path returned explicitly).
+pub trait FnTail<R> {
+    fn tail(self) -> Option<ExprId>;
+}
+
+impl<R: Value> FnTail<R> for () {
+    fn tail(self) -> Option<ExprId> {
+        None
+    }
+}
+
+macro_rules! fn_tail {
+    ($($dsl:ty $(| $rust:ty)?),*) => {$(
+        impl FnTail<$dsl> for $dsl {
+            fn tail(self) -> Option<ExprId> {
+                Some(self.id())
+            }
+        }
+        $(impl FnTail<$dsl> for $rust {
+            fn tail(self) -> Option<ExprId> {
+                Some(<$dsl>::from(self).id())
+            }
+        })?
+    )*};
+}
+use crate::value::{F32, IVec2, IVec3, IVec4, Mat3, Mat4, UVec2, UVec3, UVec4, Vec2, Vec3, Vec4};
+fn_tail!(F32 | f32, I32 | i32, U32 | u32, Bool | bool, Vec2 | glam::Vec2, Vec3 | glam::Vec3,
+    Vec4 | glam::Vec4, IVec2, IVec3, IVec4, UVec2, UVec3, UVec4, Mat3, Mat4);
+
+/// Converts a function body's tail to its result expression.
+pub fn tail<R, T: FnTail<R>>(value: T) -> Option<ExprId> {
+    value.tail()
+}

@@ -1,0 +1,239 @@
+//! Expressions: a per-function arena of typed nodes. DSL values are `Copy` handles into it, which
+//! is what lets the same Rust tokens (`x * x + y`) compile both for `f32` and for the recorder.
+
+use super::types::{Scalar, Type};
+
+/// Index of an expression in its function's arena.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
+pub struct ExprId(pub u32);
+
+/// Index of a named local (`let` or `var`) in its function.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct LocalId(pub u32);
+
+/// Index of a module-level global (uniform, texture, sampler, storage buffer, override).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct GlobalId(pub u32);
+
+/// A literal value. Floats are stored as bits so that literals hash and compare exactly.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum Literal {
+    F32(u32),
+    I32(i32),
+    U32(u32),
+    Bool(bool),
+}
+
+impl Literal {
+    pub fn f32(v: f32) -> Self {
+        Literal::F32(v.to_bits())
+    }
+
+    pub fn ty(self) -> Type {
+        match self {
+            Literal::F32(_) => Type::F32,
+            Literal::I32(_) => Type::I32,
+            Literal::U32(_) => Type::U32,
+            Literal::Bool(_) => Type::BOOL,
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum UnaryOp {
+    Neg,
+    Not,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum BinaryOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Rem,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+    And,
+    Or,
+    BitAnd,
+    BitOr,
+    BitXor,
+    Shl,
+    Shr,
+}
+
+impl BinaryOp {
+    pub fn wgsl(self) -> &'static str {
+        match self {
+            BinaryOp::Add => "+",
+            BinaryOp::Sub => "-",
+            BinaryOp::Mul => "*",
+            BinaryOp::Div => "/",
+            BinaryOp::Rem => "%",
+            BinaryOp::Lt => "<",
+            BinaryOp::Le => "<=",
+            BinaryOp::Gt => ">",
+            BinaryOp::Ge => ">=",
+            BinaryOp::Eq => "==",
+            BinaryOp::Ne => "!=",
+            BinaryOp::And => "&&",
+            BinaryOp::Or => "||",
+            BinaryOp::BitAnd => "&",
+            BinaryOp::BitOr => "|",
+            BinaryOp::BitXor => "^",
+            BinaryOp::Shl => "<<",
+            BinaryOp::Shr => ">>",
+        }
+    }
+
+    pub fn is_comparison(self) -> bool {
+        matches!(
+            self,
+            BinaryOp::Lt | BinaryOp::Le | BinaryOp::Gt | BinaryOp::Ge | BinaryOp::Eq | BinaryOp::Ne
+        )
+    }
+}
+
+/// A WGSL built-in function. The DSL exposes each under the name its Rust twin has (`exp`,
+/// `max`, `lerp`...), so the CPU and the shader agree on meaning, not just on spelling.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum Builtin {
+    Abs,
+    Ceil,
+    Clamp,
+    Cos,
+    Cross,
+    Distance,
+    Dot,
+    Exp,
+    Exp2,
+    Floor,
+    Fract,
+    InverseSqrt,
+    Length,
+    Log,
+    Log2,
+    Max,
+    Min,
+    Mix,
+    Normalize,
+    Pow,
+    Round,
+    Select,
+    Sign,
+    Sin,
+    Smoothstep,
+    Sqrt,
+    Step,
+    Tan,
+    Trunc,
+    Atan2,
+    Acos,
+    Asin,
+    Atan,
+    Fma,
+    Saturate,
+}
+
+impl Builtin {
+    pub fn wgsl(self) -> &'static str {
+        match self {
+            Builtin::Abs => "abs",
+            Builtin::Ceil => "ceil",
+            Builtin::Clamp => "clamp",
+            Builtin::Cos => "cos",
+            Builtin::Cross => "cross",
+            Builtin::Distance => "distance",
+            Builtin::Dot => "dot",
+            Builtin::Exp => "exp",
+            Builtin::Exp2 => "exp2",
+            Builtin::Floor => "floor",
+            Builtin::Fract => "fract",
+            Builtin::InverseSqrt => "inverseSqrt",
+            Builtin::Length => "length",
+            Builtin::Log => "log",
+            Builtin::Log2 => "log2",
+            Builtin::Max => "max",
+            Builtin::Min => "min",
+            Builtin::Mix => "mix",
+            Builtin::Normalize => "normalize",
+            Builtin::Pow => "pow",
+            Builtin::Round => "round",
+            Builtin::Select => "select",
+            Builtin::Sign => "sign",
+            Builtin::Sin => "sin",
+            Builtin::Smoothstep => "smoothstep",
+            Builtin::Sqrt => "sqrt",
+            Builtin::Step => "step",
+            Builtin::Tan => "tan",
+            Builtin::Trunc => "trunc",
+            Builtin::Atan2 => "atan2",
+            Builtin::Acos => "acos",
+            Builtin::Asin => "asin",
+            Builtin::Atan => "atan",
+            Builtin::Fma => "fma",
+            Builtin::Saturate => "saturate",
+        }
+    }
+}
+
+/// How a texture is read.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum SampleKind {
+    /// `textureSampleLevel`: explicit level of detail, valid in every stage.
+    Level(ExprId),
+    /// `textureSample`: implicit derivatives, fragment stage only.
+    Implicit,
+}
+
+/// One expression node.
+#[derive(Clone, PartialEq, Debug)]
+pub enum ExprKind {
+    Literal(Literal),
+    /// The n-th parameter of the function being recorded.
+    Arg(u32),
+    /// A read of a `let` (by value) or a `var` (a load).
+    Local(LocalId),
+    Global(GlobalId),
+    Unary(UnaryOp, ExprId),
+    Binary(BinaryOp, ExprId, ExprId),
+    Builtin(Builtin, Vec<ExprId>),
+    /// Call of another recorded function, by its (specialised) WGSL name.
+    Call(String, Vec<ExprId>),
+    /// `T(a, b, ...)` for vectors, matrices and structs.
+    Construct(Type, Vec<ExprId>),
+    /// `v.xy`, `v.zyx`: component indices 0..4.
+    Swizzle(ExprId, Vec<u8>),
+    /// `s.field` by field index.
+    Member(ExprId, u32),
+    /// `array[index]` on a storage buffer.
+    Index(ExprId, ExprId),
+    /// Value conversion `f32(x)` etc. to the given scalar kind (vectors keep their size).
+    Convert(Scalar, ExprId),
+    /// Bit reinterpretation `bitcast<T>(x)`.
+    Bitcast(Scalar, ExprId),
+    /// `select(if_false, if_true, cond)`.
+    Select {
+        if_false: ExprId,
+        if_true: ExprId,
+        cond: ExprId,
+    },
+    Sample {
+        texture: ExprId,
+        sampler: ExprId,
+        coords: ExprId,
+        kind: SampleKind,
+    },
+}
+
+/// A typed node.
+#[derive(Clone, PartialEq, Debug)]
+pub struct Expr {
+    pub kind: ExprKind,
+    pub ty: Type,
+}

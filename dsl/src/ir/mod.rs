@@ -1,0 +1,18 @@
+//! The DSL's own typed IR. It is small on purpose: just enough structure to print readable WGSL
+//! that naga then parses and validates (see DESIGN.md for why we do not build naga IR directly).
+
+mod expr;
+mod function;
+mod module;
+mod source;
+mod stmt;
+mod types;
+
+pub use expr::{
+    BinaryOp, Builtin, Expr, ExprId, ExprKind, GlobalId, Literal, LocalId, SampleKind, UnaryOp,
+};
+pub use function::{Function, Local, Param};
+pub use module::{EntryPoint, Global, GlobalKind, Module, Stage};
+pub use source::SourceLoc;
+pub use stmt::{Block, Stmt};
+pub use types::{FieldDef, Scalar, StructDef, Type};

@@ -1,0 +1,104 @@
+//! Shader types as the IR sees them. Every value the DSL records carries one of these, so the
+//! printer never has to infer a type and naga never sees an abstract literal it could misread.
+
+/// A scalar kind. Only the 32-bit kinds every target supports (no f16, no f64).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
+pub enum Scalar {
+    F32,
+    I32,
+    U32,
+    Bool,
+}
+
+impl Scalar {
+    /// The WGSL spelling.
+    pub fn wgsl(self) -> &'static str {
+        match self {
+            Scalar::F32 => "f32",
+            Scalar::I32 => "i32",
+            Scalar::U32 => "u32",
+            Scalar::Bool => "bool",
+        }
+    }
+}
+
+/// One field of a [`StructDef`].
+#[derive(Debug, PartialEq, Eq, Hash)]
+pub struct FieldDef {
+    pub name: &'static str,
+    pub ty: Type,
+    /// Doc comment of the Rust field, printed above the WGSL member.
+    pub doc: &'static str,
+}
+
+/// A struct type declared once in Rust (`#[derive(ShaderStruct)]`) and printed as a WGSL struct.
+#[derive(Debug, PartialEq, Eq, Hash)]
+pub struct StructDef {
+    pub name: &'static str,
+    pub doc: &'static str,
+    pub fields: &'static [FieldDef],
+}
+
+/// A shader type.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum Type {
+    Scalar(Scalar),
+    /// `vecN<scalar>` with N in 2..=4.
+    Vector(u8, Scalar),
+    /// `matCxR<f32>`; only square 3×3 and 4×4 are exposed by the DSL.
+    Matrix(u8),
+    Struct(&'static StructDef),
+    /// `array<scalar>` in a storage buffer (runtime sized).
+    RuntimeArray(Scalar),
+    Texture2d,
+    Texture3d,
+    Sampler,
+}
+
+impl Type {
+    pub const F32: Type = Type::Scalar(Scalar::F32);
+    pub const I32: Type = Type::Scalar(Scalar::I32);
+    pub const U32: Type = Type::Scalar(Scalar::U32);
+    pub const BOOL: Type = Type::Scalar(Scalar::Bool);
+
+    /// The scalar kind of a scalar or vector; `None` for anything else.
+    pub fn scalar(self) -> Option<Scalar> {
+        match self {
+            Type::Scalar(s) | Type::Vector(_, s) => Some(s),
+            Type::Matrix(_) => Some(Scalar::F32),
+            _ => None,
+        }
+    }
+
+    /// Number of scalar components of a scalar, vector or matrix.
+    pub fn components(self) -> Option<u32> {
+        match self {
+            Type::Scalar(_) => Some(1),
+            Type::Vector(n, _) => Some(u32::from(n)),
+            Type::Matrix(n) => Some(u32::from(n) * u32::from(n)),
+            _ => None,
+        }
+    }
+
+    /// The WGSL spelling (`vec3<f32>`, `mat4x4<f32>`, a struct's name...).
+    pub fn wgsl(self) -> String {
+        match self {
+            Type::Scalar(s) => s.wgsl().to_string(),
+            Type::Vector(n, s) => format!("vec{n}<{}>", s.wgsl()),
+            Type::Matrix(n) => format!("mat{n}x{n}<f32>"),
+            Type::Struct(def) => def.name.to_string(),
+            Type::RuntimeArray(s) => format!("array<{}>", s.wgsl()),
+            Type::Texture2d => "texture_2d<f32>".to_string(),
+            Type::Texture3d => "texture_3d<f32>".to_string(),
+            Type::Sampler => "sampler".to_string(),
+        }
+    }
+
+    /// Whether values of this type may be held in a `let`/`var` and passed by value.
+    pub fn is_constructible(self) -> bool {
+        matches!(
+            self,
+            Type::Scalar(_) | Type::Vector(..) | Type::Matrix(_) | Type::Struct(_)
+        )
+    }
+}

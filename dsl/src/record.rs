@@ -1,0 +1,294 @@
+//! The recorder: a thread-local stack of functions under construction. DSL values are plain
+//! `Copy` handles, so operators (`a + b`) append nodes here without threading a context through
+//! user code, and statements (`let`, `if`, `return`) append to the innermost open block.
+//!
+//! Using the DSL outside [`crate::ModuleBuilder::build`] is a programming error in the shader
+//! library (not in user data), and panics with a message that says so.
+
+use std::cell::RefCell;
+use std::collections::{BTreeSet, HashSet};
+
+use crate::ir::{
+    Block, Expr, ExprId, ExprKind, Function, Global, Local, LocalId, Module, Param, SourceLoc,
+    Stmt, StructDef, Type,
+};
+
+/// WGSL reserved words and predeclared names a Rust binding could collide with.
+const RESERVED: &[&str] = &[
+    "alias", "break", "case", "const", "const_assert", "continue", "continuing", "default",
+    "diagnostic", "discard", "else", "enable", "false", "fn", "for", "if", "let", "loop",
+    "override", "requires", "return", "struct", "switch", "true", "var", "while", "array", "bool",
+    "f16", "f32", "i32", "u32", "mat2x2", "mat3x3", "mat4x4", "vec2", "vec3", "vec4", "sampler",
+    "texture", "ptr", "atomic", "abs", "exp", "exp2", "log", "log2", "min", "max", "clamp", "mix",
+    "step", "smoothstep", "select", "dot", "cross", "length", "normalize", "distance", "pow",
+    "sqrt", "floor", "ceil", "fract", "round", "trunc", "sign", "sin", "cos", "tan", "saturate",
+    "fma", "target", "sample", "position", "self", "super", "auto", "handle", "layout", "uniform",
+    "storage", "workgroup", "private", "function", "read", "write", "read_write", "in", "out",
+    "inout", "input", "output", "main", "float", "int", "uint", "vec", "mat", "half",
+];
+
+struct FnFrame {
+    function: Function,
+    blocks: Vec<Block>,
+    used_names: HashSet<String>,
+}
+
+struct ModuleRecorder {
+    module: Module,
+    frames: Vec<FnFrame>,
+    /// Functions whose recording has started (finished or in progress), by WGSL name.
+    started: BTreeSet<String>,
+    next_temp: u32,
+}
+
+thread_local! {
+    static RECORDER: RefCell<Option<ModuleRecorder>> = const { RefCell::new(None) };
+}
+
+fn with<R>(f: impl FnOnce(&mut ModuleRecorder) -> R) -> R {
+    RECORDER.with(|cell| {
+        let mut guard = cell.borrow_mut();
+        let rec = guard.as_mut().expect(
+            "a DSL value was used outside ModuleBuilder::build: shader code can only be recorded inside a module",
+        );
+        f(rec)
+    })
+}
+
+fn with_frame<R>(f: impl FnOnce(&mut FnFrame) -> R) -> R {
+    with(|rec| {
+        let frame = rec
+            .frames
+            .last_mut()
+            .expect("a DSL expression was built outside a function body");
+        f(frame)
+    })
+}
+
+/// Starts recording a module; returns `false` if one is already being recorded on this thread.
+pub(crate) fn begin_module(module: Module) -> bool {
+    RECORDER.with(|cell| {
+        let mut guard = cell.borrow_mut();
+        if guard.is_some() {
+            return false;
+        }
+        *guard = Some(ModuleRecorder {
+            module,
+            frames: Vec::new(),
+            started: BTreeSet::new(),
+            next_temp: 0,
+        });
+        true
+    })
+}
+
+/// Ends recording and hands back the module, even after a panic in user code (the guard in
+/// `ModuleBuilder::build` calls this on unwind so a failed build cannot poison the thread).
+pub(crate) fn end_module() -> Option<Module> {
+    RECORDER.with(|cell| cell.borrow_mut().take().map(|r| r.module))
+}
+
+/// Appends an expression node to the current function and returns its handle.
+pub fn push_expr(kind: ExprKind, ty: Type) -> ExprId {
+    with_frame(|frame| {
+        let id = ExprId(frame.function.exprs.len() as u32);
+        frame.function.exprs.push(Expr { kind, ty });
+        id
+    })
+}
+
+/// The type of an expression of the current function.
+pub fn expr_type(id: ExprId) -> Type {
+    with_frame(|frame| frame.function.exprs[id.0 as usize].ty)
+}
+
+/// The node of an expression of the current function (used by folding helpers).
+pub fn expr_kind(id: ExprId) -> ExprKind {
+    with_frame(|frame| frame.function.exprs[id.0 as usize].kind.clone())
+}
+
+/// Appends a statement to the innermost open block.
+pub fn push_stmt(stmt: Stmt) {
+    with_frame(|frame| {
+        frame
+            .blocks
+            .last_mut()
+            .expect("function frame always has a block")
+            .push(stmt);
+    });
+}
+
+/// Opens a nested block (the body of an `if` arm or a loop).
+pub fn begin_block() {
+    with_frame(|frame| frame.blocks.push(Block::new()));
+}
+
+/// Closes the innermost block and returns its statements.
+pub fn end_block() -> Block {
+    with_frame(|frame| frame.blocks.pop().expect("end_block without begin_block"))
+}
+
+/// Declares a local with a name unique in the current function, derived from `wanted`.
+pub fn new_local(wanted: &str, ty: Type, mutable: bool) -> LocalId {
+    with_frame(|frame| {
+        let base = sanitize(wanted);
+        let mut name = base.clone();
+        let mut n = 1;
+        while frame.used_names.contains(&name) {
+            name = format!("{base}_{n}");
+            n += 1;
+        }
+        frame.used_names.insert(name.clone());
+        let id = LocalId(frame.function.locals.len() as u32);
+        frame.function.locals.push(Local { name, ty, mutable });
+        id
+    })
+}
+
+/// A fresh name for a compiler-introduced temporary (`branch_0`, ...).
+pub fn temp_name(prefix: &str) -> String {
+    with(|rec| {
+        let n = rec.next_temp;
+        rec.next_temp += 1;
+        format!("{prefix}_{n}")
+    })
+}
+
+/// Registers a struct type so the printer declares it once, before its first use.
+pub fn use_struct(def: &'static StructDef) {
+    with(|rec| push_struct(&mut rec.module.structs, def));
+}
+
+fn push_struct(structs: &mut Vec<&'static StructDef>, def: &'static StructDef) {
+    if structs.iter().any(|s| s.name == def.name) {
+        return;
+    }
+    // Nested structs are declared before the struct that contains them.
+    for field in def.fields {
+        if let Type::Struct(inner) = field.ty {
+            push_struct(structs, inner);
+        }
+    }
+    structs.push(def);
+}
+
+/// Declares a module global and returns its index; a repeated name returns the existing one
+/// when it has the same type and kind.
+pub(crate) fn add_global(global: Global) -> Result<crate::ir::GlobalId, String> {
+    with(|rec| {
+        if let Some(i) = rec.module.globals.iter().position(|g| g.name == global.name) {
+            if rec.module.globals[i] == global {
+                return Ok(crate::ir::GlobalId(i as u32));
+            }
+            return Err(format!(
+                "global `{}` is declared twice with different types or bindings",
+                global.name
+            ));
+        }
+        if let Some(b) = global.binding() {
+            if let Some(other) = rec.module.globals.iter().find(|g| g.binding() == Some(b)) {
+                return Err(format!(
+                    "globals `{}` and `{}` both use @group({}) @binding({})",
+                    other.name, global.name, b.0, b.1
+                ));
+            }
+        }
+        if let Type::Struct(def) = global.ty {
+            push_struct(&mut rec.module.structs, def);
+        }
+        rec.module.globals.push(global);
+        Ok(crate::ir::GlobalId(rec.module.globals.len() as u32 - 1))
+    })
+}
+
+/// Records `name` unless it was already started, by running `record` in a fresh frame.
+///
+/// `record` receives the parameter expressions and returns the body's result. Returns the WGSL
+/// name to call.
+pub fn ensure_function(
+    header: FunctionHeader,
+    record: impl FnOnce(&[ExprId]) -> Option<ExprId>,
+) -> String {
+    let name = header.name.clone();
+    let fresh = with(|rec| rec.started.insert(name.clone()));
+    if !fresh {
+        return name;
+    }
+    let params = header.params.clone();
+    let function = Function {
+        name: header.name,
+        rust_name: header.rust_name,
+        doc: header.doc,
+        specialised: header.specialised,
+        params: params.clone(),
+        result: header.result,
+        locals: Vec::new(),
+        exprs: Vec::new(),
+        body: Vec::new(),
+        loc: header.loc,
+    };
+    with(|rec| {
+        rec.frames.push(FnFrame {
+            function,
+            blocks: vec![Block::new()],
+            used_names: params.iter().map(|p| p.name.clone()).collect(),
+        })
+    });
+    let args: Vec<ExprId> = params
+        .iter()
+        .enumerate()
+        .map(|(i, p)| push_expr(ExprKind::Arg(i as u32), p.ty))
+        .collect();
+    if let Some(value) = record(&args) {
+        push_stmt(Stmt::Return {
+            value: Some(value),
+            loc: header.loc,
+        });
+    }
+    with(|rec| {
+        let mut frame = rec.frames.pop().expect("frame pushed above");
+        frame.function.body = frame.blocks.pop().expect("root block");
+        rec.module.functions.push(frame.function);
+    });
+    name
+}
+
+/// Adds an entry point description (its function must have been recorded already).
+pub(crate) fn add_entry_point(ep: crate::ir::EntryPoint) {
+    with(|rec| rec.module.entry_points.push(ep));
+}
+
+/// Everything about a function except its body.
+#[derive(Clone, Debug)]
+pub struct FunctionHeader {
+    pub name: String,
+    pub rust_name: String,
+    pub doc: Vec<String>,
+    pub specialised: Vec<String>,
+    pub params: Vec<Param>,
+    pub result: Option<Type>,
+    pub loc: SourceLoc,
+}
+
+/// Makes a Rust identifier a safe, readable WGSL identifier.
+pub fn sanitize(name: &str) -> String {
+    let mut s: String = name
+        .trim_start_matches("r#")
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
+        .collect();
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
+        s.insert(0, 'v');
+    }
+    // A leading `__` is reserved in WGSL; `_e<N>` would look like naga's temporaries.
+    while s.starts_with("__") {
+        s.remove(0);
+    }
+    if s == "_" {
+        s = "unused".to_string();
+    }
+    if RESERVED.contains(&s.as_str()) {
+        s.push('_');
+    }
+    s
+}
