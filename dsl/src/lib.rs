@@ -50,5 +50,6 @@ pub mod prelude {
     pub use crate::value::scalar_ext::CpuScalarExt;
     pub use crate::{ShaderStruct, shader_fn};
     pub use glam::FloatExt as _;
+    pub use glam::swizzles::{Vec3Swizzles as _, Vec4Swizzles as _};
     pub use glam::{Vec2, Vec3, Vec4, vec2, vec3, vec4};
 }

@@ -29,5 +29,5 @@ pub fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
 pub fn dual_lobe_hg(cos_theta: f32, g1: f32, g2: f32, weight: f32) -> f32 {
     let forward = henyey_greenstein(cos_theta, g1);
     let backward = henyey_greenstein(cos_theta, g2);
-    forward.lerp(backward, weight)
+    mix(forward, backward, weight)
 }

@@ -91,6 +91,20 @@ pub fn preview_color(uv: Vec2, params: PreviewParams, #[spec] model: PhaseModel)
     vec4(density.saturate(), phase_level, (density * phase_level).saturate(), 1.0)
 }
 
+/// Colour of the pixel at `frag_coord` (framebuffer coordinates, y down), scaled by `exposure`.
+#[shader_fn]
+pub fn preview_fragment(
+    frag_coord: Vec4,
+    params: PreviewParams,
+    exposure: f32,
+    #[spec] model: PhaseModel,
+) -> Vec4 {
+    let uv = frag_coord.xy() / params.resolution;
+    // Framebuffer y grows downwards; the preview's η grows upwards.
+    let color = preview_color(vec2(uv.x, 1.0 - uv.y), params, model);
+    color * vec4(exposure, exposure, exposure, 1.0)
+}
+
 /// Records the preview module for one phase model.
 pub fn preview_module(model: PhaseModel) -> Result<Module, DslError> {
     ModuleBuilder::build(
@@ -108,12 +122,7 @@ pub fn preview_module(model: PhaseModel) -> Result<Module, DslError> {
                 fullscreen_position::shader(vertex_index)
             });
             m.fragment("fs_main", "Preview colour per pixel.", loc!(), |frag_coord| {
-                let params = params.get();
-                let uv = frag_coord.xy() / params.resolution;
-                // Framebuffer y grows downwards; the preview's η grows upwards.
-                let uv = crate::shader::vec2(uv.x, 1.0 - uv.y);
-                let color = preview_color::shader(uv, params, model);
-                color * crate::shader::vec4(exposure.get(), exposure.get(), exposure.get(), 1.0)
+                preview_fragment::shader(frag_coord, params.get(), exposure.get(), model)
             });
         },
     )

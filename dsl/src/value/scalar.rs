@@ -234,11 +234,12 @@ impl F32 {
         1.0 / self
     }
 
-    /// `self + (rhs - self) * t` (glam's `FloatExt::lerp`, WGSL `mix`).
-    #[doc(alias = "mix")]
+    /// `self + (rhs - self) * t`, exactly glam's `FloatExt::lerp` (spelled out rather than
+    /// WGSL `mix`, whose formula differs and loses the endpoints under cancellation). Use the
+    /// free function [`crate::builtins::mix`] for WGSL's `a·(1 − t) + b·t`.
     #[must_use]
     pub fn lerp(self, rhs: impl Into<F32>, t: impl Into<F32>) -> F32 {
-        F32(builtin(Builtin::Mix, &[self.0, rhs.into().0, t.into().0], Type::F32))
+        self + (rhs.into() - self) * t.into()
     }
 
     /// Whether the value is NaN (`x != x`).

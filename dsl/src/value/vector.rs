@@ -158,12 +158,12 @@ macro_rules! float_vector {
                 Self::from_id(builtin(Builtin::Normalize, &[self.id], <Self as Value>::TYPE))
             }
 
-            /// `self + (rhs - self) * s`, glam's `lerp` (WGSL `mix` with a scalar factor).
-            #[doc(alias = "mix")]
+            /// `self * (1 - s) + rhs * s`, exactly glam's vector `lerp` (spelled out so the GPU
+            /// evaluates the same formula as the CPU).
             #[must_use]
             pub fn lerp(self, rhs: impl Into<$name>, s: impl Into<F32>) -> Self {
-                let s = $name::splat(s.into());
-                Self::from_id(builtin(Builtin::Mix, &[self.id, rhs.into().id, s.id], <Self as Value>::TYPE))
+                let s = s.into();
+                self * (1.0 - s) + rhs.into() * s
             }
 
             /// Component-wise `e^x`.

@@ -1,0 +1,24 @@
+//! Runtime errors.
+
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum RuntimeError {
+    #[error(
+        "no GPU adapter found (tried Vulkan and GL, including software ones). On Debian, install a \
+         software driver: `apt-get install mesa-vulkan-drivers` (lavapipe)"
+    )]
+    NoAdapter,
+    #[error("could not open a device on {adapter}: {reason}")]
+    Device { adapter: String, reason: String },
+    #[error("the GPU rejected {what}: {reason}")]
+    Pipeline { what: String, reason: String },
+    #[error("reading results back from the GPU failed: {0}")]
+    Readback(String),
+    #[error(transparent)]
+    Codegen(#[from] nimbus_codegen::CodegenError),
+    #[error(transparent)]
+    Dsl(#[from] nimbus_dsl::DslError),
+    #[error("parity kernel: {0}")]
+    Kernel(String),
+}

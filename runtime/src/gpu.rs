@@ -1,0 +1,193 @@
+//! Device setup and compute dispatch.
+
+use wgpu::util::DeviceExt;
+
+use crate::error::RuntimeError;
+
+/// What adapter ran the work, for the output of tests and benchmarks.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GpuInfo {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+}
+
+impl std::fmt::Display for GpuInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ({}, {}, driver {})",
+            self.name, self.backend, self.device_type, self.driver
+        )
+    }
+}
+
+/// A device and queue.
+pub struct Gpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    info: GpuInfo,
+}
+
+impl Gpu {
+    /// Opens any available adapter: a real GPU first, then software (lavapipe, llvmpipe).
+    pub fn new() -> Result<Gpu, RuntimeError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Gpu, RuntimeError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let mut adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: None,
+                ..Default::default()
+            })
+            .await
+            .ok();
+        if adapter.is_none() {
+            adapter = instance
+                .request_adapter(&wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::None,
+                    force_fallback_adapter: true,
+                    compatible_surface: None,
+                    ..Default::default()
+                })
+                .await
+                .ok();
+        }
+        let adapter = adapter.ok_or(RuntimeError::NoAdapter)?;
+        let ai = adapter.get_info();
+        let info = GpuInfo {
+            name: ai.name.clone(),
+            backend: format!("{:?}", ai.backend),
+            device_type: format!("{:?}", ai.device_type),
+            driver: format!("{} {}", ai.driver, ai.driver_info).trim().to_string(),
+        };
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("nimbus"),
+                required_features: wgpu::Features::empty(),
+                required_limits: adapter.limits(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| RuntimeError::Device {
+                adapter: info.to_string(),
+                reason: e.to_string(),
+            })?;
+        Ok(Gpu {
+            device,
+            queue,
+            info,
+        })
+    }
+
+    pub fn info(&self) -> &GpuInfo {
+        &self.info
+    }
+
+    /// Runs compute entry point `entry` of `wgsl` over `input` (bound read-only at binding 0)
+    /// and returns `output_words` words of the read-write buffer at binding 1. One invocation
+    /// per `workgroup_size` words of work: `groups` workgroups are dispatched.
+    pub fn run_compute(
+        &self,
+        wgsl: &str,
+        entry: &str,
+        input: &[u32],
+        output_words: usize,
+        groups: u32,
+    ) -> Result<Vec<u32>, RuntimeError> {
+        let device = &self.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(entry),
+            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: None,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Pipeline {
+                what: format!("compute pipeline `{entry}`"),
+                reason: e.to_string(),
+            });
+        }
+        // Storage buffers cannot be empty.
+        let input_bytes: &[u8] = if input.is_empty() {
+            &[0; 4]
+        } else {
+            bytemuck::cast_slice(input)
+        };
+        let input_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("parity input"),
+            contents: input_bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let size = (output_words.max(1) * 4) as u64;
+        let output_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("parity output"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("parity readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: input_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: output_buf.as_entire_binding(),
+                },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(groups, 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&output_buf, 0, &readback, 0, size);
+        self.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        readback.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let data = readback
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let words: Vec<u32> = bytemuck::cast_slice(&data)[..output_words].to_vec();
+        drop(data);
+        readback.unmap();
+        Ok(words)
+    }
+}
