@@ -23,6 +23,8 @@ pub struct ManifestBinding {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ManifestField {
     pub name: String,
+    /// The member's name in the target language (naga appends `_` to names ending in a digit).
+    pub target_name: String,
     pub wgsl_type: String,
     pub offset: u32,
 }

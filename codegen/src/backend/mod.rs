@@ -119,6 +119,15 @@ pub fn translate(
     Ok((contents, Some(manifest)))
 }
 
+/// naga's namer appends `_` to identifiers that end in a digit, in every backend.
+fn target_member_name(name: &str) -> String {
+    if name.ends_with(|c: char| c.is_ascii_digit()) {
+        format!("{name}_")
+    } else {
+        name.to_string()
+    }
+}
+
 /// Target-specific names, keyed by the WGSL global name.
 pub(crate) type TargetNames = Vec<(String, String)>;
 
@@ -177,7 +186,8 @@ fn manifest_for(
                     .iter()
                     .zip(def.fields)
                     .map(|(m, f)| ManifestField {
-                        name: m.name.clone().unwrap_or_default(),
+                        name: f.name.to_string(),
+                        target_name: target_member_name(&m.name.clone().unwrap_or_default()),
                         wgsl_type: f.ty.wgsl(),
                         offset: m.offset,
                     })
