@@ -15,11 +15,140 @@ use nimbus_dsl::ir::{
 /// Specialises a recorded module in place.
 pub fn specialise(module: &mut Module) {
     for f in &mut module.functions {
-        fold_constants(f);
+        // Folding a `let` to a literal can make further reads literal; a few rounds reach the
+        // fixed point for any realistic chain.
+        for _ in 0..4 {
+            fold_constants(f);
+            if !propagate_literal_lets(f) {
+                break;
+            }
+        }
         let body = std::mem::take(&mut f.body);
         f.body = prune_block(f, body);
     }
+    remove_unused_params(module);
     remove_unreachable(module);
+}
+
+/// Replaces reads of `let` locals bound to a literal by the literal and drops those `let`s.
+/// Returns whether anything changed.
+fn propagate_literal_lets(f: &mut Function) -> bool {
+    fn collect(f: &Function, block: &Block, out: &mut Vec<(nimbus_dsl::ir::LocalId, Literal)>) {
+        for stmt in block {
+            match stmt {
+                Stmt::Let { local, value, .. } => {
+                    if let Some(l) = lit(f, *value) {
+                        out.push((*local, l));
+                    }
+                }
+                Stmt::If { then, otherwise, .. } => {
+                    collect(f, then, out);
+                    collect(f, otherwise, out);
+                }
+                Stmt::For { body, .. } => collect(f, body, out),
+                _ => {}
+            }
+        }
+    }
+    fn drop_lets(block: Block, gone: &[nimbus_dsl::ir::LocalId]) -> Block {
+        block
+            .into_iter()
+            .filter(|s| !matches!(s, Stmt::Let { local, .. } if gone.contains(local)))
+            .map(|s| match s {
+                Stmt::If { cond, then, otherwise, loc } => Stmt::If {
+                    cond,
+                    then: drop_lets(then, gone),
+                    otherwise: drop_lets(otherwise, gone),
+                    loc,
+                },
+                Stmt::For { counter, start, end, body, loc } => Stmt::For {
+                    counter,
+                    start,
+                    end,
+                    body: drop_lets(body, gone),
+                    loc,
+                },
+                other => other,
+            })
+            .collect()
+    }
+    let mut found = Vec::new();
+    collect(f, &f.body, &mut found);
+    if found.is_empty() {
+        return false;
+    }
+    for e in &mut f.exprs {
+        if let ExprKind::Local(l) = e.kind {
+            if let Some((_, value)) = found.iter().find(|(local, _)| *local == l) {
+                e.kind = ExprKind::Literal(*value);
+            }
+        }
+    }
+    let gone: Vec<_> = found.iter().map(|(l, _)| *l).collect();
+    let body = std::mem::take(&mut f.body);
+    f.body = drop_lets(body, &gone);
+    true
+}
+
+/// Removes parameters a (non-entry) function never reads, and the matching arguments at every
+/// call. A texture passed only to a branch that specialisation removed thus stops being passed,
+/// and its binding becomes unreachable.
+fn remove_unused_params(module: &mut Module) {
+    loop {
+        let mut changed = false;
+        for i in 0..module.functions.len() {
+            if module.entry_point(&module.functions[i].name).is_some() {
+                continue;
+            }
+            let f = &module.functions[i];
+            let mut used = vec![false; f.params.len()];
+            walk_block(f, &f.body, &mut |id| {
+                if let ExprKind::Arg(a) = f.expr(id).kind {
+                    used[a as usize] = true;
+                }
+            });
+            if used.iter().all(|u| *u) {
+                continue;
+            }
+            changed = true;
+            let name = f.name.clone();
+            let mut new_index = Vec::with_capacity(used.len());
+            let mut next = 0u32;
+            for u in &used {
+                new_index.push(if *u { next += 1; Some(next - 1) } else { None });
+            }
+            let f = &mut module.functions[i];
+            f.params = f
+                .params
+                .drain(..)
+                .zip(&used)
+                .filter_map(|(p, u)| u.then_some(p))
+                .collect();
+            for e in &mut f.exprs {
+                if let ExprKind::Arg(a) = &mut e.kind {
+                    if let Some(Some(n)) = new_index.get(*a as usize) {
+                        *a = *n;
+                    }
+                }
+            }
+            for caller in &mut module.functions {
+                for e in &mut caller.exprs {
+                    if let ExprKind::Call(callee, args) = &mut e.kind {
+                        if *callee == name && args.len() == used.len() {
+                            *args = args
+                                .drain(..)
+                                .zip(&used)
+                                .filter_map(|(a, u)| u.then_some(a))
+                                .collect();
+                        }
+                    }
+                }
+            }
+        }
+        if !changed {
+            return;
+        }
+    }
 }
 
 fn lit(f: &Function, id: ExprId) -> Option<Literal> {

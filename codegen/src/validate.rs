@@ -12,6 +12,14 @@ pub struct Validated {
     pub info: ModuleInfo,
 }
 
+/// The origin of the most specific span among `offsets` (a statement beats a whole function).
+fn best_origin(wgsl: &str, spans: &SpanTable, offsets: impl Iterator<Item = usize>) -> Option<Origin> {
+    offsets
+        .filter_map(|o| spans.lookup(o).map(|e| (e.range.len(), o)))
+        .min_by_key(|(len, _)| *len)
+        .and_then(|(_, o)| origin_at(wgsl, spans, o))
+}
+
 fn origin_at(wgsl: &str, spans: &SpanTable, offset: usize) -> Option<Origin> {
     let entry = spans.lookup(offset)?;
     let line_start = wgsl[..offset.min(wgsl.len())].rfind('\n').map_or(0, |i| i + 1);
@@ -47,10 +55,11 @@ pub fn validate(
     variant: &str,
 ) -> Result<Validated, CodegenError> {
     let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
-        let origin = e
-            .labels()
-            .filter_map(|(span, _)| span.to_range())
-            .find_map(|r| origin_at(wgsl, spans, r.start));
+        let origin = best_origin(
+            wgsl,
+            spans,
+            e.labels().filter_map(|(span, _)| span.to_range()).map(|r| r.start),
+        );
         let mut message = e.message().to_string();
         for (_, label) in e.labels() {
             if !label.is_empty() && !message.contains(label) {
@@ -66,10 +75,11 @@ pub fn validate(
     })?;
     let mut validator = Validator::new(ValidationFlags::all(), Capabilities::default());
     let info = validator.validate(&module).map_err(|e| {
-        let mut origin = e
-            .spans()
-            .filter_map(|(span, _)| span.to_range())
-            .find_map(|r| origin_at(wgsl, spans, r.start));
+        let mut origin = best_origin(
+            wgsl,
+            spans,
+            e.spans().filter_map(|(span, _)| span.to_range()).map(|r| r.start),
+        );
         if origin.is_none() {
             // Some errors (e.g. a stage using a forbidden operation) carry no span; they still
             // name the function or entry point, which the span table knows.
