@@ -11,13 +11,16 @@ const INV_FOUR_PI: f32 = 0.079_577_47;
 
 /// Henyey–Greenstein (1941): `(1 − g²) / (4π (1 + g² − 2gμ)^{3/2})`.
 ///
-/// The denominator is evaluated as `(1 − g)² + 2g(1 − μ)`, which is the same quantity without
-/// the cancellation that makes the textbook form 10 % wrong near μ = 1 at g = 0.999 in f32.
+/// The denominator is evaluated as `(1 − |g|)² + 2|g|(1 − μ')` with μ' = sign(g)·μ (the
+/// symmetry p(μ; g) = p(−μ; −g)): both terms are non-negative, so nothing cancels. The
+/// textbook `1 + g² − 2gμ` is 10 % wrong at the peak for g = 0.999 in f32.
 #[shader_fn]
 pub fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
-    let one_minus_g = 1.0 - g;
-    let denom = one_minus_g * one_minus_g + 2.0 * g * (1.0 - cos_theta);
-    let numerator = one_minus_g * (1.0 + g);
+    let k = g.abs();
+    let mu = select(cos_theta, -cos_theta, g < 0.0);
+    let one_minus_k = 1.0 - k;
+    let denom = one_minus_k * one_minus_k + 2.0 * k * (1.0 - mu);
+    let numerator = one_minus_k * (1.0 + k);
     INV_FOUR_PI * numerator / (denom * denom.sqrt())
 }
 
