@@ -1,7 +1,9 @@
 //! Bad input gets a typed error naming what is wrong and where, with no panic and no partial
 //! output folder left looking complete.
 
-use nimbus_codegen::{CodegenError, MARKER_FILE, Target, catalog, emit, generate, generate_variant};
+use nimbus_codegen::{
+    CodegenError, MARKER_FILE, Target, catalog, emit, generate, generate_variant,
+};
 use nimbus_dsl::cpu::{Sampler, Texture3d};
 use nimbus_dsl::prelude::*;
 use nimbus_dsl::shader;
@@ -12,7 +14,10 @@ fn unknown_target_is_named_with_the_known_ones() {
     let err = Target::parse_list("wgsl,dx9").expect_err("dx9 is not a target");
     assert!(matches!(&err, CodegenError::UnknownTarget { given, .. } if given == "dx9"));
     let msg = err.to_string();
-    assert!(msg.contains("`dx9`") && msg.contains("glsl-es300") && msg.contains("spirv"), "{msg}");
+    assert!(
+        msg.contains("`dx9`") && msg.contains("glsl-es300") && msg.contains("spirv"),
+        "{msg}"
+    );
 }
 
 /// Valid Rust, invalid WGSL: shader functions cannot recurse.
@@ -35,12 +40,21 @@ fn a_dsl_function_naga_rejects_is_reported_at_its_rust_line() {
     })
     .expect("records");
     let err = generate(module, "default", &[Target::Wgsl]).expect_err("naga must reject recursion");
-    let CodegenError::Parse { module, origin: Some(origin), .. } = &err else {
+    let CodegenError::Parse {
+        module,
+        origin: Some(origin),
+        ..
+    } = &err
+    else {
         panic!("expected a parse error with an origin, got {err:?}");
     };
     assert_eq!(module, "recursion");
     assert_eq!(origin.function, "countdown");
-    assert!(origin.loc.file.ends_with("tests/errors.rs"), "{}", origin.loc);
+    assert!(
+        origin.loc.file.ends_with("tests/errors.rs"),
+        "{}",
+        origin.loc
+    );
     // The `return countdown(x - 1.0);` line of this file.
     let line = include_str!("errors.rs")
         .lines()
@@ -49,8 +63,15 @@ fn a_dsl_function_naga_rejects_is_reported_at_its_rust_line() {
         + 1;
     assert_eq!(origin.loc.line, line, "{err}");
     let msg = err.to_string();
-    assert!(msg.contains("countdown") && msg.contains("tests/errors.rs"), "{msg}");
-    assert!(!msg.contains("Expression ["), "IR terms leaked into the message: {msg}");
+    assert!(
+        msg.contains("countdown") && msg.contains("tests/errors.rs"),
+        "{msg}"
+    );
+    println!("{msg}");
+    assert!(
+        !msg.contains("Expression ["),
+        "IR terms leaked into the message: {msg}"
+    );
 }
 
 /// `textureSample` needs derivatives, which only fragment shaders have.
@@ -61,6 +82,14 @@ fn implicit_sample(tex: &Texture3d, smp: &Sampler, p: Vec3) -> f32 {
 
 #[test]
 fn a_stage_violation_without_a_naga_span_still_names_the_function() {
+    let cpu_tex = Texture3d {
+        size: [1, 1, 1],
+        texels: vec![glam::Vec4::splat(0.25)],
+    };
+    assert_eq!(
+        implicit_sample(&cpu_tex, &Sampler::default(), Vec3::splat(0.5)),
+        0.25
+    );
     let module = ModuleBuilder::build("bad_stage", "", loc!(), |m| {
         let tex = m.handle::<Texture3d>("shape", 0, 0, "");
         let smp = m.handle::<Sampler>("shape_sampler", 0, 1, "");
@@ -72,11 +101,19 @@ fn a_stage_violation_without_a_naga_span_still_names_the_function() {
     })
     .expect("records");
     let err = generate(module, "default", &[Target::Wgsl]).expect_err("naga must reject it");
-    let CodegenError::Validation { origin: Some(origin), message, .. } = &err else {
+    let CodegenError::Validation {
+        origin: Some(origin),
+        message,
+        ..
+    } = &err
+    else {
         panic!("expected a validation error with an origin, got {err:?}");
     };
     assert_eq!(origin.function, "main_cs", "{err}");
-    assert!(message.to_lowercase().contains("stage") || message.contains("forbidden"), "{message}");
+    assert!(
+        message.to_lowercase().contains("stage") || message.contains("forbidden"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -111,7 +148,10 @@ fn a_foreign_folder_is_not_replaced() {
     let g = generate_variant(&catalog()[0], &[Target::Wgsl]).expect("generate");
     let err = emit(&[g], tmp.path()).expect_err("refuses");
     assert!(matches!(err, CodegenError::ForeignOutput { .. }), "{err:?}");
-    assert_eq!(std::fs::read_to_string(&precious).expect("still there"), "mine");
+    assert_eq!(
+        std::fs::read_to_string(&precious).expect("still there"),
+        "mine"
+    );
 }
 
 #[test]
@@ -128,7 +168,10 @@ fn a_previous_output_is_replaced_whole() {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, vec![MARKER_FILE.to_string(), "preview.hg.wgsl".to_string()]);
+    assert_eq!(
+        names,
+        vec![MARKER_FILE.to_string(), "preview.hg.wgsl".to_string()]
+    );
     let leftovers = std::fs::read_dir(tmp.path()).expect("read").count();
     assert_eq!(leftovers, 1, "no temporary folder left beside the output");
 }

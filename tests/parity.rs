@@ -36,9 +36,18 @@ fn compare(
     cpu: impl Fn(&[u32]) -> Vec<u32>,
     tol: Tolerance,
 ) {
-    assert!(inputs.len() >= MIN_INPUTS, "{name}: only {} inputs", inputs.len());
+    assert!(
+        inputs.len() >= MIN_INPUTS,
+        "{name}: only {} inputs",
+        inputs.len()
+    );
     let Some(gpu) = gpu() else { return };
-    let f = KernelFn { name, params, result, call };
+    let f = KernelFn {
+        name,
+        params,
+        result,
+        call,
+    };
     let flat: Vec<u32> = inputs.iter().flatten().copied().collect();
     let gpu_out = run_on_gpu(gpu, &f, &flat).expect("GPU run");
     let width = gpu_out.len() / inputs.len();
@@ -54,7 +63,10 @@ fn compare(
                 continue;
             }
             let (g, c) = (f32::from_bits(got), f32::from_bits(*want));
-            assert!(g.is_finite() == c.is_finite(), "{name}: input #{i} {input:?}: cpu {c} gpu {g}");
+            assert!(
+                g.is_finite() == c.is_finite(),
+                "{name}: input #{i} {input:?}: cpu {c} gpu {g}"
+            );
             if !c.is_finite() {
                 continue;
             }
@@ -124,7 +136,10 @@ fn henyey_greenstein_matches_cpu() {
         &henyey_greenstein::call_ids,
         &inputs,
         |w| out_f(henyey_greenstein(arg(w, 0), arg(w, 1))),
-        Tolerance { abs: 1e-7, rel: 2e-6 },
+        Tolerance {
+            abs: 1e-7,
+            rel: 2e-6,
+        },
     );
 }
 
@@ -152,7 +167,10 @@ fn dual_lobe_hg_matches_cpu() {
         &dual_lobe_hg::call_ids,
         &inputs,
         |w| out_f(dual_lobe_hg(arg(w, 0), arg(w, 1), arg(w, 2), arg(w, 3))),
-        Tolerance { abs: 1e-7, rel: 4e-6 },
+        Tolerance {
+            abs: 1e-7,
+            rel: 4e-6,
+        },
     );
 }
 
@@ -183,9 +201,20 @@ fn density_profile_matches_cpu() {
         density_profile::RESULT,
         &density_profile::call_ids,
         &inputs,
-        |w| out_f(density_profile(arg(w, 0), arg(w, 1), arg(w, 2), arg(w, 3), arg(w, 4))),
+        |w| {
+            out_f(density_profile(
+                arg(w, 0),
+                arg(w, 1),
+                arg(w, 2),
+                arg(w, 3),
+                arg(w, 4),
+            ))
+        },
         // exp() on GPUs is allowed a few ulp more than libm's.
-        Tolerance { abs: 1e-6, rel: 1e-5 },
+        Tolerance {
+            abs: 1e-6,
+            rel: 1e-5,
+        },
     );
 }
 
@@ -207,7 +236,13 @@ fn fullscreen_position_matches_cpu_exactly() {
 }
 
 fn params_words(p: &PreviewParams) -> Vec<u32> {
-    let mut w = vec![f(p.resolution.x), f(p.resolution.y), f(p.g1), f(p.g2), f(p.lobe_mix)];
+    let mut w = vec![
+        f(p.resolution.x),
+        f(p.resolution.y),
+        f(p.g1),
+        f(p.g2),
+        f(p.lobe_mix),
+    ];
     w.extend(p.profile.to_array().map(f));
     w
 }
@@ -228,7 +263,12 @@ fn random_params(rng: &mut Rng) -> PreviewParams {
         g1: rng.range(-0.95, 0.95),
         g2: rng.range(-0.95, 0.95),
         lobe_mix: rng.range(0.0, 1.0),
-        profile: glam::vec4(rng.range(0.0, 1.0), rng.range(-4.0, 4.0), rng.range(-1.0, 1.0), rng.range(0.0, 1.0)),
+        profile: glam::vec4(
+            rng.range(0.0, 1.0),
+            rng.range(-4.0, 4.0),
+            rng.range(-1.0, 1.0),
+            rng.range(0.0, 1.0),
+        ),
     }
 }
 
@@ -247,7 +287,12 @@ fn preview_phase_matches_cpu_for_every_model() {
         inputs[0][0] = f(1.0);
         inputs[1][0] = f(-1.0);
         let call = move |a: &[ExprId]| {
-            preview_phase::shader(shader::F32::from_id(a[0]), PreviewParamsShader::from_id(a[1]), model).id()
+            preview_phase::shader(
+                shader::F32::from_id(a[0]),
+                PreviewParamsShader::from_id(a[1]),
+                model,
+            )
+            .id()
         };
         compare(
             &format!("preview_phase[{model:?}]"),
@@ -256,7 +301,10 @@ fn preview_phase_matches_cpu_for_every_model() {
             &call,
             &inputs,
             |w| out_f(preview_phase(arg(w, 0), params_from(&w[1..]), model)),
-            Tolerance { abs: 1e-7, rel: 4e-6 },
+            Tolerance {
+                abs: 1e-7,
+                rel: 4e-6,
+            },
         );
     }
 }
@@ -277,7 +325,12 @@ fn preview_color_and_fragment_match_cpu_for_every_model() {
             inputs.push(w);
         }
         let call = move |a: &[ExprId]| {
-            preview_color::shader(shader::Vec2::from_id(a[0]), PreviewParamsShader::from_id(a[1]), model).id()
+            preview_color::shader(
+                shader::Vec2::from_id(a[0]),
+                PreviewParamsShader::from_id(a[1]),
+                model,
+            )
+            .id()
         };
         // cos and log2 are approximations on GPUs; colours are in [0, 1].
         compare(
@@ -286,8 +339,17 @@ fn preview_color_and_fragment_match_cpu_for_every_model() {
             Type::Vector(4, nimbus_dsl::ir::Scalar::F32),
             &call,
             &inputs,
-            |w| out_v4(preview_color(glam::vec2(arg(w, 0), arg(w, 1)), params_from(&w[2..]), model)),
-            Tolerance { abs: 2e-5, rel: 0.0 },
+            |w| {
+                out_v4(preview_color(
+                    glam::vec2(arg(w, 0), arg(w, 1)),
+                    params_from(&w[2..]),
+                    model,
+                ))
+            },
+            Tolerance {
+                abs: 2e-5,
+                rel: 0.0,
+            },
         );
 
         let frag_inputs: Vec<Vec<u32>> = inputs
@@ -316,15 +378,27 @@ fn preview_color_and_fragment_match_cpu_for_every_model() {
         };
         compare(
             &format!("preview_fragment[{model:?}]"),
-            vec![Type::Vector(4, nimbus_dsl::ir::Scalar::F32), PARAMS_TYPE, Type::F32],
+            vec![
+                Type::Vector(4, nimbus_dsl::ir::Scalar::F32),
+                PARAMS_TYPE,
+                Type::F32,
+            ],
             Type::Vector(4, nimbus_dsl::ir::Scalar::F32),
             &call,
             &frag_inputs,
             |w| {
                 let frag = glam::vec4(arg(w, 0), arg(w, 1), arg(w, 2), arg(w, 3));
-                out_v4(preview_fragment(frag, params_from(&w[4..13]), arg(w, 13), model))
+                out_v4(preview_fragment(
+                    frag,
+                    params_from(&w[4..13]),
+                    arg(w, 13),
+                    model,
+                ))
             },
-            Tolerance { abs: 3e-5, rel: 0.0 },
+            Tolerance {
+                abs: 3e-5,
+                rel: 0.0,
+            },
         );
     }
 }

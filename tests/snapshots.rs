@@ -54,6 +54,11 @@ fn generation_is_deterministic() {
         let a = generate_variant(&source, &Target::ALL).expect("first");
         let b = generate_variant(&source, &Target::ALL).expect("second");
         assert_eq!(a.wgsl, b.wgsl, "{}: WGSL differs between runs", a.key());
-        assert_eq!(a.files, b.files, "{}: target outputs differ between runs", a.key());
+        assert_eq!(
+            a.files,
+            b.files,
+            "{}: target outputs differ between runs",
+            a.key()
+        );
     }
 }

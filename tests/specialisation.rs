@@ -32,7 +32,13 @@ fn the_single_lobe_preview_has_no_dual_lobe_code_in_any_target() {
 
 /// Shadowed density: samples a shadow texture only when `shadows` is on.
 #[shader_fn]
-fn lit_density(density: f32, tex: &Texture3d, smp: &Sampler, p: Vec3, #[spec] shadows: bool) -> f32 {
+fn lit_density(
+    density: f32,
+    tex: &Texture3d,
+    smp: &Sampler,
+    p: Vec3,
+    #[spec] shadows: bool,
+) -> f32 {
     if shadows {
         let t = tex.sample_level(smp, p, 0.0).x;
         return density * t;
@@ -63,22 +69,38 @@ fn a_toggle_that_is_off_removes_its_code_bindings_and_textures_everywhere() {
     assert_eq!(off.stats.texture_samples, 0);
     for (name, text) in texts(&on) {
         if name.contains(".fs_main.") || name.ends_with(".wgsl") {
-            assert!(text.contains("shadow_map") || text.contains("_group_0_binding_1"), "{name} lost the texture");
+            assert!(
+                text.contains("shadow_map") || text.contains("_group_0_binding_1"),
+                "{name} lost the texture"
+            );
         }
     }
     for (name, text) in texts(&off) {
         for gone in [
-            "shadow_map", "shadow_sampler", "texture_3d", "textureSample", "sampler3D", "Texture3D",
-            "SamplerState", "texture3d", "binding",
+            "shadow_map",
+            "shadow_sampler",
+            "texture_3d",
+            "textureSample",
+            "sampler3D",
+            "Texture3D",
+            "SamplerState",
+            "texture3d",
+            "binding",
         ] {
-            assert!(!text.contains(gone), "{name} still mentions `{gone}`:\n{text}");
+            assert!(
+                !text.contains(gone),
+                "{name} still mentions `{gone}`:\n{text}"
+            );
         }
     }
     for f in off.files.iter().filter_map(|f| f.manifest.as_ref()) {
         assert!(f.bindings.is_empty(), "{}: {:?}", f.entry_point, f.bindings);
     }
     // The CPU twin agrees with both specialisations.
-    let tex = Texture3d { size: [1, 1, 1], texels: vec![glam::Vec4::splat(0.5)] };
+    let tex = Texture3d {
+        size: [1, 1, 1],
+        texels: vec![glam::Vec4::splat(0.5)],
+    };
     let smp = Sampler::default();
     assert_eq!(lit_density(0.8, &tex, &smp, Vec3::ZERO, true), 0.4);
     assert_eq!(lit_density(0.8, &tex, &smp, Vec3::ZERO, false), 0.8);
@@ -104,7 +126,12 @@ fn literal_conditions_are_folded_away() {
     })
     .expect("records");
     let g = generate(m, "fold", &[Target::Wgsl]).expect("generate");
-    let body = g.wgsl.split("fn folded_4").nth(1).expect("specialised copy").to_string();
+    let body = g
+        .wgsl
+        .split("fn folded_4")
+        .nth(1)
+        .expect("specialised copy")
+        .to_string();
     assert!(!body.contains("if "), "branch should be folded:\n{body}");
     assert!(body.contains("x * 2.0"), "{body}");
     assert_eq!(folded(1.0, 4), 2.0);

@@ -30,7 +30,7 @@ impl std::fmt::Display for Origin {
     }
 }
 
-fn origin_text(origin: &Option<Origin>) -> String {
+fn origin_text(origin: &Option<Box<Origin>>) -> String {
     match origin {
         Some(o) => o.to_string(),
         None => "(naga gave no location)".to_string(),
@@ -42,7 +42,9 @@ pub enum CodegenError {
     #[error(transparent)]
     Dsl(#[from] nimbus_dsl::DslError),
 
-    #[error("`{function}` ({loc}) contains a non-finite literal (NaN or infinity), which WGSL cannot spell")]
+    #[error(
+        "`{function}` ({loc}) contains a non-finite literal (NaN or infinity), which WGSL cannot spell"
+    )]
     NonFiniteLiteral { function: String, loc: SourceLoc },
 
     #[error("unknown target `{given}`; known targets: {known}")]
@@ -55,7 +57,7 @@ pub enum CodegenError {
     Parse {
         module: String,
         variant: String,
-        origin: Option<Origin>,
+        origin: Option<Box<Origin>>,
         message: String,
     },
 
@@ -63,11 +65,13 @@ pub enum CodegenError {
     Validation {
         module: String,
         variant: String,
-        origin: Option<Origin>,
+        origin: Option<Box<Origin>>,
         message: String,
     },
 
-    #[error("module `{module}` variant `{variant}`: the {target} backend failed for entry point `{entry_point}`: {message}")]
+    #[error(
+        "module `{module}` variant `{variant}`: the {target} backend failed for entry point `{entry_point}`: {message}"
+    )]
     Backend {
         module: String,
         variant: String,

@@ -12,9 +12,16 @@ use crate::target::Target;
 /// The outcome of one external check.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum ExternalCheck {
-    Passed { tool: &'static str },
-    Failed { tool: &'static str, output: String },
-    ToolMissing { tool: &'static str },
+    Passed {
+        tool: &'static str,
+    },
+    Failed {
+        tool: &'static str,
+        output: String,
+    },
+    ToolMissing {
+        tool: &'static str,
+    },
     /// The target has no external validator available on Linux (HLSL, MSL, WGSL).
     NotApplicable,
 }
@@ -32,14 +39,24 @@ fn run(tool: &'static str, args: &[&str], file_name: &str, bytes: &[u8]) -> Exte
     if !tool_available(tool) {
         return ExternalCheck::ToolMissing { tool };
     }
-    let dir = std::env::temp_dir().join(format!("nimbus-ext-{}-{}", std::process::id(), crate::generate::fnv1a(bytes)));
+    let dir = std::env::temp_dir().join(format!(
+        "nimbus-ext-{}-{}",
+        std::process::id(),
+        crate::generate::fnv1a(bytes)
+    ));
     if std::fs::create_dir_all(&dir).is_err() {
-        return ExternalCheck::Failed { tool, output: format!("cannot create {}", dir.display()) };
+        return ExternalCheck::Failed {
+            tool,
+            output: format!("cannot create {}", dir.display()),
+        };
     }
     let path = dir.join(file_name);
     let written = std::fs::File::create(&path).and_then(|mut f| f.write_all(bytes));
     let result = match written {
-        Err(e) => ExternalCheck::Failed { tool, output: format!("cannot write {}: {e}", path.display()) },
+        Err(e) => ExternalCheck::Failed {
+            tool,
+            output: format!("cannot write {}: {e}", path.display()),
+        },
         Ok(()) => match Command::new(tool).args(args).arg(&path).output() {
             Ok(out) if out.status.success() => ExternalCheck::Passed { tool },
             Ok(out) => ExternalCheck::Failed {
@@ -50,7 +67,10 @@ fn run(tool: &'static str, args: &[&str], file_name: &str, bytes: &[u8]) -> Exte
                     String::from_utf8_lossy(&out.stderr)
                 ),
             },
-            Err(e) => ExternalCheck::Failed { tool, output: e.to_string() },
+            Err(e) => ExternalCheck::Failed {
+                tool,
+                output: e.to_string(),
+            },
         },
     };
     let _ = std::fs::remove_dir_all(&dir);

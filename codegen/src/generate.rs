@@ -80,9 +80,9 @@ impl Generated {
     }
 
     pub fn file(&self, target: Target, entry: &str) -> Option<&OutputFile> {
-        self.files.iter().find(|f| {
-            f.target == target && f.entry_point.as_ref().is_some_and(|(e, _)| e == entry)
-        })
+        self.files
+            .iter()
+            .find(|f| f.target == target && f.entry_point.as_ref().is_some_and(|(e, _)| e == entry))
     }
 }
 
@@ -126,7 +126,9 @@ fn count(module: &Module) -> (usize, usize) {
             b.iter()
                 .map(|s| match s {
                     Stmt::For { body, .. } => 1 + count_loops(body),
-                    Stmt::If { then, otherwise, .. } => count_loops(then) + count_loops(otherwise),
+                    Stmt::If {
+                        then, otherwise, ..
+                    } => count_loops(then) + count_loops(otherwise),
                     _ => 0,
                 })
                 .sum()
@@ -148,7 +150,11 @@ pub fn print_and_validate(
 }
 
 /// Generates `targets` for a recorded module.
-pub fn generate(module: Module, variant: &str, targets: &[Target]) -> Result<Generated, CodegenError> {
+pub fn generate(
+    module: Module,
+    variant: &str,
+    targets: &[Target],
+) -> Result<Generated, CodegenError> {
     let (module, wgsl, spans, validated) = print_and_validate(module, variant)?;
     let mut files = Vec::new();
     let mut target_bytes = BTreeMap::new();
@@ -194,7 +200,11 @@ pub fn generate(module: Module, variant: &str, targets: &[Target]) -> Result<Gen
         wgsl_lines: wgsl.lines().count(),
         wgsl_bytes: wgsl.len(),
         functions: module.functions.len(),
-        bindings: module.globals.iter().filter(|g| g.binding().is_some()).count(),
+        bindings: module
+            .globals
+            .iter()
+            .filter(|g| g.binding().is_some())
+            .count(),
         texture_samples,
         loops,
         target_bytes,

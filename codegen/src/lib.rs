@@ -24,7 +24,10 @@ pub use target::Target;
 pub use validate::{Validated, validate};
 
 /// Generates one catalogue variant for `targets`.
-pub fn generate_variant(source: &VariantSource, targets: &[Target]) -> Result<Generated, CodegenError> {
+pub fn generate_variant(
+    source: &VariantSource,
+    targets: &[Target],
+) -> Result<Generated, CodegenError> {
     let module = source.build()?;
     generate(module, &source.variant, targets)
 }

@@ -41,7 +41,9 @@ fn propagate_literal_lets(f: &mut Function) -> bool {
                         out.push((*local, l));
                     }
                 }
-                Stmt::If { then, otherwise, .. } => {
+                Stmt::If {
+                    then, otherwise, ..
+                } => {
                     collect(f, then, out);
                     collect(f, otherwise, out);
                 }
@@ -55,13 +57,24 @@ fn propagate_literal_lets(f: &mut Function) -> bool {
             .into_iter()
             .filter(|s| !matches!(s, Stmt::Let { local, .. } if gone.contains(local)))
             .map(|s| match s {
-                Stmt::If { cond, then, otherwise, loc } => Stmt::If {
+                Stmt::If {
+                    cond,
+                    then,
+                    otherwise,
+                    loc,
+                } => Stmt::If {
                     cond,
                     then: drop_lets(then, gone),
                     otherwise: drop_lets(otherwise, gone),
                     loc,
                 },
-                Stmt::For { counter, start, end, body, loc } => Stmt::For {
+                Stmt::For {
+                    counter,
+                    start,
+                    end,
+                    body,
+                    loc,
+                } => Stmt::For {
                     counter,
                     start,
                     end,
@@ -78,10 +91,10 @@ fn propagate_literal_lets(f: &mut Function) -> bool {
         return false;
     }
     for e in &mut f.exprs {
-        if let ExprKind::Local(l) = e.kind {
-            if let Some((_, value)) = found.iter().find(|(local, _)| *local == l) {
-                e.kind = ExprKind::Literal(*value);
-            }
+        if let ExprKind::Local(l) = e.kind
+            && let Some((_, value)) = found.iter().find(|(local, _)| *local == l)
+        {
+            e.kind = ExprKind::Literal(*value);
         }
     }
     let gone: Vec<_> = found.iter().map(|(l, _)| *l).collect();
@@ -115,7 +128,12 @@ fn remove_unused_params(module: &mut Module) {
             let mut new_index = Vec::with_capacity(used.len());
             let mut next = 0u32;
             for u in &used {
-                new_index.push(if *u { next += 1; Some(next - 1) } else { None });
+                new_index.push(if *u {
+                    next += 1;
+                    Some(next - 1)
+                } else {
+                    None
+                });
             }
             let f = &mut module.functions[i];
             f.params = f
@@ -125,22 +143,23 @@ fn remove_unused_params(module: &mut Module) {
                 .filter_map(|(p, u)| u.then_some(p))
                 .collect();
             for e in &mut f.exprs {
-                if let ExprKind::Arg(a) = &mut e.kind {
-                    if let Some(Some(n)) = new_index.get(*a as usize) {
-                        *a = *n;
-                    }
+                if let ExprKind::Arg(a) = &mut e.kind
+                    && let Some(Some(n)) = new_index.get(*a as usize)
+                {
+                    *a = *n;
                 }
             }
             for caller in &mut module.functions {
                 for e in &mut caller.exprs {
-                    if let ExprKind::Call(callee, args) = &mut e.kind {
-                        if *callee == name && args.len() == used.len() {
-                            *args = args
-                                .drain(..)
-                                .zip(&used)
-                                .filter_map(|(a, u)| u.then_some(a))
-                                .collect();
-                        }
+                    if let ExprKind::Call(callee, args) = &mut e.kind
+                        && *callee == name
+                        && args.len() == used.len()
+                    {
+                        *args = args
+                            .drain(..)
+                            .zip(&used)
+                            .filter_map(|(a, u)| u.then_some(a))
+                            .collect();
                     }
                 }
             }
@@ -177,10 +196,10 @@ fn fold_binary(op: BinaryOp, a: Literal, b: Literal) -> Option<Literal> {
                 _ => return None,
             };
             // Never fold into a value WGSL cannot spell; naga reports the expression instead.
-            if let F32(bits) = r {
-                if !f32::from_bits(bits).is_finite() {
-                    return None;
-                }
+            if let F32(bits) = r
+                && !f32::from_bits(bits).is_finite()
+            {
+                return None;
             }
             r
         }
@@ -262,10 +281,10 @@ fn fold_constants(f: &mut Function) {
             },
             _ => None,
         };
-        if let Some(l) = folded {
-            if l.ty() == f.exprs[i].ty {
-                f.exprs[i].kind = ExprKind::Literal(l);
-            }
+        if let Some(l) = folded
+            && l.ty() == f.exprs[i].ty
+        {
+            f.exprs[i].kind = ExprKind::Literal(l);
         }
     }
 }
@@ -402,19 +421,22 @@ pub fn walk_expr(f: &Function, id: ExprId, visit: &mut impl FnMut(ExprId)) {
 }
 
 fn collect_struct(ty: Type, out: &mut BTreeSet<&'static str>) {
-    if let Type::Struct(def) = ty {
-        if out.insert(def.name) {
-            for field in def.fields {
-                collect_struct(field.ty, out);
-            }
+    if let Type::Struct(def) = ty
+        && out.insert(def.name)
+    {
+        for field in def.fields {
+            collect_struct(field.ty, out);
         }
     }
 }
 
 /// Removes functions, globals and structs that no entry point reaches.
 fn remove_unreachable(module: &mut Module) {
-    let mut live_fns: BTreeSet<String> =
-        module.entry_points.iter().map(|e| e.function.clone()).collect();
+    let mut live_fns: BTreeSet<String> = module
+        .entry_points
+        .iter()
+        .map(|e| e.function.clone())
+        .collect();
     let mut live_globals = BTreeSet::new();
     let mut live_structs = BTreeSet::new();
     // Callees are recorded before callers, so walking from the back reaches a fixed point.
@@ -464,10 +486,10 @@ fn remove_unreachable(module: &mut Module) {
     module.globals = kept;
     for f in &mut module.functions {
         for e in &mut f.exprs {
-            if let ExprKind::Global(g) = &mut e.kind {
-                if let Some(Some(new)) = remap.get(g.0 as usize) {
-                    g.0 = *new;
-                }
+            if let ExprKind::Global(g) = &mut e.kind
+                && let Some(Some(new)) = remap.get(g.0 as usize)
+            {
+                g.0 = *new;
             }
         }
     }

@@ -13,7 +13,11 @@ pub struct Validated {
 }
 
 /// The origin of the most specific span among `offsets` (a statement beats a whole function).
-fn best_origin(wgsl: &str, spans: &SpanTable, offsets: impl Iterator<Item = usize>) -> Option<Origin> {
+fn best_origin(
+    wgsl: &str,
+    spans: &SpanTable,
+    offsets: impl Iterator<Item = usize>,
+) -> Option<Origin> {
     offsets
         .filter_map(|o| spans.lookup(o).map(|e| (e.range.len(), o)))
         .min_by_key(|(len, _)| *len)
@@ -22,7 +26,9 @@ fn best_origin(wgsl: &str, spans: &SpanTable, offsets: impl Iterator<Item = usiz
 
 fn origin_at(wgsl: &str, spans: &SpanTable, offset: usize) -> Option<Origin> {
     let entry = spans.lookup(offset)?;
-    let line_start = wgsl[..offset.min(wgsl.len())].rfind('\n').map_or(0, |i| i + 1);
+    let line_start = wgsl[..offset.min(wgsl.len())]
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
     let line_end = wgsl[line_start..]
         .find('\n')
         .map_or(wgsl.len(), |i| line_start + i);
@@ -58,7 +64,9 @@ pub fn validate(
         let origin = best_origin(
             wgsl,
             spans,
-            e.labels().filter_map(|(span, _)| span.to_range()).map(|r| r.start),
+            e.labels()
+                .filter_map(|(span, _)| span.to_range())
+                .map(|r| r.start),
         );
         let mut message = e.message().to_string();
         for (_, label) in e.labels() {
@@ -69,7 +77,7 @@ pub fn validate(
         CodegenError::Parse {
             module: module_name.to_string(),
             variant: variant.to_string(),
-            origin,
+            origin: origin.map(Box::new),
             message,
         }
     })?;
@@ -78,7 +86,9 @@ pub fn validate(
         let mut origin = best_origin(
             wgsl,
             spans,
-            e.spans().filter_map(|(span, _)| span.to_range()).map(|r| r.start),
+            e.spans()
+                .filter_map(|(span, _)| span.to_range())
+                .map(|r| r.start),
         );
         if origin.is_none() {
             // Some errors (e.g. a stage using a forbidden operation) carry no span; they still
@@ -99,7 +109,7 @@ pub fn validate(
         CodegenError::Validation {
             module: module_name.to_string(),
             variant: variant.to_string(),
-            origin,
+            origin: origin.map(Box::new),
             message: chain(e.as_inner()),
         }
     })?;

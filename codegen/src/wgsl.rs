@@ -89,13 +89,13 @@ fn needs_parens(parent: BinaryOp, child: BinaryOp, right: bool) -> bool {
         // Shift and bitwise operands are unary expressions in WGSL's grammar; bitwise chains of
         // the same operator are allowed on the left.
         Prec::Shift => true,
-        Prec::Bitwise => !(parent == child && !right),
+        Prec::Bitwise => parent != child || right,
         Prec::Relational => c <= Prec::Relational,
         Prec::And | Prec::Or => {
-            if c == Prec::Relational || c > Prec::Relational {
+            if c >= Prec::Relational {
                 false
             } else {
-                !(parent == child && !right)
+                parent != child || right
             }
         }
     }
@@ -107,7 +107,11 @@ fn float_literal(v: f32) -> Option<String> {
     }
     let s = format!("{v:?}");
     // `{:?}` prints the shortest string that round-trips in f32 ("0.75", "1e-6", "6400000.0").
-    Some(if s.contains(['.', 'e']) { s } else { format!("{s}.0") })
+    Some(if s.contains(['.', 'e']) {
+        s
+    } else {
+        format!("{s}.0")
+    })
 }
 
 fn literal(l: Literal) -> Option<String> {
@@ -168,7 +172,7 @@ impl Printer<'_> {
             m.name
         ));
         for d in &m.doc {
-            self.line(&format!("// {d}").trim_end().to_string());
+            self.line(format!("// {d}").trim_end());
         }
         self.out.push('\n');
     }
@@ -376,18 +380,25 @@ impl Printer<'_> {
     }
 
     /// The arms of an `if` whose header line is printed; folds `else { if .. }` into `else if`.
-    fn if_rest(&mut self, f: &Function, then: &Block, otherwise: &Block) -> Result<(), CodegenError> {
+    fn if_rest(
+        &mut self,
+        f: &Function,
+        then: &Block,
+        otherwise: &Block,
+    ) -> Result<(), CodegenError> {
         self.indent += 1;
         self.block(f, then)?;
         self.indent -= 1;
         match otherwise.as_slice() {
             [] => self.line("}"),
-            [Stmt::If {
-                cond,
-                then: t2,
-                otherwise: o2,
-                loc,
-            }] => {
+            [
+                Stmt::If {
+                    cond,
+                    then: t2,
+                    otherwise: o2,
+                    loc,
+                },
+            ] => {
                 let start = self.out.len();
                 let c = self.expr(f, *cond)?;
                 self.line(&format!("}} else if {c} {{"));
@@ -405,7 +416,13 @@ impl Printer<'_> {
         Ok(())
     }
 
-    fn operand(&mut self, f: &Function, id: ExprId, parent: BinaryOp, right: bool) -> Result<String, CodegenError> {
+    fn operand(
+        &mut self,
+        f: &Function,
+        id: ExprId,
+        parent: BinaryOp,
+        right: bool,
+    ) -> Result<String, CodegenError> {
         let s = self.expr(f, id)?;
         Ok(match f.expr(id).kind {
             ExprKind::Binary(op, ..) if needs_parens(parent, op, right) => format!("({s})"),
@@ -443,7 +460,9 @@ impl Printer<'_> {
                 let inner = self.expr(f, *a)?;
                 let inner = match f.expr(*a).kind {
                     ExprKind::Binary(..) | ExprKind::Unary(..) => format!("({inner})"),
-                    ExprKind::Literal(Literal::F32(b)) if f32::from_bits(b) < 0.0 => format!("({inner})"),
+                    ExprKind::Literal(Literal::F32(b)) if f32::from_bits(b) < 0.0 => {
+                        format!("({inner})")
+                    }
                     ExprKind::Literal(Literal::I32(v)) if v < 0 => format!("({inner})"),
                     _ => inner,
                 };

@@ -299,8 +299,23 @@ macro_rules! fn_tail {
     )*};
 }
 use crate::value::{F32, IVec2, IVec3, IVec4, Mat3, Mat4, UVec2, UVec3, UVec4, Vec2, Vec3, Vec4};
-fn_tail!(F32 | f32, I32 | i32, U32 | u32, Bool | bool, Vec2 | glam::Vec2, Vec3 | glam::Vec3,
-    Vec4 | glam::Vec4, IVec2, IVec3, IVec4, UVec2, UVec3, UVec4, Mat3, Mat4);
+fn_tail!(
+    F32 | f32,
+    I32 | i32,
+    U32 | u32,
+    Bool | bool,
+    Vec2 | glam::Vec2,
+    Vec3 | glam::Vec3,
+    Vec4 | glam::Vec4,
+    IVec2,
+    IVec3,
+    IVec4,
+    UVec2,
+    UVec3,
+    UVec4,
+    Mat3,
+    Mat4
+);
 
 /// Converts a function body's tail to its result expression.
 pub fn tail<R, T: FnTail<R>>(value: T) -> Option<ExprId> {

@@ -11,8 +11,8 @@ use crate::ir::{
     Type,
 };
 use crate::record::{self, FunctionHeader, push_expr};
-use crate::value::{F32, ShaderType, StorageArray, U32, UVec3, Value, Vec4};
 use crate::value::StorageElement;
+use crate::value::{F32, ShaderType, StorageArray, U32, UVec3, Value, Vec4};
 
 /// Why a module could not be recorded.
 #[derive(Debug, Error, PartialEq)]
@@ -206,8 +206,9 @@ impl ModuleBuilder {
     /// for every other target.
     pub fn override_f32(&mut self, name: &str, default: f32, doc: &str) -> GlobalRef<F32> {
         if !default.is_finite() {
-            self.errors
-                .push(format!("override `{name}` has a non-finite default {default}"));
+            self.errors.push(format!(
+                "override `{name}` has a non-finite default {default}"
+            ));
         }
         self.global(
             name,
@@ -219,6 +220,10 @@ impl ModuleBuilder {
         )
     }
 
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "private helper; each public entry point fixes most of them"
+    )]
     fn entry(
         &mut self,
         stage: Stage,

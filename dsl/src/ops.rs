@@ -88,7 +88,11 @@ pub trait ShaderLogic<Rhs> {
 impl ShaderLogic<bool> for bool {
     type Output = bool;
     fn logic(self, rhs: bool, op: BinaryOp) -> bool {
-        if op == BinaryOp::And { self && rhs } else { self || rhs }
+        if op == BinaryOp::And {
+            self && rhs
+        } else {
+            self || rhs
+        }
     }
 }
 

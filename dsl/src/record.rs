@@ -15,16 +15,106 @@ use crate::ir::{
 
 /// WGSL reserved words and predeclared names a Rust binding could collide with.
 const RESERVED: &[&str] = &[
-    "alias", "break", "case", "const", "const_assert", "continue", "continuing", "default",
-    "diagnostic", "discard", "else", "enable", "false", "fn", "for", "if", "let", "loop",
-    "override", "requires", "return", "struct", "switch", "true", "var", "while", "array", "bool",
-    "f16", "f32", "i32", "u32", "mat2x2", "mat3x3", "mat4x4", "vec2", "vec3", "vec4", "sampler",
-    "texture", "ptr", "atomic", "abs", "exp", "exp2", "log", "log2", "min", "max", "clamp", "mix",
-    "step", "smoothstep", "select", "dot", "cross", "length", "normalize", "distance", "pow",
-    "sqrt", "floor", "ceil", "fract", "round", "trunc", "sign", "sin", "cos", "tan", "saturate",
-    "fma", "target", "sample", "position", "self", "super", "auto", "handle", "layout", "uniform",
-    "storage", "workgroup", "private", "function", "read", "write", "read_write", "in", "out",
-    "inout", "input", "output", "main", "float", "int", "uint", "vec", "mat", "half",
+    "alias",
+    "break",
+    "case",
+    "const",
+    "const_assert",
+    "continue",
+    "continuing",
+    "default",
+    "diagnostic",
+    "discard",
+    "else",
+    "enable",
+    "false",
+    "fn",
+    "for",
+    "if",
+    "let",
+    "loop",
+    "override",
+    "requires",
+    "return",
+    "struct",
+    "switch",
+    "true",
+    "var",
+    "while",
+    "array",
+    "bool",
+    "f16",
+    "f32",
+    "i32",
+    "u32",
+    "mat2x2",
+    "mat3x3",
+    "mat4x4",
+    "vec2",
+    "vec3",
+    "vec4",
+    "sampler",
+    "texture",
+    "ptr",
+    "atomic",
+    "abs",
+    "exp",
+    "exp2",
+    "log",
+    "log2",
+    "min",
+    "max",
+    "clamp",
+    "mix",
+    "step",
+    "smoothstep",
+    "select",
+    "dot",
+    "cross",
+    "length",
+    "normalize",
+    "distance",
+    "pow",
+    "sqrt",
+    "floor",
+    "ceil",
+    "fract",
+    "round",
+    "trunc",
+    "sign",
+    "sin",
+    "cos",
+    "tan",
+    "saturate",
+    "fma",
+    "target",
+    "sample",
+    "position",
+    "self",
+    "super",
+    "auto",
+    "handle",
+    "layout",
+    "uniform",
+    "storage",
+    "workgroup",
+    "private",
+    "function",
+    "read",
+    "write",
+    "read_write",
+    "in",
+    "out",
+    "inout",
+    "input",
+    "output",
+    "main",
+    "float",
+    "int",
+    "uint",
+    "vec",
+    "mat",
+    "half",
 ];
 
 struct FnFrame {
@@ -176,7 +266,12 @@ fn push_struct(structs: &mut Vec<&'static StructDef>, def: &'static StructDef) {
 /// when it has the same type and kind.
 pub(crate) fn add_global(global: Global) -> Result<crate::ir::GlobalId, String> {
     with(|rec| {
-        if let Some(i) = rec.module.globals.iter().position(|g| g.name == global.name) {
+        if let Some(i) = rec
+            .module
+            .globals
+            .iter()
+            .position(|g| g.name == global.name)
+        {
             if rec.module.globals[i] == global {
                 return Ok(crate::ir::GlobalId(i as u32));
             }
@@ -185,13 +280,13 @@ pub(crate) fn add_global(global: Global) -> Result<crate::ir::GlobalId, String> 
                 global.name
             ));
         }
-        if let Some(b) = global.binding() {
-            if let Some(other) = rec.module.globals.iter().find(|g| g.binding() == Some(b)) {
-                return Err(format!(
-                    "globals `{}` and `{}` both use @group({}) @binding({})",
-                    other.name, global.name, b.0, b.1
-                ));
-            }
+        if let Some(b) = global.binding()
+            && let Some(other) = rec.module.globals.iter().find(|g| g.binding() == Some(b))
+        {
+            return Err(format!(
+                "globals `{}` and `{}` both use @group({}) @binding({})",
+                other.name, global.name, b.0, b.1
+            ));
         }
         if let Type::Struct(def) = global.ty {
             push_struct(&mut rec.module.structs, def);
@@ -275,7 +370,13 @@ pub fn sanitize(name: &str) -> String {
     let mut s: String = name
         .trim_start_matches("r#")
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
         s.insert(0, 'v');

@@ -36,14 +36,20 @@ fn henyey_greenstein_keeps_its_symmetry_and_peak() {
         for mu in [-1.0, -0.3, 0.0, 0.5, 1.0] {
             let a = henyey_greenstein(mu, -g);
             let b = henyey_greenstein(-mu, g);
-            assert!((a - b).abs() <= 1e-6 * a.abs().max(1.0), "p(μ;−g) ≠ p(−μ;g) at g={g} μ={mu}");
+            assert!(
+                (a - b).abs() <= 1e-6 * a.abs().max(1.0),
+                "p(μ;−g) ≠ p(−μ;g) at g={g} μ={mu}"
+            );
         }
     }
     // The stable denominator keeps the f32 peak at g = 0.999 within 1e-4 of (1+g)/(4π(1−g)²).
     let g = 0.999f32;
     let exact = (1.0 + f64::from(g)) / (4.0 * std::f64::consts::PI * (1.0 - f64::from(g)).powi(2));
     let got = f64::from(henyey_greenstein(1.0, g));
-    assert!(((got - exact) / exact).abs() < 1e-4, "peak {got} vs {exact}");
+    assert!(
+        ((got - exact) / exact).abs() < 1e-4,
+        "peak {got} vs {exact}"
+    );
 }
 
 #[test]

@@ -68,7 +68,9 @@ impl Gpu {
             name: ai.name.clone(),
             backend: format!("{:?}", ai.backend),
             device_type: format!("{:?}", ai.device_type),
-            driver: format!("{} {}", ai.driver, ai.driver_info).trim().to_string(),
+            driver: format!("{} {}", ai.driver, ai.driver_info)
+                .trim()
+                .to_string(),
         };
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {

@@ -42,7 +42,10 @@ fn from_word(word: ExprId, s: Scalar) -> ExprId {
         Scalar::U32 => word,
         Scalar::F32 | Scalar::I32 => push_expr(ExprKind::Bitcast(s, word), Type::Scalar(s)),
         Scalar::Bool => {
-            let zero = push_expr(ExprKind::Literal(nimbus_dsl::ir::Literal::U32(0)), Type::U32);
+            let zero = push_expr(
+                ExprKind::Literal(nimbus_dsl::ir::Literal::U32(0)),
+                Type::U32,
+            );
             push_expr(
                 ExprKind::Binary(nimbus_dsl::ir::BinaryOp::Ne, word, zero),
                 Type::BOOL,
@@ -56,8 +59,14 @@ fn to_word(value: ExprId, s: Scalar) -> ExprId {
         Scalar::U32 => value,
         Scalar::F32 | Scalar::I32 => push_expr(ExprKind::Bitcast(Scalar::U32, value), Type::U32),
         Scalar::Bool => {
-            let one = push_expr(ExprKind::Literal(nimbus_dsl::ir::Literal::U32(1)), Type::U32);
-            let zero = push_expr(ExprKind::Literal(nimbus_dsl::ir::Literal::U32(0)), Type::U32);
+            let one = push_expr(
+                ExprKind::Literal(nimbus_dsl::ir::Literal::U32(1)),
+                Type::U32,
+            );
+            let zero = push_expr(
+                ExprKind::Literal(nimbus_dsl::ir::Literal::U32(0)),
+                Type::U32,
+            );
             push_expr(
                 ExprKind::Select {
                     if_false: zero,
@@ -90,7 +99,11 @@ fn load(ty: Type, offset: &mut usize, read: &mut impl FnMut(usize) -> ExprId) ->
             push_expr(ExprKind::Construct(ty, parts), ty)
         }
         Type::Struct(def) => {
-            let parts = def.fields.iter().map(|f| load(f.ty, offset, read)).collect();
+            let parts = def
+                .fields
+                .iter()
+                .map(|f| load(f.ty, offset, read))
+                .collect();
             push_expr(ExprKind::Construct(ty, parts), ty)
         }
         _ => read(*offset),
@@ -98,7 +111,11 @@ fn load(ty: Type, offset: &mut usize, read: &mut impl FnMut(usize) -> ExprId) ->
 }
 
 /// Words of a result value (scalars and vectors only).
-fn store(ty: Type, value: ExprId, mut write: impl FnMut(usize, ExprId)) -> Result<(), RuntimeError> {
+fn store(
+    ty: Type,
+    value: ExprId,
+    mut write: impl FnMut(usize, ExprId),
+) -> Result<(), RuntimeError> {
     match ty {
         Type::Scalar(s) => write(0, to_word(value, s)),
         Type::Vector(n, s) => {
@@ -127,33 +144,55 @@ pub struct KernelFn<'a> {
 
 /// The WGSL of the parity kernel for `f` (validated by naga like every other output).
 pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
-    let in_words: usize = f.params.iter().map(|t| words_of(*t)).sum::<Result<usize, _>>()?;
+    let in_words: usize = f
+        .params
+        .iter()
+        .map(|t| words_of(*t))
+        .sum::<Result<usize, _>>()?;
     let out_words = words_of(f.result)?;
     let module = ModuleBuilder::build(
         &format!("parity_{}", f.name),
         "CPU/GPU parity kernel: reads argument words, calls the function, writes result words.",
         loc!(),
         |m| {
-            let input = m.storage::<U32>("inputs", 0, 0, false, "Argument words, one record per invocation.");
-            let output = m.storage::<U32>("outputs", 0, 1, true, "Result words, one record per invocation.");
-            m.compute("parity_main", "One call per invocation.", loc!(), [WORKGROUP, 1, 1], |gid| {
-                let index = gid.x;
-                let inputs = input.array();
-                let in_base = index * (in_words as u32);
-                let mut read = |offset: usize| inputs.get(in_base + offset as u32).id();
-                let mut offset = 0;
-                let args: Vec<ExprId> = f
-                    .params
-                    .iter()
-                    .map(|t| load(*t, &mut offset, &mut read))
-                    .collect();
-                let result = (f.call)(&args);
-                let outputs = output.array();
-                let out_base = index * (out_words as u32);
-                let _ = store(f.result, result, |i, word| {
-                    outputs.set(out_base + i as u32, U32::from_id(word));
-                });
-            });
+            let input = m.storage::<U32>(
+                "inputs",
+                0,
+                0,
+                false,
+                "Argument words, one record per invocation.",
+            );
+            let output = m.storage::<U32>(
+                "outputs",
+                0,
+                1,
+                true,
+                "Result words, one record per invocation.",
+            );
+            m.compute(
+                "parity_main",
+                "One call per invocation.",
+                loc!(),
+                [WORKGROUP, 1, 1],
+                |gid| {
+                    let index = gid.x;
+                    let inputs = input.array();
+                    let in_base = index * (in_words as u32);
+                    let mut read = |offset: usize| inputs.get(in_base + offset as u32).id();
+                    let mut offset = 0;
+                    let args: Vec<ExprId> = f
+                        .params
+                        .iter()
+                        .map(|t| load(*t, &mut offset, &mut read))
+                        .collect();
+                    let result = (f.call)(&args);
+                    let outputs = output.array();
+                    let out_base = index * (out_words as u32);
+                    let _ = store(f.result, result, |i, word| {
+                        outputs.set(out_base + i as u32, U32::from_id(word));
+                    });
+                },
+            );
         },
     )?;
     let generated = generate(module, "parity", &[Target::Wgsl])?;
@@ -163,9 +202,13 @@ pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
 /// Runs `f` on the GPU for every record of `inputs` (each `words_of(params)` words long) and
 /// returns the result words, one record per input.
 pub fn run_on_gpu(gpu: &Gpu, f: &KernelFn<'_>, inputs: &[u32]) -> Result<Vec<u32>, RuntimeError> {
-    let in_words: usize = f.params.iter().map(|t| words_of(*t)).sum::<Result<usize, _>>()?;
+    let in_words: usize = f
+        .params
+        .iter()
+        .map(|t| words_of(*t))
+        .sum::<Result<usize, _>>()?;
     let out_words = words_of(f.result)?;
-    if in_words == 0 || inputs.len() % in_words != 0 {
+    if in_words == 0 || !inputs.len().is_multiple_of(in_words) {
         return Err(RuntimeError::Kernel(format!(
             "{} input words is not a whole number of {in_words}-word records",
             inputs.len()

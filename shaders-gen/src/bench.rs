@@ -9,7 +9,10 @@ fn median(mut v: Vec<Duration>) -> Duration {
     v[v.len() / 2]
 }
 
-fn time<T>(iterations: u32, mut f: impl FnMut() -> Result<T, CodegenError>) -> Result<Duration, CodegenError> {
+fn time<T>(
+    iterations: u32,
+    mut f: impl FnMut() -> Result<T, CodegenError>,
+) -> Result<Duration, CodegenError> {
     // One untimed run warms caches and surfaces errors.
     f()?;
     let mut samples = Vec::with_capacity(iterations as usize);
@@ -26,7 +29,11 @@ fn ms(d: Duration) -> String {
 }
 
 pub(crate) fn run(iterations: u32) -> Result<(), CodegenError> {
-    let profile = if cfg!(debug_assertions) { "debug" } else { "release" };
+    let profile = if cfg!(debug_assertions) {
+        "debug"
+    } else {
+        "release"
+    };
     println!("nimbus bench: median of {iterations} runs, {profile} build, times in ms");
     let mut header = format!("| {:<20} |", "variant");
     for t in Target::ALL {
@@ -55,6 +62,8 @@ pub(crate) fn run(iterations: u32) -> Result<(), CodegenError> {
         "whole check (every variant, every target, naga validation, no external tools): {} ms",
         ms(whole)
     );
-    println!("(the wgsl column is record + specialise + print + naga parse/validate; other columns add one backend)");
+    println!(
+        "(the wgsl column is record + specialise + print + naga parse/validate; other columns add one backend)"
+    );
     Ok(())
 }

@@ -29,7 +29,11 @@ fn emit_writes_every_target_and_a_manifest() {
         "preview.hg.fs_main.spv",
         "nimbus-manifest.txt",
     ] {
-        assert!(out.join(name).is_file(), "{name} missing; stdout:\n{}", text(&o.stdout));
+        assert!(
+            out.join(name).is_file(),
+            "{name} missing; stdout:\n{}",
+            text(&o.stdout)
+        );
     }
 }
 
@@ -52,7 +56,10 @@ fn an_unknown_variant_fails_cleanly_and_writes_nothing() {
     let o = nimbus(&["emit", "cumulus/ultra", "-o", out.to_str().expect("utf8")]);
     assert!(!o.status.success());
     let err = text(&o.stderr);
-    assert!(err.contains("`cumulus/ultra`") && err.contains("preview/hg"), "{err}");
+    assert!(
+        err.contains("`cumulus/ultra`") && err.contains("preview/hg"),
+        "{err}"
+    );
     assert!(!out.exists());
 }
 
@@ -61,7 +68,14 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["list"]);
     assert!(o.status.success());
     let s = text(&o.stdout);
-    for want in ["preview/hg", "preview/dual_lobe", "glsl-es300", "spirv", "msl", "hlsl"] {
+    for want in [
+        "preview/hg",
+        "preview/dual_lobe",
+        "glsl-es300",
+        "spirv",
+        "msl",
+        "hlsl",
+    ] {
         assert!(s.contains(want), "{want} missing from:\n{s}");
     }
     let o = nimbus(&["check", "--no-external"]);

@@ -71,20 +71,20 @@ pub(super) fn write(
         if let Some(n) = &baked.module.global_variables[mapping.texture].name {
             names.push((n.clone(), combined.clone()));
         }
-        if let Some(s) = mapping.sampler {
-            if let Some(n) = &baked.module.global_variables[s].name {
-                names.push((n.clone(), combined.clone()));
-            }
+        if let Some(s) = mapping.sampler
+            && let Some(n) = &baked.module.global_variables[s].name
+        {
+            names.push((n.clone(), combined.clone()));
         }
     }
     if !binding_map.is_empty() {
         for (handle, g) in baked.module.global_variables.iter() {
             let _ = handle;
-            if let (Some(n), Some(rb)) = (&g.name, g.binding) {
-                if let Some(unit) = binding_map.get(&rb) {
-                    for entry in names.iter_mut().filter(|(name, _)| name == n) {
-                        entry.1 = format!("{} (binding = {unit})", entry.1);
-                    }
+            if let (Some(n), Some(rb)) = (&g.name, g.binding)
+                && let Some(unit) = binding_map.get(&rb)
+            {
+                for entry in names.iter_mut().filter(|(name, _)| name == n) {
+                    entry.1 = format!("{} (binding = {unit})", entry.1);
                 }
             }
         }
@@ -94,7 +94,11 @@ pub(super) fn write(
 }
 
 pub(super) fn strip_trailing_ws(s: &str) -> String {
-    let mut out: String = s.lines().map(|l| l.trim_end()).collect::<Vec<_>>().join("\n");
+    let mut out: String = s
+        .lines()
+        .map(|l| l.trim_end())
+        .collect::<Vec<_>>()
+        .join("\n");
     out.push('\n');
     out
 }

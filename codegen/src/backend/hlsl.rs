@@ -7,7 +7,11 @@ use nimbus_dsl::ir::Stage;
 use super::glsl::strip_trailing_ws;
 use super::{Baked, Contents, TargetNames, naga_stage};
 
-pub(super) fn write(baked: &Baked, stage: Stage, entry: &str) -> Result<(Contents, TargetNames), String> {
+pub(super) fn write(
+    baked: &Baked,
+    stage: Stage,
+    entry: &str,
+) -> Result<(Contents, TargetNames), String> {
     let options = Options {
         shader_model: ShaderModel::V6_0,
         fake_missing_bindings: true,
@@ -22,10 +26,16 @@ pub(super) fn write(baked: &Baked, stage: Stage, entry: &str) -> Result<(Content
         .map_err(|e| e.to_string())?;
     let mut names = TargetNames::new();
     for (_, g) in baked.module.global_variables.iter() {
-        let (Some(n), Some(rb)) = (&g.name, g.binding) else { continue };
+        let (Some(n), Some(rb)) = (&g.name, g.binding) else {
+            continue;
+        };
         let reg = match (&g.space, &baked.module.types[g.ty].inner) {
-            (naga::AddressSpace::Uniform, _) => format!("register(b{}, space{})", rb.binding, rb.group),
-            (naga::AddressSpace::Storage { access }, _) if access.contains(naga::StorageAccess::STORE) => {
+            (naga::AddressSpace::Uniform, _) => {
+                format!("register(b{}, space{})", rb.binding, rb.group)
+            }
+            (naga::AddressSpace::Storage { access }, _)
+                if access.contains(naga::StorageAccess::STORE) =>
+            {
                 format!("register(u{}, space{})", rb.binding, rb.group)
             }
             (_, naga::TypeInner::Sampler { .. }) => format!(

@@ -13,7 +13,9 @@ use naga::back::PipelineConstants;
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 use nimbus_dsl::ir::{GlobalKind, Module as DslModule, Stage};
 
-use crate::manifest::{BindingManifest, ManifestBinding, ManifestOverride, ManifestStruct, ManifestField};
+use crate::manifest::{
+    BindingManifest, ManifestBinding, ManifestField, ManifestOverride, ManifestStruct,
+};
 use crate::target::Target;
 use crate::validate::Validated;
 
@@ -89,7 +91,12 @@ pub(crate) fn bake(
     naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
     let info = Validator::new(ValidationFlags::all(), Capabilities::default())
         .validate(&module)
-        .map_err(|e| format!("re-validation after baking overrides failed: {}", e.as_inner()))?;
+        .map_err(|e| {
+            format!(
+                "re-validation after baking overrides failed: {}",
+                e.as_inner()
+            )
+        })?;
     Ok(Baked { module, info })
 }
 
@@ -115,7 +122,9 @@ pub fn translate(
     if !target.has_binding_manifest() {
         return Ok((contents, None));
     }
-    let manifest = manifest_for(&baked, dsl, variant, target, stage, entry, &constants, &names);
+    let manifest = manifest_for(
+        &baked, dsl, variant, target, stage, entry, &constants, &names,
+    );
     Ok((contents, Some(manifest)))
 }
 
@@ -131,7 +140,10 @@ fn target_member_name(name: &str) -> String {
 /// Target-specific names, keyed by the WGSL global name.
 pub(crate) type TargetNames = Vec<(String, String)>;
 
-#[allow(clippy::too_many_arguments, reason = "plain data gathered for one manifest")]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "plain data gathered for one manifest"
+)]
 fn manifest_for(
     baked: &Baked,
     dsl: &DslModule,
@@ -171,7 +183,7 @@ fn manifest_for(
             target_name,
         });
     }
-    bindings.sort_by(|a, b| (a.group, a.binding).cmp(&(b.group, b.binding)));
+    bindings.sort_by_key(|a| (a.group, a.binding));
     let mut structs = Vec::new();
     for (_, ty) in baked.module.types.iter() {
         if let naga::TypeInner::Struct { members, span } = &ty.inner {

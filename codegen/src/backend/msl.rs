@@ -57,13 +57,16 @@ pub(super) fn write(
         fake_missing_bindings: false,
         ..Default::default()
     };
-    options.per_entry_point_map.insert(entry.to_string(), resources);
+    options
+        .per_entry_point_map
+        .insert(entry.to_string(), resources);
     let pipeline = PipelineOptions {
         entry_point: Some((naga_stage(stage), entry.to_string())),
         ..Default::default()
     };
-    let (text, info) = naga::back::msl::write_string(&baked.module, &baked.info, &options, &pipeline)
-        .map_err(|e| e.to_string())?;
+    let (text, info) =
+        naga::back::msl::write_string(&baked.module, &baked.info, &options, &pipeline)
+            .map_err(|e| e.to_string())?;
     for r in &info.entry_point_names {
         if let Err(e) = r {
             return Err(e.to_string());

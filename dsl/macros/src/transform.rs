@@ -35,13 +35,9 @@ pub(crate) struct Transformer {
 }
 
 impl Transformer {
-    pub(crate) fn new(mutable_params: Vec<String>) -> Self {
-        let mut first = HashMap::new();
-        for p in mutable_params {
-            first.insert(p, true);
-        }
+    pub(crate) fn new() -> Self {
         Self {
-            scopes: vec![first],
+            scopes: vec![HashMap::new()],
         }
     }
 
@@ -147,10 +143,9 @@ impl Transformer {
         if let Some(pi) = match &local.pat {
             Pat::Ident(pi) => Some(pi),
             _ => None,
-        } {
-            if let Some(r) = &pi.by_ref {
-                return Err(unsupported(r, "a `ref` binding"));
-            }
+        } && let Some(r) = &pi.by_ref
+        {
+            return Err(unsupported(r, "a `ref` binding"));
         }
         let Some(init) = &local.init else {
             return Err(syn::Error::new_spanned(
@@ -184,12 +179,11 @@ impl Transformer {
     }
 
     fn mutable_target(&self, e: &Expr) -> syn::Result<syn::Ident> {
-        if let Expr::Path(p) = e {
-            if let Some(id) = p.path.get_ident() {
-                if self.is_mutable(&id.to_string()) {
-                    return Ok(id.clone());
-                }
-            }
+        if let Expr::Path(p) = e
+            && let Some(id) = p.path.get_ident()
+            && self.is_mutable(&id.to_string())
+        {
+            return Ok(id.clone());
         }
         Err(syn::Error::new_spanned(
             e,

@@ -8,7 +8,10 @@ use super::types::Type;
 /// Which kind of resource a global is.
 #[derive(Clone, PartialEq, Debug)]
 pub enum GlobalKind {
-    Uniform { group: u32, binding: u32 },
+    Uniform {
+        group: u32,
+        binding: u32,
+    },
     /// A storage buffer; `read_write` decides the access mode.
     Storage {
         group: u32,
@@ -16,9 +19,14 @@ pub enum GlobalKind {
         read_write: bool,
     },
     /// A texture or sampler binding.
-    Handle { group: u32, binding: u32 },
+    Handle {
+        group: u32,
+        binding: u32,
+    },
     /// A pipeline-overridable constant: kept as `override` for wgpu, baked for other targets.
-    Override { default: Literal },
+    Override {
+        default: Literal,
+    },
 }
 
 /// A module-scope declaration.
@@ -95,4 +103,3 @@ impl Module {
         self.entry_points.iter().find(|e| e.function == name)
     }
 }
-

@@ -82,13 +82,18 @@ pub fn preview_phase(cos_theta: f32, params: PreviewParams, #[spec] model: Phase
 /// False colour at normalised screen position `uv` (origin bottom-left).
 #[shader_fn]
 pub fn preview_color(uv: Vec2, params: PreviewParams, #[spec] model: PhaseModel) -> Vec4 {
-    let cos_theta = (uv.x * 3.141_592_7).cos();
+    let cos_theta = (uv.x * core::f32::consts::PI).cos();
     let p = params.profile;
     let density = density_profile(uv.y, p.x, p.y, p.z, p.w).max(0.0);
     let phase = preview_phase(cos_theta, params, model);
     // log10 scale from 0.01 to 100 sr⁻¹ maps to [0, 1].
     let phase_level = ((phase.max(1e-6).log2() * 0.150_514_99 + 2.0) * 0.25).saturate();
-    vec4(density.saturate(), phase_level, (density * phase_level).saturate(), 1.0)
+    vec4(
+        density.saturate(),
+        phase_level,
+        (density * phase_level).saturate(),
+        1.0,
+    )
 }
 
 /// Colour of the pixel at `frag_coord` (framebuffer coordinates, y down), scaled by `exposure`.
@@ -121,9 +126,14 @@ pub fn preview_module(model: PhaseModel) -> Result<Module, DslError> {
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
-            m.fragment("fs_main", "Preview colour per pixel.", loc!(), |frag_coord| {
-                preview_fragment::shader(frag_coord, params.get(), exposure.get(), model)
-            });
+            m.fragment(
+                "fs_main",
+                "Preview colour per pixel.",
+                loc!(),
+                |frag_coord| {
+                    preview_fragment::shader(frag_coord, params.get(), exposure.get(), model)
+                },
+            );
         },
     )
 }

@@ -53,7 +53,12 @@ fn sample(texture: ExprId, sampler: Sampler, coords: ExprId, kind: SampleKind) -
 
 impl Texture2d {
     /// `textureSampleLevel`: explicit level of detail, valid in every stage.
-    pub fn sample_level(self, sampler: Sampler, uv: impl Into<Vec2>, level: impl Into<F32>) -> Vec4 {
+    pub fn sample_level(
+        self,
+        sampler: Sampler,
+        uv: impl Into<Vec2>,
+        level: impl Into<F32>,
+    ) -> Vec4 {
         let level = level.into().id();
         sample(self.0, sampler, uv.into().id(), SampleKind::Level(level))
     }
@@ -66,7 +71,12 @@ impl Texture2d {
 
 impl Texture3d {
     /// `textureSampleLevel`: explicit level of detail, valid in every stage.
-    pub fn sample_level(self, sampler: Sampler, uvw: impl Into<Vec3>, level: impl Into<F32>) -> Vec4 {
+    pub fn sample_level(
+        self,
+        sampler: Sampler,
+        uvw: impl Into<Vec3>,
+        level: impl Into<F32>,
+    ) -> Vec4 {
         let level = level.into().id();
         sample(self.0, sampler, uvw.into().id(), SampleKind::Level(level))
     }

@@ -225,7 +225,11 @@ impl F32 {
     /// `self * a + b` (WGSL `fma`).
     #[must_use]
     pub fn mul_add(self, a: impl Into<F32>, b: impl Into<F32>) -> F32 {
-        F32(builtin(Builtin::Fma, &[self.0, a.into().0, b.into().0], Type::F32))
+        F32(builtin(
+            Builtin::Fma,
+            &[self.0, a.into().0, b.into().0],
+            Type::F32,
+        ))
     }
 
     /// `1 / x`.

@@ -2,8 +2,7 @@
 //! fields (`v.x`) as in glam; each is a recorded swizzle of the vector.
 
 use super::{
-    F32, I32, IntoValueOf, Lift, ShaderType, U32, Value, builtin, impl_assign_op, impl_binop,
-    unary,
+    F32, I32, IntoValueOf, Lift, ShaderType, U32, Value, builtin, impl_assign_op, impl_binop, unary,
 };
 use crate::ir::{Builtin, ExprId, ExprKind, Scalar, Type, UnaryOp};
 use crate::record::push_expr;
@@ -148,14 +147,22 @@ macro_rules! float_vector {
             /// Distance to `rhs`.
             #[must_use]
             pub fn distance(self, rhs: impl Into<$name>) -> F32 {
-                F32::from_id(builtin(Builtin::Distance, &[self.id, rhs.into().id], Type::F32))
+                F32::from_id(builtin(
+                    Builtin::Distance,
+                    &[self.id, rhs.into().id],
+                    Type::F32,
+                ))
             }
 
             /// Unit vector in the same direction (NaN for a zero vector on the CPU; undefined on
             /// the GPU, so callers guard zero lengths).
             #[must_use]
             pub fn normalize(self) -> Self {
-                Self::from_id(builtin(Builtin::Normalize, &[self.id], <Self as Value>::TYPE))
+                Self::from_id(builtin(
+                    Builtin::Normalize,
+                    &[self.id],
+                    <Self as Value>::TYPE,
+                ))
             }
 
             /// `self * (1 - s) + rhs * s`, exactly glam's vector `lerp` (spelled out so the GPU
@@ -188,7 +195,11 @@ macro_rules! float_vector {
             #[must_use]
             pub fn powf(self, e: impl Into<F32>) -> Self {
                 let e = $name::splat(e.into());
-                Self::from_id(builtin(Builtin::Pow, &[self.id, e.id], <Self as Value>::TYPE))
+                Self::from_id(builtin(
+                    Builtin::Pow,
+                    &[self.id, e.id],
+                    <Self as Value>::TYPE,
+                ))
             }
         }
 
@@ -249,7 +260,11 @@ impl Vec3 {
     /// Cross product.
     #[must_use]
     pub fn cross(self, rhs: impl Into<Vec3>) -> Vec3 {
-        Vec3::from_id(builtin(Builtin::Cross, &[self.id, rhs.into().id], Vec3::TYPE))
+        Vec3::from_id(builtin(
+            Builtin::Cross,
+            &[self.id, rhs.into().id],
+            Vec3::TYPE,
+        ))
     }
 
     /// `vec4(self, w)`.
