@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{Rng, gpu, linspace};
+use common::{MIN_INPUTS, Rng, Tolerance, compare, linspace};
 use nimbus_dsl::Value;
 use nimbus_dsl::ir::{ExprId, Type};
 use nimbus_dsl::model::phase::{dual_lobe_hg, henyey_greenstein};
@@ -15,83 +15,6 @@ use nimbus_dsl::model::preview::{
 };
 use nimbus_dsl::model::profile::density_profile;
 use nimbus_dsl::shader;
-use nimbus_runtime::parity::{KernelFn, run_on_gpu};
-
-const MIN_INPUTS: usize = 10_000;
-
-/// A relative-plus-absolute tolerance: |gpu − cpu| ≤ abs + rel·|cpu|.
-#[derive(Clone, Copy)]
-struct Tolerance {
-    abs: f32,
-    rel: f32,
-}
-
-/// Runs `f` on both sides and compares every output component.
-fn compare(
-    name: &str,
-    params: Vec<Type>,
-    result: Type,
-    call: &dyn Fn(&[ExprId]) -> ExprId,
-    inputs: &[Vec<u32>],
-    cpu: impl Fn(&[u32]) -> Vec<u32>,
-    tol: Tolerance,
-) {
-    assert!(
-        inputs.len() >= MIN_INPUTS,
-        "{name}: only {} inputs",
-        inputs.len()
-    );
-    let Some(gpu) = gpu() else { return };
-    let f = KernelFn {
-        name,
-        params,
-        result,
-        call,
-    };
-    let flat: Vec<u32> = inputs.iter().flatten().copied().collect();
-    let gpu_out = run_on_gpu(gpu, &f, &flat).expect("GPU run");
-    let width = gpu_out.len() / inputs.len();
-    let is_float = result.scalar() == Some(nimbus_dsl::ir::Scalar::F32);
-    let (mut worst, mut worst_ratio, mut worst_at) = (0.0f64, 0.0f64, 0usize);
-    for (i, input) in inputs.iter().enumerate() {
-        let expected = cpu(input);
-        assert_eq!(expected.len(), width, "{name}: output width");
-        for (k, want) in expected.iter().enumerate() {
-            let got = gpu_out[i * width + k];
-            if !is_float {
-                assert_eq!(got, *want, "{name}: input #{i} {input:?} component {k}");
-                continue;
-            }
-            let (g, c) = (f32::from_bits(got), f32::from_bits(*want));
-            assert!(
-                g.is_finite() == c.is_finite(),
-                "{name}: input #{i} {input:?}: cpu {c} gpu {g}"
-            );
-            if !c.is_finite() {
-                continue;
-            }
-            let diff = f64::from((g - c).abs());
-            let allowed = f64::from(tol.abs) + f64::from(tol.rel) * f64::from(c.abs());
-            let ratio = diff / allowed;
-            if ratio > worst_ratio {
-                (worst, worst_ratio, worst_at) = (diff, ratio, i);
-            }
-            assert!(
-                diff <= allowed,
-                "{name}: input #{i} {:?} component {k}: cpu {c} gpu {g} (|diff| {diff:e} > {allowed:e})",
-                input.iter().map(|w| f32::from_bits(*w)).collect::<Vec<_>>()
-            );
-        }
-    }
-    println!(
-        "parity {name}: {} inputs on {}; largest |gpu - cpu| = {worst:e} ({:.1}% of tolerance abs {:e} + rel {:e}, at input #{worst_at})",
-        inputs.len(),
-        gpu.info(),
-        worst_ratio * 100.0,
-        tol.abs,
-        tol.rel
-    );
-}
 
 fn f(v: f32) -> u32 {
     v.to_bits()

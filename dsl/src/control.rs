@@ -11,8 +11,13 @@ use crate::ir::{ExprId, ExprKind, LocalId, SourceLoc, Stmt, Type};
 use crate::record::{begin_block, end_block, new_local, push_expr, push_stmt, temp_name};
 use crate::value::{Bool, I32, IntoValueOf, U32, Value};
 
-/// A value an `if` arm can produce: `()` or any DSL value.
+/// A value an `if` arm can produce: `()`, a DSL value, or a Rust literal of a shader scalar
+/// type (which becomes a DSL value when the condition is recorded).
 pub trait BranchValue: Sized {
+    /// The DSL type both arms are converted to when the condition is a DSL [`Bool`].
+    type Merged: BranchValue<Merged = Self::Merged>;
+    /// Converts to the merged type (recording a literal for Rust values).
+    fn into_merged(self) -> Self::Merged;
     /// The recorded expression and its type, or `None` for `()`.
     fn expr(&self) -> Option<(ExprId, Type)>;
     /// Rebuilds the value from the merged local.
@@ -22,6 +27,8 @@ pub trait BranchValue: Sized {
 }
 
 impl BranchValue for () {
+    type Merged = ();
+    fn into_merged(self) {}
     fn expr(&self) -> Option<(ExprId, Type)> {
         None
     }
@@ -30,6 +37,10 @@ impl BranchValue for () {
 }
 
 impl<T: Value> BranchValue for T {
+    type Merged = T;
+    fn into_merged(self) -> T {
+        self
+    }
     fn expr(&self) -> Option<(ExprId, Type)> {
         Some((self.id(), T::TYPE))
     }
@@ -42,39 +53,73 @@ impl<T: Value> BranchValue for T {
     }
 }
 
-/// The condition of an `if`: a Rust `bool` (decided now) or a DSL [`Bool`] (recorded).
-pub trait Condition {
-    fn branch<T: BranchValue>(
+macro_rules! branch_rust {
+    ($($rust:ty => $dsl:ty),*) => {$(
+        impl BranchValue for $rust {
+            type Merged = $dsl;
+            fn into_merged(self) -> $dsl {
+                <$dsl>::lit(self)
+            }
+            fn expr(&self) -> Option<(ExprId, Type)> {
+                Some((<$dsl>::lit(*self).id(), <$dsl as Value>::TYPE))
+            }
+            fn from_expr(_: ExprId) -> Self {
+                Self::default()
+            }
+            fn placeholder() -> Self {
+                Self::default()
+            }
+        }
+
+        impl Condition<$rust, $dsl> for bool {
+            type Out = $dsl;
+            fn branch(self, _loc: SourceLoc, then: impl FnOnce() -> $rust, otherwise: impl FnOnce() -> $dsl) -> $dsl {
+                if self { <$dsl>::lit(then()) } else { otherwise() }
+            }
+        }
+
+        impl Condition<$dsl, $rust> for bool {
+            type Out = $dsl;
+            fn branch(self, _loc: SourceLoc, then: impl FnOnce() -> $dsl, otherwise: impl FnOnce() -> $rust) -> $dsl {
+                if self { then() } else { <$dsl>::lit(otherwise()) }
+            }
+        }
+    )*};
+}
+branch_rust!(f32 => crate::value::F32, i32 => I32, u32 => U32, bool => Bool);
+
+/// The condition of an `if` with arms of types `A` and `B`: a Rust `bool` (decided now, only
+/// the taken arm is recorded) or a DSL [`Bool`] (both arms recorded, values merged).
+pub trait Condition<A, B> {
+    type Out;
+    fn branch(
         self,
         loc: SourceLoc,
-        then: impl FnOnce() -> T,
-        otherwise: impl FnOnce() -> T,
-    ) -> T;
+        then: impl FnOnce() -> A,
+        otherwise: impl FnOnce() -> B,
+    ) -> Self::Out;
 }
 
-impl Condition for bool {
-    fn branch<T: BranchValue>(
-        self,
-        _loc: SourceLoc,
-        then: impl FnOnce() -> T,
-        otherwise: impl FnOnce() -> T,
-    ) -> T {
+impl<A> Condition<A, A> for bool {
+    type Out = A;
+    fn branch(self, _loc: SourceLoc, then: impl FnOnce() -> A, otherwise: impl FnOnce() -> A) -> A {
         if self { then() } else { otherwise() }
     }
 }
 
-impl Condition for Bool {
-    fn branch<T: BranchValue>(
+impl<A: BranchValue, B: BranchValue<Merged = A::Merged>> Condition<A, B> for Bool {
+    type Out = A::Merged;
+    fn branch(
         self,
         loc: SourceLoc,
-        then: impl FnOnce() -> T,
-        otherwise: impl FnOnce() -> T,
-    ) -> T {
+        then: impl FnOnce() -> A,
+        otherwise: impl FnOnce() -> B,
+    ) -> A::Merged {
         begin_block();
-        let a = then();
+        let a = then().into_merged();
         let mut then_block = end_block();
         begin_block();
-        let b = otherwise();
+        let b = otherwise().into_merged();
         let mut else_block = end_block();
         let merged = match (a.expr(), b.expr()) {
             (Some((ea, ty)), Some((eb, _))) => {
@@ -105,19 +150,19 @@ impl Condition for Bool {
             loc,
         });
         match merged {
-            Some((local, ty)) => T::from_expr(push_expr(ExprKind::Local(local), ty)),
-            None => T::placeholder(),
+            Some((local, ty)) => A::Merged::from_expr(push_expr(ExprKind::Local(local), ty)),
+            None => A::Merged::placeholder(),
         }
     }
 }
 
 /// `if cond { then } else { otherwise }`.
-pub fn branch<C: Condition, T: BranchValue>(
+pub fn branch<A, B, C: Condition<A, B>>(
     loc: SourceLoc,
     cond: C,
-    then: impl FnOnce() -> T,
-    otherwise: impl FnOnce() -> T,
-) -> T {
+    then: impl FnOnce() -> A,
+    otherwise: impl FnOnce() -> B,
+) -> C::Out {
     cond.branch(loc, then, otherwise)
 }
 

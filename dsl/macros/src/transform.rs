@@ -311,7 +311,7 @@ impl Transformer {
                 let value = self.expr(v)?;
                 quote! {{
                     ::nimbus_dsl::control::ret::<__Ret>(#l, ::core::convert::Into::<__Ret>::into(#value));
-                    ::nimbus_dsl::control::unreachable()
+                    ::nimbus_dsl::control::unreachable::<__Ret>()
                 }}
             }
             Expr::Match(m) => {

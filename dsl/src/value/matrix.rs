@@ -30,6 +30,12 @@ macro_rules! matrix {
             }
         }
 
+        impl From<$glam> for $name {
+            fn from(m: $glam) -> Self {
+                m.lift()
+            }
+        }
+
         impl IntoValueOf for $name {
             type Value = $name;
             fn into_value_id(self) -> $name {
