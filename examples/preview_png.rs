@@ -25,10 +25,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let to8 = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
         image::Rgba([to8(c.x), to8(c.y), to8(c.z), to8(c.w)])
     });
-    if let Some(dir) = std::path::Path::new(&out).parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir)?;
-        }
+    if let Some(dir) = std::path::Path::new(&out).parent()
+        && !dir.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(dir)?;
     }
     img.save(&out)
         .map_err(|e| format!("cannot write {out}: {e}"))?;
