@@ -142,14 +142,21 @@ pub struct KernelFn<'a> {
     pub call: &'a dyn Fn(&[ExprId]) -> ExprId,
 }
 
+impl KernelFn<'_> {
+    /// Words per input record (all parameters) and per output record.
+    pub fn record_words(&self) -> Result<(usize, usize), RuntimeError> {
+        let input = self
+            .params
+            .iter()
+            .map(|t| words_of(*t))
+            .sum::<Result<usize, _>>()?;
+        Ok((input, words_of(self.result)?))
+    }
+}
+
 /// The WGSL of the parity kernel for `f` (validated by naga like every other output).
 pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
-    let in_words: usize = f
-        .params
-        .iter()
-        .map(|t| words_of(*t))
-        .sum::<Result<usize, _>>()?;
-    let out_words = words_of(f.result)?;
+    let (in_words, out_words) = f.record_words()?;
     let module = ModuleBuilder::build(
         &format!("parity_{}", f.name),
         "CPU/GPU parity kernel: reads argument words, calls the function, writes result words.",
@@ -202,12 +209,7 @@ pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
 /// Runs `f` on the GPU for every record of `inputs` (each `words_of(params)` words long) and
 /// returns the result words, one record per input.
 pub fn run_on_gpu(gpu: &Gpu, f: &KernelFn<'_>, inputs: &[u32]) -> Result<Vec<u32>, RuntimeError> {
-    let in_words: usize = f
-        .params
-        .iter()
-        .map(|t| words_of(*t))
-        .sum::<Result<usize, _>>()?;
-    let out_words = words_of(f.result)?;
+    let (in_words, out_words) = f.record_words()?;
     if in_words == 0 || !inputs.len().is_multiple_of(in_words) {
         return Err(RuntimeError::Kernel(format!(
             "{} input words is not a whole number of {in_words}-word records",
