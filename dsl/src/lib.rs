@@ -21,6 +21,7 @@ extern crate self as nimbus_dsl;
 
 pub mod builtins;
 pub mod catalog;
+pub mod cloud;
 pub mod control;
 pub mod cpu;
 pub mod ir;
