@@ -59,3 +59,75 @@ fn density_profile_default_and_overflow_cases() {
     // a = 0 with e^(b·η) overflowing must not give 0·∞ = NaN.
     assert_eq!(density_profile(1.0, 0.0, 1000.0, 0.75, 0.25), 1.0);
 }
+
+#[test]
+fn every_phase_function_integrates_to_one() {
+    use nimbus_dsl::model::phase::{
+        approximate_mie, draine_phase, isotropic_phase, rayleigh_phase,
+    };
+    let cases: Vec<(&str, Box<dyn Fn(f32) -> f32>)> = vec![
+        ("isotropic", Box::new(isotropic_phase)),
+        ("rayleigh", Box::new(rayleigh_phase)),
+        (
+            "draine g=0.5 a=1",
+            Box::new(|mu| draine_phase(mu, 0.5, 1.0)),
+        ),
+        (
+            "draine g=-0.3 a=20",
+            Box::new(|mu| draine_phase(mu, -0.3, 20.0)),
+        ),
+        ("mie d=10", Box::new(|mu| approximate_mie(mu, 10.0))),
+        ("mie d=20", Box::new(|mu| approximate_mie(mu, 20.0))),
+        ("mie d=50", Box::new(|mu| approximate_mie(mu, 50.0))),
+    ];
+    for (name, p) in cases {
+        let total = sphere_integral(p);
+        assert!((total - 1.0).abs() < 2e-3, "{name}: ∫p dΩ = {total}");
+    }
+}
+
+/// The shell intersection in f32 against the same geometry in f64 (plain quadratic is exact
+/// enough there): within a metre except at grazing incidence, where only continuity matters.
+#[test]
+fn ray_shell_is_accurate_at_planet_scale() {
+    use nimbus_dsl::model::shell::{EARTH_RADIUS, ray_shell};
+    let r = f64::from(EARTH_RADIUS);
+    let exact = |hc: f64, mu: f64, hs: f64| -> Option<(f64, f64)> {
+        let b = (r + hc) * mu;
+        let c = (r + hc) * (r + hc) - (r + hs) * (r + hs);
+        let d = b * b - c;
+        (d >= 0.0).then(|| (-b - d.sqrt(), -b + d.sqrt()))
+    };
+    let mut worst = 0.0f64;
+    for hc in [2.0, 500.0, 1100.0, 5000.0, 10_000.0] {
+        for elev_deg in [-30.0, -2.0, 0.0, 1.0, 5.0, 45.0, 90.0] {
+            let mu = (elev_deg as f64).to_radians().sin();
+            for hs in [750.0, 2200.0, 8000.0] {
+                let got = ray_shell(hc as f32, mu as f32, hs as f32, EARTH_RADIUS);
+                // Feed the f64 reference the f32-rounded inputs, so only arithmetic error counts.
+                let Some((t0, t1)) = exact(
+                    f64::from(hc as f32),
+                    f64::from(mu as f32),
+                    f64::from(hs as f32),
+                ) else {
+                    assert_eq!(
+                        got,
+                        glam::Vec2::splat(-1.0),
+                        "hc={hc} elev={elev_deg} hs={hs}"
+                    );
+                    continue;
+                };
+                for (g, e) in [(got.x, t0), (got.y, t1)] {
+                    assert!(g.is_finite(), "hc={hc} elev={elev_deg} hs={hs}");
+                    let err = (f64::from(g) - e).abs();
+                    worst = worst.max(err);
+                    assert!(
+                        err < 1.0,
+                        "hc={hc} elev={elev_deg} hs={hs}: {g} vs {e} (error {err} m)"
+                    );
+                }
+            }
+        }
+    }
+    println!("ray_shell worst error vs f64: {worst:.3} m");
+}

@@ -17,8 +17,8 @@ pub use resource::{Sampler, StorageArray, StorageElement, Texture2d, Texture3d};
 pub use scalar::{Bool, F32, I32, U32};
 pub use traits::{Lift, ShaderType, SpecValue, Value, lift};
 pub use vector::{
-    IVec2, IVec3, IVec4, UVec2, UVec3, UVec4, Vec2, Vec3, Vec4, ivec2, ivec3, ivec4, uvec2, uvec3,
-    uvec4, vec2, vec3, vec4,
+    CpuVecExt, IVec2, IVec3, IVec4, UVec2, UVec3, UVec4, Vec2, Vec3, Vec4, ivec2, ivec3, ivec4,
+    uvec2, uvec3, uvec4, vec2, vec3, vec4,
 };
 
 use crate::ir::{BinaryOp, Builtin, ExprId, ExprKind, Type, UnaryOp};

@@ -191,6 +191,16 @@ macro_rules! float_vector {
                 Self::from_id(builtin(Builtin::Fract, &[self.id], <Self as Value>::TYPE))
             }
 
+            /// Component-wise `clamp(x, 0, 1)`.
+            #[must_use]
+            pub fn saturate(self) -> Self {
+                Self::from_id(builtin(
+                    Builtin::Saturate,
+                    &[self.id],
+                    <Self as Value>::TYPE,
+                ))
+            }
+
             /// Component-wise `x^e`.
             #[must_use]
             pub fn powf(self, e: impl Into<F32>) -> Self {
@@ -323,3 +333,20 @@ impl UVec3 {
         swizzle(self.id, &[0, 1])
     }
 }
+
+/// CPU twins of DSL vector methods that glam does not have.
+pub trait CpuVecExt {
+    /// Component-wise `clamp(x, 0, 1)`.
+    fn saturate(self) -> Self;
+}
+
+macro_rules! cpu_vec_ext {
+    ($($t:ty),*) => {$(
+        impl CpuVecExt for $t {
+            fn saturate(self) -> Self {
+                self.clamp(<$t>::ZERO, <$t>::ONE)
+            }
+        }
+    )*};
+}
+cpu_vec_ext!(glam::Vec2, glam::Vec3, glam::Vec4);
