@@ -152,6 +152,10 @@ pub fn weather_density(
 /// Density of each layer at `position` (camera-relative metres in the local tangent frame,
 /// y up) and `altitude` (m above the ground), with the erosion stages of `features`.
 #[shader_fn]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "WGSL cannot put textures in a struct; each texture is its own parameter"
+)]
 pub fn layer_density(
     position: Vec3,
     altitude: f32,
@@ -172,7 +176,7 @@ pub fn layer_density(
         let curl = turbulence_tex.sample_level(smp, uv, 0.0).xyz() * 2.0 - Vec3::ONE;
         // Strongest at the base, gone by η = 0.3, weighted by how much cloud is there.
         let fade = ((Vec4::splat(0.3) - eta) / 0.3).saturate();
-        p = p + curl * (media.turbulence_displacement * coverage.dot(fade));
+        p += curl * (media.turbulence_displacement * coverage.dot(fade));
     }
     let s = shape_tex
         .sample_level(smp, p * media.shape_repeat + media.shape_offset, 0.0)
