@@ -65,7 +65,8 @@ fn every_phase_function_integrates_to_one() {
     use nimbus_dsl::model::phase::{
         approximate_mie, draine_phase, isotropic_phase, rayleigh_phase,
     };
-    let cases: Vec<(&str, Box<dyn Fn(f32) -> f32>)> = vec![
+    type Phase = Box<dyn Fn(f32) -> f32>;
+    let cases: Vec<(&str, Phase)> = vec![
         ("isotropic", Box::new(isotropic_phase)),
         ("rayleigh", Box::new(rayleigh_phase)),
         (
@@ -101,7 +102,7 @@ fn ray_shell_is_accurate_at_planet_scale() {
     let mut worst = 0.0f64;
     for hc in [2.0, 500.0, 1100.0, 5000.0, 10_000.0] {
         for elev_deg in [-30.0, -2.0, 0.0, 1.0, 5.0, 45.0, 90.0] {
-            let mu = (elev_deg as f64).to_radians().sin();
+            let mu = f64::to_radians(elev_deg).sin();
             for hs in [750.0, 2200.0, 8000.0] {
                 let got = ray_shell(hc as f32, mu as f32, hs as f32, EARTH_RADIUS);
                 // Feed the f64 reference the f32-rounded inputs, so only arithmetic error counts.
