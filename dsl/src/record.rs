@@ -6,7 +6,7 @@
 //! library (not in user data), and panics with a message that says so.
 
 use std::cell::RefCell;
-use std::collections::{BTreeSet, HashSet};
+use std::collections::{BTreeMap, HashSet};
 
 use crate::ir::{
     Block, Expr, ExprId, ExprKind, Function, Global, Local, LocalId, Module, Param, SourceLoc,
@@ -126,8 +126,9 @@ struct FnFrame {
 struct ModuleRecorder {
     module: Module,
     frames: Vec<FnFrame>,
-    /// Functions whose recording has started (finished or in progress), by WGSL name.
-    started: BTreeSet<String>,
+    /// Functions whose recording has started (finished or in progress), by WGSL name, with the
+    /// generation-time values they were specialised for.
+    started: BTreeMap<String, Vec<String>>,
     next_temp: u32,
 }
 
@@ -165,7 +166,7 @@ pub(crate) fn begin_module(module: Module) -> bool {
         *guard = Some(ModuleRecorder {
             module,
             frames: Vec::new(),
-            started: BTreeSet::new(),
+            started: BTreeMap::new(),
             next_temp: 0,
         });
         true
@@ -305,8 +306,14 @@ pub fn ensure_function(
     record: impl FnOnce(&[ExprId]) -> Option<ExprId>,
 ) -> String {
     let name = header.name.clone();
-    let fresh = with(|rec| rec.started.insert(name.clone()));
-    if !fresh {
+    let previous = with(|rec| rec.started.insert(name.clone(), header.specialised.clone()));
+    if let Some(previous) = previous {
+        assert!(
+            previous == header.specialised,
+            "`{name}` was specialised twice in one module with different generation-time values \
+             ({previous:?} and {:?}); give its SpecValue a suffix that tells them apart",
+            header.specialised
+        );
         return name;
     }
     let params = header.params.clone();

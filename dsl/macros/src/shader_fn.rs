@@ -161,7 +161,7 @@ pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenS
             shader_params.push(quote! { #n: #ty });
             spec_suffixes.push(quote! { ::nimbus_dsl::SpecValue::suffix(&#n) });
             spec_notes.push(quote! {
-                ::std::format!("{} = {}", #n_str, ::nimbus_dsl::SpecValue::suffix(&#n))
+                ::std::format!("{} = {:?}", #n_str, #n)
             });
         } else {
             let d = dsl_ty(ty);
@@ -187,7 +187,13 @@ pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenS
     let name_expr = if has_spec {
         quote! {{
             let mut __n = ::std::string::String::from(#name_str);
-            #( __n.push('_'); __n.push_str(&#spec_suffixes); )*
+            #(
+                let __s = #spec_suffixes;
+                if !__s.is_empty() {
+                    __n.push('_');
+                    __n.push_str(&__s);
+                }
+            )*
             ::nimbus_dsl::record::sanitize(&__n)
         }}
     } else {

@@ -34,8 +34,10 @@ pub fn lift<T: Lift>(v: T) -> T::Dsl {
 
 /// A generation-time parameter value (`#[spec]`). Each distinct value gives its own specialised
 /// copy of the function, named with [`SpecValue::suffix`].
-pub trait SpecValue: Copy {
-    /// Short identifier fragment, e.g. `dual_lobe` or `4`.
+pub trait SpecValue: Copy + std::fmt::Debug {
+    /// Short identifier fragment, e.g. `dual_lobe` or `4`, appended to the function name. An
+    /// empty suffix keeps the name as is; the recorder then refuses a second, different value
+    /// in the same module rather than silently reusing the first copy.
     fn suffix(&self) -> String;
 }
 
