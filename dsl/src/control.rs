@@ -329,38 +329,24 @@ impl<R: Value> FnTail<R> for () {
     }
 }
 
-macro_rules! fn_tail {
-    ($($dsl:ty $(| $rust:ty)?),*) => {$(
-        impl FnTail<$dsl> for $dsl {
-            fn tail(self) -> Option<ExprId> {
-                Some(self.id())
-            }
-        }
-        $(impl FnTail<$dsl> for $rust {
+impl<T: Value> FnTail<T> for T {
+    fn tail(self) -> Option<ExprId> {
+        Some(self.id())
+    }
+}
+
+macro_rules! fn_tail_rust {
+    ($($dsl:ty | $rust:ty),*) => {$(
+        impl FnTail<$dsl> for $rust {
             fn tail(self) -> Option<ExprId> {
                 Some(<$dsl>::from(self).id())
             }
-        })?
+        }
     )*};
 }
-use crate::value::{F32, IVec2, IVec3, IVec4, Mat3, Mat4, UVec2, UVec3, UVec4, Vec2, Vec3, Vec4};
-fn_tail!(
-    F32 | f32,
-    I32 | i32,
-    U32 | u32,
-    Bool | bool,
-    Vec2 | glam::Vec2,
-    Vec3 | glam::Vec3,
-    Vec4 | glam::Vec4,
-    IVec2,
-    IVec3,
-    IVec4,
-    UVec2,
-    UVec3,
-    UVec4,
-    Mat3,
-    Mat4
-);
+use crate::value::{F32, Vec2, Vec3, Vec4};
+fn_tail_rust!(F32 | f32, I32 | i32, U32 | u32, Bool | bool, Vec2 | glam::Vec2, Vec3 | glam::Vec3,
+    Vec4 | glam::Vec4);
 
 /// Converts a function body's tail to its result expression.
 pub fn tail<R, T: FnTail<R>>(value: T) -> Option<ExprId> {

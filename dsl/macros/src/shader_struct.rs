@@ -33,6 +33,7 @@ pub(crate) fn expand(item: TokenStream) -> syn::Result<TokenStream> {
     let doc = doc_lines(&input.attrs).join("\n");
     let name_str = name.to_string();
 
+    let field_names: Vec<&syn::Ident> = fields.named.iter().filter_map(|f| f.ident.as_ref()).collect();
     let mut field_defs = Vec::new();
     let mut twin_fields = Vec::new();
     let mut inits = Vec::new();
@@ -91,6 +92,29 @@ pub(crate) fn expand(item: TokenStream) -> syn::Result<TokenStream> {
 
         impl ::nimbus_dsl::ShaderType for #name {
             type Dsl = #twin;
+        }
+
+        impl #twin {
+            /// A zero value whose fields a struct literal in a `#[shader_fn]` then assigns.
+            #[doc(hidden)]
+            pub fn __uninit() -> Self {
+                let ty = <Self as ::nimbus_dsl::Value>::TYPE;
+                <Self as ::nimbus_dsl::Value>::from_id(::nimbus_dsl::record::push_expr(
+                    ::nimbus_dsl::ir::ExprKind::Construct(ty, ::std::vec::Vec::new()),
+                    ty,
+                ))
+            }
+
+            /// Records `Name(field0, field1, ...)` from the current field values.
+            #[doc(hidden)]
+            pub fn __finish(self) -> Self {
+                let ty = <Self as ::nimbus_dsl::Value>::TYPE;
+                let fields = ::std::vec![#(::nimbus_dsl::Value::id(self.#field_names)),*];
+                <Self as ::nimbus_dsl::Value>::from_id(::nimbus_dsl::record::push_expr(
+                    ::nimbus_dsl::ir::ExprKind::Construct(ty, fields),
+                    ty,
+                ))
+            }
         }
     })
 }

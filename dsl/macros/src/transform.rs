@@ -348,7 +348,26 @@ impl Transformer {
             Expr::Tuple(t) => return Err(unsupported(t, "a tuple")),
             Expr::Array(a) => return Err(unsupported(a, "an array")),
             Expr::Index(i) => return Err(unsupported(i, "indexing")),
-            Expr::Struct(s) => return Err(unsupported(s, "a struct literal")),
+            Expr::Struct(st) => {
+                if let Some(rest) = &st.rest {
+                    return Err(unsupported(rest, "`..` in a struct literal"));
+                }
+                if st.qself.is_some() {
+                    return Err(unsupported(st, "a qualified struct path"));
+                }
+                let path = &st.path;
+                let mut sets = Vec::new();
+                for field in &st.fields {
+                    let member = &field.member;
+                    let value = self.expr(&field.expr)?;
+                    sets.push(quote! { __s.#member = ::core::convert::Into::into(#value); });
+                }
+                quote! {{
+                    let mut __s = <#path as ::nimbus_dsl::ShaderType>::Dsl::__uninit();
+                    #(#sets)*
+                    __s.__finish()
+                }}
+            }
             Expr::Try(t) => return Err(unsupported(t, "the `?` operator")),
             Expr::Macro(m) => return Err(unsupported(m, "a macro call")),
             Expr::Range(r) => return Err(unsupported(r, "a range outside a `for` loop")),

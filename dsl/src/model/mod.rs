@@ -1,8 +1,10 @@
 //! The cloud model, written once as `#[shader_fn]` functions: each runs on the CPU (tests,
 //! reference renders) and is recorded into shader modules for every target.
 
+pub mod clouds;
 pub mod density;
 pub mod layers;
+pub mod march;
 pub mod phase;
 pub mod preview;
 pub mod profile;
