@@ -42,6 +42,16 @@ pub enum CodegenError {
     #[error(transparent)]
     Dsl(#[from] nimbus_dsl::DslError),
 
+    #[error(transparent)]
+    Data(#[from] nimbus_dsl::cloud::DataError),
+
+    #[error("unknown {kind} `{given}`; known: {known}")]
+    Unknown {
+        kind: &'static str,
+        given: String,
+        known: String,
+    },
+
     #[error(
         "`{function}` ({loc}) contains a non-finite literal (NaN or infinity), which WGSL cannot spell"
     )]

@@ -19,7 +19,7 @@ pub use backend::{Contents, default_constants};
 pub use emit::{EmitReport, MARKER_FILE, emit};
 pub use error::{CodegenError, Origin};
 pub use generate::{Generated, OutputFile, VariantStats, file_name, generate, print_and_validate};
-pub use nimbus_dsl::catalog::{VariantSource, catalog};
+pub use nimbus_dsl::catalog::{VariantSource, catalog, cloud_catalog, cloud_variant};
 pub use target::Target;
 pub use validate::{Validated, validate};
 
@@ -33,10 +33,16 @@ pub fn generate_variant(
 }
 
 /// Finds catalogue variants by `module/variant` or `module`, as a typed error when none match.
-pub fn select_variants(name: &str) -> Result<Vec<VariantSource>, CodegenError> {
-    let found = nimbus_dsl::catalog::select(name);
+pub fn select_variants(
+    name: &str,
+    lib: Option<&nimbus_dsl::cloud::CloudLibrary>,
+) -> Result<Vec<VariantSource>, CodegenError> {
+    let found = nimbus_dsl::catalog::select(name, lib);
     if found.is_empty() {
-        let known: Vec<String> = catalog().iter().map(VariantSource::key).collect();
+        let mut known: Vec<String> = catalog().iter().map(VariantSource::key).collect();
+        if lib.is_some() {
+            known.push("clouds/<genus>.<quality> (see `nimbus list`)".into());
+        }
         return Err(CodegenError::UnknownVariant {
             given: name.to_string(),
             known: known.join(", "),

@@ -1,7 +1,9 @@
 //! The catalogue of emittable module variants: what `nimbus list` shows and `nimbus check`
 //! generates. A variant is a module recorded with its generation-time choices fixed.
 
+use crate::cloud::{CloudLibrary, Features, Quality};
 use crate::ir::Module;
+use crate::model::clouds::{CloudVariant, cloud_module};
 use crate::model::preview::{PhaseModel, preview_module};
 use crate::{DslError, SpecValue};
 
@@ -10,13 +12,14 @@ use crate::{DslError, SpecValue};
 pub struct VariantSource {
     pub module: &'static str,
     pub variant: String,
-    pub description: &'static str,
+    pub description: String,
     build: BuildFn,
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 enum BuildFn {
     Preview(PhaseModel),
+    Clouds(Box<CloudVariant>),
 }
 
 impl VariantSource {
@@ -27,29 +30,79 @@ impl VariantSource {
 
     /// Records the module.
     pub fn build(&self) -> Result<Module, DslError> {
-        match self.build {
-            BuildFn::Preview(model) => preview_module(model),
+        match &self.build {
+            BuildFn::Preview(model) => preview_module(*model),
+            BuildFn::Clouds(v) => cloud_module(v),
+        }
+    }
+
+    /// The cloud variant, for cloud modules.
+    pub fn cloud_variant(&self) -> Option<&CloudVariant> {
+        match &self.build {
+            BuildFn::Clouds(v) => Some(v),
+            BuildFn::Preview(_) => None,
+        }
+    }
+
+    /// A cloud variant as a catalogue entry.
+    pub fn clouds(variant: CloudVariant, description: &str) -> VariantSource {
+        VariantSource {
+            module: "clouds",
+            variant: variant.name(),
+            description: description.to_string(),
+            build: BuildFn::Clouds(Box::new(variant)),
         }
     }
 }
 
-/// Every variant, in a stable order.
+/// The sample preview variants (no data needed).
 pub fn catalog() -> Vec<VariantSource> {
     PhaseModel::ALL
         .iter()
         .map(|m| VariantSource {
             module: "preview",
             variant: m.suffix(),
-            description: "false-colour density profile and phase function preview",
+            description: "false-colour density profile and phase function preview".into(),
             build: BuildFn::Preview(*m),
         })
         .collect()
 }
 
+/// Every genus at every quality preset, with the preset's features.
+pub fn cloud_catalog(lib: &CloudLibrary) -> Vec<VariantSource> {
+    let mut out = Vec::new();
+    for (_, genus) in lib.genera.values() {
+        for q in Quality::ALL {
+            let v = CloudVariant::new(genus, q, q.features());
+            out.push(VariantSource::clouds(v, &genus.description));
+        }
+    }
+    out
+}
+
+/// The cloud variant of `genus` at `quality` with features adjusted by `adjust`.
+pub fn cloud_variant(
+    lib: &CloudLibrary,
+    genus: &str,
+    quality: Quality,
+    adjust: impl FnOnce(&mut Features),
+) -> Option<VariantSource> {
+    let g = lib.genus(genus)?;
+    let mut features = quality.features();
+    adjust(&mut features);
+    Some(VariantSource::clouds(
+        CloudVariant::new(g, quality, features),
+        &g.description,
+    ))
+}
+
 /// Finds variants by `module/variant`, or every variant of a module by `module`.
-pub fn select(name: &str) -> Vec<VariantSource> {
-    catalog()
-        .into_iter()
+pub fn select(name: &str, lib: Option<&CloudLibrary>) -> Vec<VariantSource> {
+    let mut all = catalog();
+    if let Some(lib) = lib {
+        all.extend(cloud_catalog(lib));
+    }
+    all.into_iter()
         .filter(|v| v.key() == name || v.module == name)
         .collect()
 }

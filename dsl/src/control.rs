@@ -345,8 +345,15 @@ macro_rules! fn_tail_rust {
     )*};
 }
 use crate::value::{F32, Vec2, Vec3, Vec4};
-fn_tail_rust!(F32 | f32, I32 | i32, U32 | u32, Bool | bool, Vec2 | glam::Vec2, Vec3 | glam::Vec3,
-    Vec4 | glam::Vec4);
+fn_tail_rust!(
+    F32 | f32,
+    I32 | i32,
+    U32 | u32,
+    Bool | bool,
+    Vec2 | glam::Vec2,
+    Vec3 | glam::Vec3,
+    Vec4 | glam::Vec4
+);
 
 /// Converts a function body's tail to its result expression.
 pub fn tail<R, T: FnTail<R>>(value: T) -> Option<ExprId> {

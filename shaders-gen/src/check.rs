@@ -1,7 +1,11 @@
 //! `nimbus check`.
 
+use std::path::Path;
+
 use nimbus_codegen::external::{ExternalCheck, check_file};
-use nimbus_codegen::{Target, catalog, generate_variant};
+use nimbus_codegen::{Target, generate_variant};
+
+use crate::data::{Selection, load, resolve};
 
 #[derive(Debug, thiserror::Error)]
 #[error("{failures} check(s) failed")]
@@ -9,13 +13,19 @@ pub(crate) struct CheckFailed {
     failures: usize,
 }
 
-pub(crate) fn run(external: bool) -> Result<(), Box<dyn std::error::Error>> {
+pub(crate) fn run(
+    data: Option<&Path>,
+    sel: &Selection<'_>,
+    external: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let lib = load(data)?;
+    let sources = resolve(sel, &lib)?;
     let mut failures = 0usize;
     let mut files = 0usize;
     let mut missing = std::collections::BTreeSet::new();
     let mut external_passed = 0usize;
-    for source in catalog() {
-        match generate_variant(&source, &Target::ALL) {
+    for source in &sources {
+        match generate_variant(source, &Target::ALL) {
             Err(e) => {
                 failures += 1;
                 eprintln!("FAIL {}: {e}", source.key());
@@ -46,7 +56,7 @@ pub(crate) fn run(external: bool) -> Result<(), Box<dyn std::error::Error>> {
     }
     println!(
         "{} variant(s), {files} file(s) validated by naga, {external_passed} also by external tools; {failures} failure(s)",
-        catalog().len()
+        sources.len()
     );
     if failures > 0 {
         return Err(Box::new(CheckFailed { failures }));

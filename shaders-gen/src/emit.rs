@@ -2,14 +2,19 @@
 
 use std::path::Path;
 
-use nimbus_codegen::{CodegenError, Target, catalog, emit, generate_variant, select_variants};
+use nimbus_codegen::{CodegenError, Target, emit, generate_variant};
 
-pub(crate) fn run(name: Option<&str>, targets: &str, out: &Path) -> Result<(), CodegenError> {
+use crate::data::{Selection, load, resolve};
+
+pub(crate) fn run(
+    data: Option<&Path>,
+    sel: &Selection<'_>,
+    targets: &str,
+    out: &Path,
+) -> Result<(), CodegenError> {
     let targets = Target::parse_list(targets)?;
-    let sources = match name {
-        Some(n) => select_variants(n)?,
-        None => catalog(),
-    };
+    let lib = load(data)?;
+    let sources = resolve(sel, &lib)?;
     let mut generated = Vec::new();
     for s in &sources {
         generated.push(generate_variant(s, &targets)?);

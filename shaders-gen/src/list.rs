@@ -1,12 +1,68 @@
 //! `nimbus list`.
 
-use nimbus_codegen::{Target, catalog};
+use std::path::Path;
 
-pub(crate) fn run() {
-    println!("variants (module/variant):");
+use nimbus_codegen::{CodegenError, Target, catalog};
+use nimbus_dsl::cloud::{Quality, Toggle};
+
+use crate::data::{data_dir, load};
+
+pub(crate) fn run(data: Option<&Path>) -> Result<(), CodegenError> {
+    let lib = load(data)?;
+    println!("genera ({}):", data_dir(data).join("genera").display());
+    for (name, (_, g)) in &lib.genera {
+        println!(
+            "  {name:<16} {} layer(s), coverage {:.2}: {}",
+            g.layers.len(),
+            g.coverage,
+            g.description
+        );
+    }
+    println!("scene presets:");
+    for (name, (_, s)) in &lib.scenes {
+        println!(
+            "  {name:<16} {} at {} quality, sun {}°: {}",
+            s.genus,
+            s.quality.name(),
+            s.sun_elevation_deg,
+            s.description
+        );
+    }
+    println!("quality presets:");
+    for q in Quality::ALL {
+        let st = q.settings();
+        let off: Vec<&str> = Toggle::ALL
+            .iter()
+            .filter(|t| !t.get(&q.features()))
+            .map(|t| t.name())
+            .collect();
+        println!(
+            "  {:<16} {} steps ≥ {} m, sun {} / ground {} secondary steps, shadow map {}²; off: {}",
+            q.name(),
+            st.max_iteration_count,
+            st.min_step_size,
+            st.max_iteration_count_to_sun,
+            st.max_iteration_count_to_ground,
+            st.shadow_map_size,
+            if off.is_empty() {
+                "nothing".to_string()
+            } else {
+                off.join(", ")
+            }
+        );
+    }
+    println!("toggles (--enable / --disable):");
+    for t in Toggle::ALL {
+        println!("  {}", t.name());
+    }
+    println!("modules/variants:");
     for v in catalog() {
         println!("  {:<24} {}", v.key(), v.description);
     }
+    println!(
+        "  clouds/<genus>.<quality>  every genus at every quality preset ({} variants)",
+        lib.genera.len() * Quality::ALL.len()
+    );
     println!("targets:");
     for t in Target::ALL {
         let what = match t {
@@ -19,4 +75,5 @@ pub(crate) fn run() {
         };
         println!("  {:<24} {what}", t.name());
     }
+    Ok(())
 }

@@ -2,20 +2,61 @@
 
 mod bench;
 mod check;
+mod data;
 mod emit;
 mod list;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 
 /// Nimbus: volumetric-cloud shaders written once in Rust, emitted for every target.
 #[derive(Parser)]
 #[command(name = "nimbus", version, about)]
 struct Cli {
+    /// Folder holding `genera/*.toml` and `scenes/*.toml` (default: $NIMBUS_DATA, else the
+    /// repository's examples/).
+    #[arg(long, global = true)]
+    data: Option<PathBuf>,
     #[command(subcommand)]
     command: Command,
+}
+
+/// Which variants: a catalogue name, or a genus with a quality and toggles.
+#[derive(Args)]
+struct VariantArgs {
+    /// `preview`, `preview/hg`, `clouds`, `clouds/cumulus.high` (see `nimbus list`); every
+    /// variant when omitted.
+    name: Option<String>,
+    /// A cloud genus (a file in genera/); with no --quality, every quality preset.
+    #[arg(short, long)]
+    genus: Option<String>,
+    /// Quality preset: low, medium, high, ultra.
+    #[arg(short, long)]
+    quality: Option<String>,
+    /// Toggles to switch on beyond the preset's (comma-separated, see `nimbus list`).
+    #[arg(long, value_delimiter = ',')]
+    enable: Vec<String>,
+    /// Toggles to switch off.
+    #[arg(long, value_delimiter = ',')]
+    disable: Vec<String>,
+    /// Multiple-scattering octaves (1..=12).
+    #[arg(long)]
+    octaves: Option<u32>,
+}
+
+impl VariantArgs {
+    fn selection(&self) -> data::Selection<'_> {
+        data::Selection {
+            name: self.name.as_deref(),
+            genus: self.genus.as_deref(),
+            quality: self.quality.as_deref(),
+            enable: &self.enable,
+            disable: &self.disable,
+            octaves: self.octaves,
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -23,8 +64,8 @@ enum Command {
     /// Generate, validate and write shaders (one file per target and entry point, plus a JSON
     /// binding manifest beside each GLSL/HLSL/MSL file).
     Emit {
-        /// `module` or `module/variant` (see `nimbus list`); all variants when omitted.
-        name: Option<String>,
+        #[command(flatten)]
+        variants: VariantArgs,
         /// Comma-separated targets: wgsl, glsl-es300, glsl450, hlsl, msl, spirv, or all.
         #[arg(short, long, default_value = "all")]
         targets: String,
@@ -32,14 +73,16 @@ enum Command {
         #[arg(short, long, default_value = "nimbus-out")]
         out: PathBuf,
     },
-    /// Generate and validate every variant for every target (naga, plus glslangValidator and
+    /// Generate and validate variants for every target (naga, plus glslangValidator and
     /// spirv-val when installed); exits non-zero on any failure.
     Check {
+        #[command(flatten)]
+        variants: VariantArgs,
         /// Skip glslangValidator and spirv-val even when installed.
         #[arg(long)]
         no_external: bool,
     },
-    /// List modules, variants and targets.
+    /// List genera, scene presets, quality presets, toggles, modules and targets.
     List,
     /// Time generation per variant and target, and the whole `check`.
     Bench {
@@ -51,16 +94,19 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let result: Result<(), Box<dyn std::error::Error>> = match cli.command {
-        Command::Emit { name, targets, out } => {
-            emit::run(name.as_deref(), &targets, &out).map_err(Into::into)
-        }
-        Command::Check { no_external } => check::run(!no_external),
-        Command::List => {
-            list::run();
-            Ok(())
-        }
-        Command::Bench { iterations } => bench::run(iterations.max(1)).map_err(Into::into),
+    let data = cli.data.as_deref();
+    let result: Result<(), Box<dyn std::error::Error>> = match &cli.command {
+        Command::Emit {
+            variants,
+            targets,
+            out,
+        } => emit::run(data, &variants.selection(), targets, out).map_err(Into::into),
+        Command::Check {
+            variants,
+            no_external,
+        } => check::run(data, &variants.selection(), !no_external),
+        Command::List => list::run(data).map_err(Into::into),
+        Command::Bench { iterations } => bench::run(data, (*iterations).max(1)).map_err(Into::into),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -33,7 +33,11 @@ pub(crate) fn expand(item: TokenStream) -> syn::Result<TokenStream> {
     let doc = doc_lines(&input.attrs).join("\n");
     let name_str = name.to_string();
 
-    let field_names: Vec<&syn::Ident> = fields.named.iter().filter_map(|f| f.ident.as_ref()).collect();
+    let field_names: Vec<&syn::Ident> = fields
+        .named
+        .iter()
+        .filter_map(|f| f.ident.as_ref())
+        .collect();
     let mut field_defs = Vec::new();
     let mut twin_fields = Vec::new();
     let mut inits = Vec::new();

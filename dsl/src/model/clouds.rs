@@ -62,29 +62,64 @@ pub fn cloud_module(variant: &CloudVariant) -> Result<Module, DslError> {
         ),
         loc!(),
         |m| {
-            let u = m.uniform::<CloudUniforms>("clouds", 0, 0, "Layers, media, march, light and camera.");
-            let weather = m.handle::<Texture2d>("weather_texture", 0, 1, "Local weather: coverage per channel.");
-            let shape = m.handle::<Texture3d>("shape_texture", 0, 2, "Perlin–Worley shape noise (128³, tileable).");
-            let detail = m.handle::<Texture3d>("detail_texture", 0, 3, "Worley detail noise (32³, tileable).");
-            let turbulence = m.handle::<Texture2d>("turbulence_texture", 0, 4, "Curl noise for turbulent displacement.");
-            let shadow = m.handle::<Texture2d>("shadow_map", 0, 5, "Beer shadow map: front depth, mean extinction, max and tail optical depth.");
+            let u = m.uniform::<CloudUniforms>(
+                "clouds",
+                0,
+                0,
+                "Layers, media, march, light and camera.",
+            );
+            let weather = m.handle::<Texture2d>(
+                "weather_texture",
+                0,
+                1,
+                "Local weather: coverage per channel.",
+            );
+            let shape = m.handle::<Texture3d>(
+                "shape_texture",
+                0,
+                2,
+                "Perlin–Worley shape noise (128³, tileable).",
+            );
+            let detail = m.handle::<Texture3d>(
+                "detail_texture",
+                0,
+                3,
+                "Worley detail noise (32³, tileable).",
+            );
+            let turbulence = m.handle::<Texture2d>(
+                "turbulence_texture",
+                0,
+                4,
+                "Curl noise for turbulent displacement.",
+            );
+            let shadow = m.handle::<Texture2d>(
+                "shadow_map",
+                0,
+                5,
+                "Beer shadow map: front depth, mean extinction, max and tail optical depth.",
+            );
             let smp = m.handle::<Sampler>("linear_sampler", 0, 6, "Trilinear, repeat.");
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
-            m.fragment("fs_main", "Clouds, sky and haze for one pixel.", loc!(), |frag_coord| {
-                cloud_fragment::shader(
-                    frag_coord,
-                    u.get(),
-                    weather.get(),
-                    shape.get(),
-                    detail.get(),
-                    turbulence.get(),
-                    shadow.get(),
-                    smp.get(),
-                    key,
-                )
-            });
+            m.fragment(
+                "fs_main",
+                "Clouds, sky and haze for one pixel.",
+                loc!(),
+                |frag_coord| {
+                    cloud_fragment::shader(
+                        frag_coord,
+                        u.get(),
+                        weather.get(),
+                        shape.get(),
+                        detail.get(),
+                        turbulence.get(),
+                        shadow.get(),
+                        smp.get(),
+                        key,
+                    )
+                },
+            );
         },
     )
 }

@@ -8,10 +8,10 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
+use crate::SpecValue;
 use crate::cloud::{Features, PhaseSpec};
 use crate::cpu::{Sampler, Texture2d, Texture3d};
 use crate::prelude::*;
-use crate::SpecValue;
 
 use super::density::{DensityFeatures, MediaParams, layer_density, weather_density};
 use super::layers::LayerGroup;
@@ -190,7 +190,12 @@ pub fn altitude_along(camera_altitude: f32, mu: f32, t: f32, radius: f32) -> f32
 
 /// Phase function with the anisotropy scaled by `g_scale` (the octave attenuation `cᵏ`).
 #[shader_fn]
-pub fn cloud_phase(cos_theta: f32, light: LightParams, g_scale: f32, #[spec] kind: PhaseKind) -> f32 {
+pub fn cloud_phase(
+    cos_theta: f32,
+    light: LightParams,
+    g_scale: f32,
+    #[spec] kind: PhaseKind,
+) -> f32 {
     match kind {
         PhaseKind::HenyeyGreenstein => henyey_greenstein(cos_theta, light.g1 * g_scale),
         PhaseKind::DualLobe => mix(
@@ -224,7 +229,9 @@ pub fn multiple_scattering(
     let mut depth_scale = 1.0f32;
     let mut g_scale = 1.0f32;
     for _octave in 0u32..octaves {
-        sum += weight * (-optical_depth * depth_scale).exp() * cloud_phase(cos_theta, light, g_scale, kind);
+        sum += weight
+            * (-optical_depth * depth_scale).exp()
+            * cloud_phase(cos_theta, light, g_scale, kind);
         weight *= 0.5;
         depth_scale *= 0.5;
         g_scale *= 0.5;
@@ -247,11 +254,33 @@ pub fn total_density(
     #[spec] key: MarchKey,
 ) -> f32 {
     let p = position + u.camera_offset;
-    let mut sum = layer_density(p, altitude, u.group0, u.media, weather_tex, shape_tex, detail_tex, turbulence_tex, smp, key.density_features())
-        .dot(Vec4::ONE);
+    let mut sum = layer_density(
+        p,
+        altitude,
+        u.group0,
+        u.media,
+        weather_tex,
+        shape_tex,
+        detail_tex,
+        turbulence_tex,
+        smp,
+        key.density_features(),
+    )
+    .dot(Vec4::ONE);
     if key.groups > 1u32 {
-        sum += layer_density(p, altitude, u.group1, u.media, weather_tex, shape_tex, detail_tex, turbulence_tex, smp, key.density_features())
-            .dot(Vec4::ONE);
+        sum += layer_density(
+            p,
+            altitude,
+            u.group1,
+            u.media,
+            weather_tex,
+            shape_tex,
+            detail_tex,
+            turbulence_tex,
+            smp,
+            key.density_features(),
+        )
+        .dot(Vec4::ONE);
     }
     sum
 }
@@ -278,7 +307,17 @@ pub fn secondary_optical_depth(
     let mut t = 0.5 * step;
     for _i in 0u32..steps {
         let h = altitude_along(altitude, direction.y, t, u.march.radius);
-        let rho = total_density(position + direction * t, h, u, weather_tex, shape_tex, detail_tex, turbulence_tex, smp, key);
+        let rho = total_density(
+            position + direction * t,
+            h,
+            u,
+            weather_tex,
+            shape_tex,
+            detail_tex,
+            turbulence_tex,
+            smp,
+            key,
+        );
         let sigma_t = rho * (u.light.scattering_coefficient + u.light.absorption_coefficient);
         tau += sigma_t * step;
         t += step;
@@ -348,7 +387,13 @@ pub fn haze_opacity(camera_altitude: f32, mu: f32, distance: f32, haze: HazePara
 /// Length of the view ray's path that lies in cloud shadow (m), by marching the beer shadow
 /// map: each step adds its shadowed fraction `1 − e^(−τ_BSM)`.
 #[shader_fn]
-pub fn shadow_length(direction: Vec3, distance: f32, u: CloudUniforms, shadow_tex: &Texture2d, smp: &Sampler) -> f32 {
+pub fn shadow_length(
+    direction: Vec3,
+    distance: f32,
+    u: CloudUniforms,
+    shadow_tex: &Texture2d,
+    smp: &Sampler,
+) -> f32 {
     let m = u.march;
     let mut length = 0.0f32;
     let mut step = m.min_step;
@@ -375,7 +420,8 @@ const INV_FOUR_PI: f32 = 0.079_577_47;
 #[shader_fn]
 pub fn layers_containing(altitude: f32, group: LayerGroup) -> f32 {
     let h = Vec4::splat(altitude);
-    let inside = step(group.min_height, h) * step(h, group.max_height)
+    let inside = step(group.min_height, h)
+        * step(h, group.max_height)
         * step(Vec4::splat(1e-3), group.max_height - group.min_height);
     inside.dot(Vec4::ONE)
 }
@@ -389,7 +435,14 @@ pub fn earliest_after(t: f32, roots: Vec2, best: f32) -> f32 {
 
 /// Distance to the next crossing of any layer boundary of `group` beyond `t` (or `best`).
 #[shader_fn]
-pub fn next_boundary(camera_altitude: f32, mu: f32, t: f32, group: LayerGroup, radius: f32, best: f32) -> f32 {
+pub fn next_boundary(
+    camera_altitude: f32,
+    mu: f32,
+    t: f32,
+    group: LayerGroup,
+    radius: f32,
+    best: f32,
+) -> f32 {
     let lo = group.min_height;
     let hi = group.max_height;
     let mut b = best;
@@ -453,19 +506,45 @@ pub fn march_clouds(
         }
         let p = direction * t;
         // Cheap coverage test before the full density: no weather here, take a long step.
-        let mut coverage = weather_density(p + u.camera_offset, h, u.group0, u.media, weather_tex, smp).dot(Vec4::ONE);
+        let mut coverage =
+            weather_density(p + u.camera_offset, h, u.group0, u.media, weather_tex, smp)
+                .dot(Vec4::ONE);
         if key.groups > 1u32 {
-            coverage += weather_density(p + u.camera_offset, h, u.group1, u.media, weather_tex, smp).dot(Vec4::ONE);
+            coverage +=
+                weather_density(p + u.camera_offset, h, u.group1, u.media, weather_tex, smp)
+                    .dot(Vec4::ONE);
         }
         if coverage <= m.min_density {
             t += step.max(m.max_step);
             continue;
         }
-        let rho = total_density(p, h, u, weather_tex, shape_tex, detail_tex, turbulence_tex, smp, key);
+        let rho = total_density(
+            p,
+            h,
+            u,
+            weather_tex,
+            shape_tex,
+            detail_tex,
+            turbulence_tex,
+            smp,
+            key,
+        );
         let sigma_s = rho * l.scattering_coefficient;
         let sigma_t = rho * sigma_ratio;
         if sigma_t > m.min_extinction {
-            let mut tau_sun = secondary_optical_depth(p, h, l.sun_direction, m.sun_steps, u, weather_tex, shape_tex, detail_tex, turbulence_tex, smp, key);
+            let mut tau_sun = secondary_optical_depth(
+                p,
+                h,
+                l.sun_direction,
+                m.sun_steps,
+                u,
+                weather_tex,
+                shape_tex,
+                detail_tex,
+                turbulence_tex,
+                smp,
+                key,
+            );
             if key.features.shadows {
                 let shadow_uv = (u.shadow_matrix * p.extend(1.0)).xy();
                 let texel = shadow_tex.sample_level(smp, shadow_uv, 0.0);
@@ -476,17 +555,36 @@ pub fn march_clouds(
             if key.features.accurate_sun_sky_light {
                 sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
             }
-            let mut light = sun * multiple_scattering(tau_sun, cos_theta, l, key.phase, key.features.octaves);
+            let mut light =
+                sun * multiple_scattering(tau_sun, cos_theta, l, key.phase, key.features.octaves);
             if key.features.ground_bounce {
-                let tau_ground = secondary_optical_depth(p, h, vec3(0.0, -1.0, 0.0), m.ground_steps, u, weather_tex, shape_tex, detail_tex, turbulence_tex, smp, key);
+                let tau_ground = secondary_optical_depth(
+                    p,
+                    h,
+                    vec3(0.0, -1.0, 0.0),
+                    m.ground_steps,
+                    u,
+                    weather_tex,
+                    shape_tex,
+                    detail_tex,
+                    turbulence_tex,
+                    smp,
+                    key,
+                );
                 let ground_irradiance = l.sky_irradiance
                     + l.sun_irradiance * ((1.0 - u.media.coverage) * l.sun_direction.y.max(0.0));
-                let bounce = l.ground_albedo * INV_PI * (-tau_ground).exp() * INV_FOUR_PI * l.ground_bounce_scale;
+                let bounce = l.ground_albedo
+                    * INV_PI
+                    * (-tau_ground).exp()
+                    * INV_FOUR_PI
+                    * l.ground_bounce_scale;
                 light += ground_irradiance * bounce;
             }
             // Crude sky gradient: half the sky light at a layer's base, all of it at the top.
-            let height_fraction = ((h - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
-            light += l.sky_irradiance * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
+            let height_fraction =
+                ((h - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
+            light += l.sky_irradiance
+                * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
             let mut source = light * sigma_s;
             if key.features.powder {
                 source *= 1.0 - l.powder_scale * (-sigma_t * l.powder_exponent).exp();
@@ -527,22 +625,43 @@ pub fn cloud_fragment(
     smp: &Sampler,
     #[spec] key: MarchKey,
 ) -> Vec4 {
-    let ndc = vec2(frag_coord.x / u.resolution.x * 2.0 - 1.0, 1.0 - frag_coord.y / u.resolution.y * 2.0);
+    let ndc = vec2(
+        frag_coord.x / u.resolution.x * 2.0 - 1.0,
+        1.0 - frag_coord.y / u.resolution.y * 2.0,
+    );
     let clip = u.inverse_view_projection * vec4(ndc.x, ndc.y, 1.0, 1.0);
     let direction = (clip.xyz() / clip.w).normalize();
-    let clouds = march_clouds(direction, u, weather_tex, shape_tex, detail_tex, turbulence_tex, shadow_tex, smp, key);
+    let clouds = march_clouds(
+        direction,
+        u,
+        weather_tex,
+        shape_tex,
+        detail_tex,
+        turbulence_tex,
+        shadow_tex,
+        smp,
+        key,
+    );
     let sky = u.light.sky_irradiance * INV_FOUR_PI;
     let mut color = clouds.radiance + sky * clouds.transmittance;
     if key.features.haze {
-        let distance = select(u.march.max_ray_distance, clouds.front_depth, clouds.front_depth > 0.0);
+        let distance = select(
+            u.march.max_ray_distance,
+            clouds.front_depth,
+            clouds.front_depth > 0.0,
+        );
         let opacity = haze_opacity(u.camera_altitude, direction.y, distance, u.haze);
         let mut sunlit = 1.0f32;
         if key.features.light_shafts {
-            sunlit = 1.0 - (shadow_length(direction, distance, u, shadow_tex, smp) / distance.max(1.0)).saturate();
+            sunlit = 1.0
+                - (shadow_length(direction, distance, u, shadow_tex, smp) / distance.max(1.0))
+                    .saturate();
         }
-        let albedo = u.haze.scattering_coefficient / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
+        let albedo = u.haze.scattering_coefficient
+            / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
         let cos_theta = direction.dot(u.light.sun_direction);
-        let haze_light = (u.light.sun_irradiance * (cloud_phase(cos_theta, u.light, 1.0, key.phase) * sunlit)
+        let haze_light = (u.light.sun_irradiance
+            * (cloud_phase(cos_theta, u.light, 1.0, key.phase) * sunlit)
             + u.light.sky_irradiance * INV_FOUR_PI)
             * albedo;
         color = color + (haze_light - color) * opacity;
