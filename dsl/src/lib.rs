@@ -25,6 +25,7 @@ pub mod cloud;
 pub mod control;
 pub mod cpu;
 pub mod ir;
+pub mod layout;
 pub mod model;
 mod module;
 pub mod ops;

@@ -38,6 +38,7 @@ pub(crate) fn expand(item: TokenStream) -> syn::Result<TokenStream> {
         .iter()
         .filter_map(|f| f.ident.as_ref())
         .collect();
+    let field_index: Vec<usize> = (0..field_names.len()).collect();
     let mut field_defs = Vec::new();
     let mut twin_fields = Vec::new();
     let mut inits = Vec::new();
@@ -96,6 +97,18 @@ pub(crate) fn expand(item: TokenStream) -> syn::Result<TokenStream> {
 
         impl ::nimbus_dsl::ShaderType for #name {
             type Dsl = #twin;
+        }
+
+        impl ::nimbus_dsl::layout::UniformBytes for #name {
+            fn shader_type() -> ::nimbus_dsl::ir::Type {
+                ::nimbus_dsl::ir::Type::Struct(&#def)
+            }
+            fn write(&self, out: &mut [u8], offset: usize) {
+                let (_, _, offsets) = ::nimbus_dsl::layout::struct_layout(&#def);
+                #(
+                    ::nimbus_dsl::layout::UniformBytes::write(&self.#field_names, out, offset + offsets[#field_index] as usize);
+                )*
+            }
         }
 
         impl #twin {

@@ -1,0 +1,153 @@
+//! Uniform buffer layout, derived from the one Rust definition of each `ShaderStruct`: WGSL's
+//! alignment and size rules for the uniform address space, and the bytes of a CPU value laid out
+//! by them. A test checks every offset against naga's own layout of the generated WGSL.
+
+use crate::ir::{Scalar, StructDef, Type};
+
+fn round_up(align: u32, n: u32) -> u32 {
+    n.div_ceil(align) * align
+}
+
+/// `(alignment, size)` of a type in the uniform address space.
+pub fn align_size(ty: Type) -> (u32, u32) {
+    match ty {
+        Type::Scalar(_) => (4, 4),
+        Type::Vector(2, _) => (8, 8),
+        Type::Vector(3, _) => (16, 12),
+        Type::Vector(_, _) => (16, 16),
+        Type::Matrix(n) => {
+            // Columns are vecN, each padded to its alignment.
+            let (col_align, col_size) = align_size(Type::Vector(n, Scalar::F32));
+            (col_align, round_up(col_align, col_size) * u32::from(n))
+        }
+        Type::Struct(def) => {
+            let (align, size, _) = struct_layout(def);
+            (align, size)
+        }
+        _ => (4, 0),
+    }
+}
+
+/// Alignment, size and member offsets of a struct. Struct members of struct type are aligned
+/// to 16, as the uniform address space requires.
+pub fn struct_layout(def: &StructDef) -> (u32, u32, Vec<u32>) {
+    let mut offset = 0;
+    let mut align = 16;
+    let mut offsets = Vec::with_capacity(def.fields.len());
+    for f in def.fields {
+        let (a, s) = align_size(f.ty);
+        let a = if matches!(f.ty, Type::Struct(_)) {
+            round_up(16, a)
+        } else {
+            a
+        };
+        offset = round_up(a, offset);
+        offsets.push(offset);
+        offset += s;
+        align = align.max(a);
+    }
+    (align, round_up(align, offset), offsets)
+}
+
+/// A CPU value that can be written into a uniform buffer at an offset.
+pub trait UniformBytes {
+    /// The shader type, to find nested layouts.
+    fn shader_type() -> Type;
+    /// Writes the value's bytes at `offset` (the buffer is already sized).
+    fn write(&self, out: &mut [u8], offset: usize);
+
+    /// The value as a complete uniform buffer.
+    fn to_uniform_bytes(&self) -> Vec<u8> {
+        let (_, size) = align_size(Self::shader_type());
+        let mut out = vec![0; size as usize];
+        self.write(&mut out, 0);
+        out
+    }
+}
+
+fn put(out: &mut [u8], offset: usize, words: &[u32]) {
+    for (i, w) in words.iter().enumerate() {
+        let at = offset + 4 * i;
+        if let Some(slot) = out.get_mut(at..at + 4) {
+            slot.copy_from_slice(&w.to_le_bytes());
+        }
+    }
+}
+
+macro_rules! scalar_bytes {
+    ($($t:ty => $ty:expr),*) => {$(
+        impl UniformBytes for $t {
+            fn shader_type() -> Type {
+                $ty
+            }
+            fn write(&self, out: &mut [u8], offset: usize) {
+                put(out, offset, &[self.to_bits()]);
+            }
+        }
+    )*};
+}
+
+trait ToBits {
+    fn to_bits(self) -> u32;
+}
+impl ToBits for u32 {
+    fn to_bits(self) -> u32 {
+        self
+    }
+}
+impl ToBits for i32 {
+    fn to_bits(self) -> u32 {
+        self as u32
+    }
+}
+scalar_bytes!(f32 => Type::F32);
+impl UniformBytes for u32 {
+    fn shader_type() -> Type {
+        Type::U32
+    }
+    fn write(&self, out: &mut [u8], offset: usize) {
+        put(out, offset, &[ToBits::to_bits(*self)]);
+    }
+}
+impl UniformBytes for i32 {
+    fn shader_type() -> Type {
+        Type::I32
+    }
+    fn write(&self, out: &mut [u8], offset: usize) {
+        put(out, offset, &[ToBits::to_bits(*self)]);
+    }
+}
+
+macro_rules! vec_bytes {
+    ($($t:ty => $n:literal),*) => {$(
+        impl UniformBytes for $t {
+            fn shader_type() -> Type {
+                Type::Vector($n, Scalar::F32)
+            }
+            fn write(&self, out: &mut [u8], offset: usize) {
+                put(out, offset, &self.to_array().map(f32::to_bits));
+            }
+        }
+    )*};
+}
+vec_bytes!(glam::Vec2 => 2, glam::Vec3 => 3, glam::Vec4 => 4);
+
+impl UniformBytes for glam::Mat3 {
+    fn shader_type() -> Type {
+        Type::Matrix(3)
+    }
+    fn write(&self, out: &mut [u8], offset: usize) {
+        for (i, col) in [self.x_axis, self.y_axis, self.z_axis].iter().enumerate() {
+            put(out, offset + 16 * i, &col.to_array().map(f32::to_bits));
+        }
+    }
+}
+
+impl UniformBytes for glam::Mat4 {
+    fn shader_type() -> Type {
+        Type::Matrix(4)
+    }
+    fn write(&self, out: &mut [u8], offset: usize) {
+        put(out, offset, &self.to_cols_array().map(f32::to_bits));
+    }
+}
