@@ -151,3 +151,63 @@ impl UniformBytes for glam::Mat4 {
         put(out, offset, &self.to_cols_array().map(f32::to_bits));
     }
 }
+
+/// A value as consecutive 32-bit words in declaration order with no padding: how the parity
+/// harness passes arguments through a storage buffer.
+pub trait Flatten {
+    fn flatten(&self, out: &mut Vec<u32>);
+}
+
+impl Flatten for f32 {
+    fn flatten(&self, out: &mut Vec<u32>) {
+        out.push(self.to_bits());
+    }
+}
+impl Flatten for u32 {
+    fn flatten(&self, out: &mut Vec<u32>) {
+        out.push(*self);
+    }
+}
+impl Flatten for i32 {
+    fn flatten(&self, out: &mut Vec<u32>) {
+        out.push(*self as u32);
+    }
+}
+macro_rules! flatten_glam {
+    ($($t:ty),*) => {$(
+        impl Flatten for $t {
+            fn flatten(&self, out: &mut Vec<u32>) {
+                out.extend(self.to_cols_array_or_array().iter().map(|v| v.to_bits()));
+            }
+        }
+    )*};
+}
+trait ComponentArray {
+    fn to_cols_array_or_array(&self) -> Vec<f32>;
+}
+impl ComponentArray for glam::Vec2 {
+    fn to_cols_array_or_array(&self) -> Vec<f32> {
+        self.to_array().to_vec()
+    }
+}
+impl ComponentArray for glam::Vec3 {
+    fn to_cols_array_or_array(&self) -> Vec<f32> {
+        self.to_array().to_vec()
+    }
+}
+impl ComponentArray for glam::Vec4 {
+    fn to_cols_array_or_array(&self) -> Vec<f32> {
+        self.to_array().to_vec()
+    }
+}
+impl ComponentArray for glam::Mat3 {
+    fn to_cols_array_or_array(&self) -> Vec<f32> {
+        self.to_cols_array().to_vec()
+    }
+}
+impl ComponentArray for glam::Mat4 {
+    fn to_cols_array_or_array(&self) -> Vec<f32> {
+        self.to_cols_array().to_vec()
+    }
+}
+flatten_glam!(glam::Vec2, glam::Vec3, glam::Vec4, glam::Mat3, glam::Mat4);

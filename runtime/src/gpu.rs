@@ -97,7 +97,8 @@ impl Gpu {
 
     /// Runs compute entry point `entry` of `wgsl` over `input` (bound read-only at binding 0)
     /// and returns `output_words` words of the read-write buffer at binding 1. One invocation
-    /// per `workgroup_size` words of work: `groups` workgroups are dispatched.
+    /// per `workgroup_size` words of work: `groups` workgroups are dispatched. `resources` are
+    /// bound from binding 2 on, in order.
     pub fn run_compute(
         &self,
         wgsl: &str,
@@ -105,6 +106,7 @@ impl Gpu {
         input: &[u32],
         output_words: usize,
         groups: u32,
+        resources: &[GpuResource],
     ) -> Result<Vec<u32>, RuntimeError> {
         let device = &self.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -126,6 +128,7 @@ impl Gpu {
                 reason: e.to_string(),
             });
         }
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // Storage buffers cannot be empty.
         let input_bytes: &[u8] = if input.is_empty() {
             &[0; 4]
@@ -150,19 +153,30 @@ impl Gpu {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let views: Vec<GpuBinding> = resources.iter().map(|r| self.upload(r)).collect();
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input_buf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output_buf.as_entire_binding(),
+            },
+        ];
+        for (i, v) in views.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 2 + i as u32,
+                resource: match v {
+                    GpuBinding::View(view) => wgpu::BindingResource::TextureView(view),
+                    GpuBinding::Sampler(s) => wgpu::BindingResource::Sampler(s),
+                },
+            });
+        }
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: input_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: output_buf.as_entire_binding(),
-                },
-            ],
+            entries: &entries,
         });
         let mut encoder = device.create_command_encoder(&Default::default());
         {
@@ -183,6 +197,12 @@ impl Gpu {
         rx.recv()
             .map_err(|e| RuntimeError::Readback(e.to_string()))?
             .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Pipeline {
+                what: format!("dispatch of `{entry}`"),
+                reason: e.to_string(),
+            });
+        }
         let data = readback
             .slice(..)
             .get_mapped_range()
@@ -191,5 +211,104 @@ impl Gpu {
         drop(data);
         readback.unmap();
         Ok(words)
+    }
+}
+
+/// A texture or sampler for a compute dispatch. Texel values travel as f16 (`Rgba16Float`, the
+/// filterable float format every adapter has); callers choose values f16 represents exactly so
+/// the CPU twin sees the same texels.
+#[derive(Clone, Debug)]
+pub enum GpuResource {
+    Texture2d(nimbus_dsl::cpu::Texture2d),
+    Texture3d(nimbus_dsl::cpu::Texture3d),
+    Sampler(nimbus_dsl::cpu::Sampler),
+}
+
+enum GpuBinding {
+    View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
+}
+
+/// f32 to f16 bits, exact for values f16 can represent (others are rounded towards zero).
+fn f16_bits(v: f32) -> u16 {
+    if v == 0.0 {
+        return 0;
+    }
+    let bits = v.to_bits();
+    let sign = ((bits >> 16) & 0x8000) as u16;
+    let exp = ((bits >> 23) & 0xff) as i32 - 127 + 15;
+    let mant = ((bits >> 13) & 0x3ff) as u16;
+    if exp <= 0 {
+        // Subnormal f16.
+        let m = (bits & 0x7f_ffff) | 0x80_0000;
+        let shift = 14 - exp;
+        return sign | if shift < 32 { (m >> shift) as u16 } else { 0 };
+    }
+    if exp >= 31 {
+        return sign | 0x7c00;
+    }
+    sign | ((exp as u16) << 10) | mant
+}
+
+impl Gpu {
+    fn upload(&self, r: &GpuResource) -> GpuBinding {
+        let (size, dimension, texels) = match r {
+            GpuResource::Texture2d(t) => (
+                wgpu::Extent3d {
+                    width: t.size[0],
+                    height: t.size[1],
+                    depth_or_array_layers: 1,
+                },
+                wgpu::TextureDimension::D2,
+                &t.texels,
+            ),
+            GpuResource::Texture3d(t) => (
+                wgpu::Extent3d {
+                    width: t.size[0],
+                    height: t.size[1],
+                    depth_or_array_layers: t.size[2],
+                },
+                wgpu::TextureDimension::D3,
+                &t.texels,
+            ),
+            GpuResource::Sampler(s) => {
+                let address = match s.address {
+                    nimbus_dsl::cpu::AddressMode::Repeat => wgpu::AddressMode::Repeat,
+                    nimbus_dsl::cpu::AddressMode::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+                };
+                let filter = match s.filter {
+                    nimbus_dsl::cpu::Filter::Linear => wgpu::FilterMode::Linear,
+                    nimbus_dsl::cpu::Filter::Nearest => wgpu::FilterMode::Nearest,
+                };
+                return GpuBinding::Sampler(self.device.create_sampler(&wgpu::SamplerDescriptor {
+                    address_mode_u: address,
+                    address_mode_v: address,
+                    address_mode_w: address,
+                    mag_filter: filter,
+                    min_filter: filter,
+                    ..Default::default()
+                }));
+            }
+        };
+        let data: Vec<u16> = texels
+            .iter()
+            .flat_map(|t| t.to_array().map(f16_bits))
+            .collect();
+        let texture = self.device.create_texture_with_data(
+            &self.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("parity texture"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension,
+                format: wgpu::TextureFormat::Rgba16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&data),
+        );
+        GpuBinding::View(texture.create_view(&Default::default()))
     }
 }

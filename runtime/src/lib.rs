@@ -9,4 +9,4 @@ mod gpu;
 pub mod parity;
 
 pub use error::RuntimeError;
-pub use gpu::{Gpu, GpuInfo};
+pub use gpu::{Gpu, GpuInfo, GpuResource};

@@ -11,7 +11,7 @@ use nimbus_dsl::shader::U32;
 use nimbus_dsl::{ModuleBuilder, Value, loc};
 
 use crate::error::RuntimeError;
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, GpuResource};
 
 const WORKGROUP: u32 = 64;
 
@@ -134,12 +134,21 @@ fn store(
     Ok(())
 }
 
+enum Handle {
+    Texture2d(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Texture2d>),
+    Texture3d(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Texture3d>),
+    Sampler(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Sampler>),
+}
+
 /// A function under test: its parameter types, result type and a closure recording a call.
 pub struct KernelFn<'a> {
     pub name: &'a str,
     pub params: Vec<Type>,
     pub result: Type,
     pub call: &'a dyn Fn(&[ExprId]) -> ExprId,
+    /// Textures and samplers, bound from binding 2 on and passed to `call` after the
+    /// buffer-loaded parameters.
+    pub resources: &'a [GpuResource],
 }
 
 impl KernelFn<'_> {
@@ -169,6 +178,41 @@ pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
                 false,
                 "Argument words, one record per invocation.",
             );
+            let handles: Vec<Handle> = f
+                .resources
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    let binding = 2 + i as u32;
+                    let name = format!("resource{i}");
+                    match r {
+                        GpuResource::Texture2d(_) => {
+                            Handle::Texture2d(m.handle::<nimbus_dsl::cpu::Texture2d>(
+                                &name,
+                                0,
+                                binding,
+                                "A texture of the function under test.",
+                            ))
+                        }
+                        GpuResource::Texture3d(_) => {
+                            Handle::Texture3d(m.handle::<nimbus_dsl::cpu::Texture3d>(
+                                &name,
+                                0,
+                                binding,
+                                "A texture of the function under test.",
+                            ))
+                        }
+                        GpuResource::Sampler(_) => {
+                            Handle::Sampler(m.handle::<nimbus_dsl::cpu::Sampler>(
+                                &name,
+                                0,
+                                binding,
+                                "A sampler of the function under test.",
+                            ))
+                        }
+                    }
+                })
+                .collect();
             let output = m.storage::<U32>(
                 "outputs",
                 0,
@@ -187,11 +231,18 @@ pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
                     let in_base = index * (in_words as u32);
                     let mut read = |offset: usize| inputs.get(in_base + offset as u32).id();
                     let mut offset = 0;
-                    let args: Vec<ExprId> = f
+                    let mut args: Vec<ExprId> = f
                         .params
                         .iter()
                         .map(|t| load(*t, &mut offset, &mut read))
                         .collect();
+                    for h in &handles {
+                        args.push(match h {
+                            Handle::Texture2d(g) => g.get().id(),
+                            Handle::Texture3d(g) => g.get().id(),
+                            Handle::Sampler(g) => g.get().id(),
+                        });
+                    }
                     let result = (f.call)(&args);
                     let outputs = output.array();
                     let out_base = index * (out_words as u32);
@@ -228,6 +279,7 @@ pub fn run_on_gpu(gpu: &Gpu, f: &KernelFn<'_>, inputs: &[u32]) -> Result<Vec<u32
         &padded,
         groups * WORKGROUP as usize * out_words,
         groups as u32,
+        f.resources,
     )?;
     Ok(out[..count * out_words].to_vec())
 }

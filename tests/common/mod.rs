@@ -81,8 +81,34 @@ pub fn compare(
     cpu: impl Fn(&[u32]) -> Vec<u32>,
     tol: Tolerance,
 ) {
+    compare_with(
+        name,
+        params,
+        result,
+        call,
+        &[],
+        inputs,
+        MIN_INPUTS,
+        cpu,
+        tol,
+    );
+}
+
+/// [`compare`] with textures and samplers bound for the function, and a minimum input count.
+#[allow(clippy::too_many_arguments, reason = "test helper mirroring compare")]
+pub fn compare_with(
+    name: &str,
+    params: Vec<Type>,
+    result: Type,
+    call: &dyn Fn(&[ExprId]) -> ExprId,
+    resources: &[nimbus_runtime::GpuResource],
+    inputs: &[Vec<u32>],
+    min_inputs: usize,
+    cpu: impl Fn(&[u32]) -> Vec<u32>,
+    tol: Tolerance,
+) {
     assert!(
-        inputs.len() >= MIN_INPUTS,
+        inputs.len() >= min_inputs,
         "{name}: only {} inputs",
         inputs.len()
     );
@@ -92,6 +118,7 @@ pub fn compare(
         params,
         result,
         call,
+        resources,
     };
     let flat: Vec<u32> = inputs.iter().flatten().copied().collect();
     let gpu_out = run_on_gpu(gpu, &f, &flat).expect("GPU run");

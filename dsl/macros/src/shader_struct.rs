@@ -111,6 +111,12 @@ pub(crate) fn expand(item: TokenStream) -> syn::Result<TokenStream> {
             }
         }
 
+        impl ::nimbus_dsl::layout::Flatten for #name {
+            fn flatten(&self, out: &mut ::std::vec::Vec<u32>) {
+                #( ::nimbus_dsl::layout::Flatten::flatten(&self.#field_names, out); )*
+            }
+        }
+
         impl #twin {
             /// A zero value whose fields a struct literal in a `#[shader_fn]` then assigns.
             #[doc(hidden)]

@@ -123,3 +123,103 @@ pub fn cloud_module(variant: &CloudVariant) -> Result<Module, DslError> {
         },
     )
 }
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use super::density::MediaParams;
+use super::layers::LayerGroup;
+use super::march::{HazeParams, LightParams, MarchParams};
+use super::shell::EARTH_RADIUS;
+
+impl CloudUniforms {
+    /// Uniforms for `genus` at `quality`, lit by a sun in `sun_direction` (local frame, y up),
+    /// seen from `camera_altitude`; the remaining parameters take the reference library's
+    /// defaults.
+    pub fn for_genus(
+        genus: &Genus,
+        quality: Quality,
+        sun_direction: Vec3,
+        camera_altitude: f32,
+    ) -> Self {
+        let st = quality.settings();
+        let [group0, group1] = LayerGroup::from_genus(genus);
+        let enabled = genus.layers.iter().filter(|l| l.is_enabled());
+        let (mut min_h, mut max_h, mut shadow_top) = (f32::MAX, 0.0f32, 0.0f32);
+        for l in enabled {
+            min_h = min_h.min(l.altitude);
+            max_h = max_h.max(l.altitude + l.height);
+            if l.shadow {
+                shadow_top = shadow_top.max(l.altitude + l.height);
+            }
+        }
+        let (g1, g2, lobe_weight, droplet) = match genus.phase {
+            crate::cloud::PhaseSpec::HenyeyGreenstein { g } => (g, 0.0, 0.0, 10.0),
+            crate::cloud::PhaseSpec::DualLobe { g1, g2, weight } => (g1, g2, weight, 10.0),
+            crate::cloud::PhaseSpec::ApproximateMie {
+                droplet_diameter_um,
+            } => (0.7, -0.2, 0.5, droplet_diameter_um),
+            crate::cloud::PhaseSpec::Isotropic => (0.0, 0.0, 0.0, 10.0),
+        };
+        // Shadow map: an orthographic 20 km square around the camera, projected along the sun.
+        let shadow_matrix = Mat4::from_cols(
+            Vec4::new(1.0 / 20_000.0, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, 1.0 / 20_000.0, 0.0, 0.0),
+            Vec4::new(0.5, 0.5, 0.0, 1.0),
+        );
+        CloudUniforms {
+            group0,
+            group1,
+            media: MediaParams {
+                coverage: genus.coverage,
+                ..MediaParams::default()
+            },
+            march: MarchParams {
+                max_iterations: st.max_iteration_count,
+                sun_steps: st.max_iteration_count_to_sun,
+                ground_steps: st.max_iteration_count_to_ground,
+                min_step: st.min_step_size,
+                max_step: st.max_step_size,
+                max_ray_distance: st.max_ray_distance,
+                perspective_step_scale: st.perspective_step_scale,
+                min_density: st.min_density,
+                min_extinction: st.min_extinction,
+                min_transmittance: st.min_transmittance,
+                min_secondary_step: st.min_secondary_step_size,
+                secondary_step_scale: st.secondary_step_scale,
+                min_height: if min_h == f32::MAX { 0.0 } else { min_h },
+                max_height: max_h,
+                shadow_top_height: shadow_top,
+                radius: EARTH_RADIUS,
+            },
+            light: LightParams {
+                sun_direction: sun_direction.normalize_or(Vec3::Y),
+                sun_irradiance: Vec3::new(1.0, 0.96, 0.9),
+                sky_irradiance: Vec3::new(0.25, 0.35, 0.55),
+                scattering_coefficient: genus.medium.scattering_coefficient,
+                absorption_coefficient: genus.medium.absorption_coefficient,
+                sky_light_scale: 1.0,
+                ground_bounce_scale: 1.0,
+                ground_albedo: 0.3,
+                powder_scale: 0.8,
+                powder_exponent: 150.0,
+                g1,
+                g2,
+                lobe_weight,
+                droplet_diameter: droplet,
+            },
+            haze: HazeParams {
+                density: 3e-5,
+                exponent: 1e-3,
+                scattering_coefficient: 0.9,
+                absorption_coefficient: 0.5,
+            },
+            camera_altitude,
+            camera_offset: Vec3::ZERO,
+            inverse_view_projection: Mat4::IDENTITY,
+            shadow_matrix,
+            resolution: Vec2::new(640.0, 360.0),
+            jitter: 0.5,
+        }
+    }
+}

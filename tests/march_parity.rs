@@ -1,0 +1,210 @@
+//! One full ray march, CPU twin against the generated shader on the GPU, over a set of rays
+//! from three camera altitudes (below, inside and above the layer), with every texture bound.
+
+mod common;
+
+use std::path::Path;
+
+use common::{Rng, Tolerance, compare_with};
+use glam::{Vec3, Vec4};
+use nimbus_dsl::Value;
+use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use nimbus_dsl::ir::{ExprId, Scalar, Type};
+use nimbus_dsl::layout::Flatten;
+use nimbus_dsl::model::clouds::CloudVariant;
+use nimbus_dsl::model::march::{CloudUniforms, CloudUniformsShader, march_clouds};
+use nimbus_dsl::shader;
+use nimbus_runtime::GpuResource;
+
+/// Values on a 1/256 grid, which f16 textures hold exactly.
+fn texels(rng: &mut Rng, n: usize, scale: [f32; 4]) -> Vec<Vec4> {
+    (0..n)
+        .map(|_| {
+            Vec4::from_array(std::array::from_fn(|c| {
+                (rng.next_u64() % 257) as f32 / 256.0 * scale[c]
+            }))
+        })
+        .collect()
+}
+
+#[test]
+fn march_clouds_matches_cpu_over_a_set_of_rays() {
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let genus = lib.genus("cumulus").expect("cumulus");
+    let quality = Quality::High;
+    let key = CloudVariant::new(genus, quality, quality.features()).key;
+    let mut rng = Rng::new(31);
+    let weather = Texture2d {
+        size: [16, 16],
+        texels: texels(&mut rng, 256, [1.0; 4]),
+    };
+    let shape = Texture3d {
+        size: [16, 16, 16],
+        texels: texels(&mut rng, 4096, [1.0; 4]),
+    };
+    let detail = Texture3d {
+        size: [8, 8, 8],
+        texels: texels(&mut rng, 512, [1.0; 4]),
+    };
+    let turbulence = Texture2d {
+        size: [8, 8],
+        texels: texels(&mut rng, 64, [1.0; 4]),
+    };
+    // Front depth in metres (integers), mean extinction, max and tail optical depth.
+    let shadow = Texture2d {
+        size: [8, 8],
+        texels: texels(&mut rng, 64, [1024.0, 0.0625, 4.0, 0.5]),
+    };
+    let smp = Sampler::default();
+
+    let mut inputs = Vec::new();
+    for altitude in [200.0, 2200.0, 6000.0] {
+        let mut u = CloudUniforms::for_genus(genus, quality, Vec3::new(0.4, 0.5, 0.3), altitude);
+        // A weather tile of 4 km and shape tiles of ~1 km keep the small textures busy.
+        u.media.weather_repeat = glam::Vec2::splat(1.0 / 4000.0);
+        u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
+        u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
+        let mut words = Vec::new();
+        u.flatten(&mut words);
+        for i in 0..400 {
+            let elevation: f32 = match i {
+                0 => 0.0,
+                1 => 90.0,
+                2 => -90.0,
+                _ => rng.range(-20.0, 89.0),
+            };
+            let azimuth = rng.range(0.0, std::f32::consts::TAU);
+            let (se, ce) = elevation.to_radians().sin_cos();
+            let dir = Vec3::new(ce * azimuth.cos(), se, ce * azimuth.sin()).normalize();
+            let mut w: Vec<u32> = dir.to_array().map(f32::to_bits).to_vec();
+            w.extend(&words);
+            inputs.push(w);
+        }
+    }
+    let resources = [
+        GpuResource::Texture2d(weather.clone()),
+        GpuResource::Texture3d(shape.clone()),
+        GpuResource::Texture3d(detail.clone()),
+        GpuResource::Texture2d(turbulence.clone()),
+        GpuResource::Texture2d(shadow.clone()),
+        GpuResource::Sampler(smp),
+    ];
+    let call = move |a: &[ExprId]| {
+        let r = march_clouds::shader(
+            shader::Vec3::from_id(a[0]),
+            CloudUniformsShader::from_id(a[1]),
+            shader::Texture2d::from_id(a[2]),
+            shader::Texture3d::from_id(a[3]),
+            shader::Texture3d::from_id(a[4]),
+            shader::Texture2d::from_id(a[5]),
+            shader::Texture2d::from_id(a[6]),
+            shader::Sampler::from_id(a[7]),
+            key,
+        );
+        r.radiance.extend(r.transmittance).id()
+    };
+    let uniforms_of = |w: &[u32]| -> CloudUniforms {
+        // The uniforms of a record are those of its camera altitude.
+        let altitude = f32::from_bits(w[3 + uniforms_altitude_word()]);
+        let mut u = CloudUniforms::for_genus(genus, quality, Vec3::new(0.4, 0.5, 0.3), altitude);
+        u.media.weather_repeat = glam::Vec2::splat(1.0 / 4000.0);
+        u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
+        u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
+        u
+    };
+    compare_with(
+        "march_clouds[cumulus.high]",
+        vec![
+            Type::Vector(3, Scalar::F32),
+            <CloudUniformsShader as Value>::TYPE,
+        ],
+        Type::Vector(4, Scalar::F32),
+        &call,
+        &resources,
+        &inputs,
+        1000,
+        |w| {
+            let dir = Vec3::new(
+                f32::from_bits(w[0]),
+                f32::from_bits(w[1]),
+                f32::from_bits(w[2]),
+            );
+            let r = march_clouds(
+                dir,
+                uniforms_of(w),
+                &weather,
+                &shape,
+                &detail,
+                &turbulence,
+                &shadow,
+                &smp,
+                key,
+            );
+            r.radiance
+                .extend(r.transmittance)
+                .to_array()
+                .map(f32::to_bits)
+                .to_vec()
+        },
+        // Hundreds of steps of exp/pow and texture filtering; hardware GPUs filter with fewer
+        // weight bits than lavapipe, hence the margin.
+        Tolerance {
+            abs: 5e-4,
+            rel: 5e-3,
+        },
+    );
+    // The rays must actually meet clouds for the comparison to mean anything.
+    let transmittances: Vec<f32> = inputs
+        .iter()
+        .map(|w| {
+            let dir = Vec3::new(
+                f32::from_bits(w[0]),
+                f32::from_bits(w[1]),
+                f32::from_bits(w[2]),
+            );
+            march_clouds(
+                dir,
+                uniforms_of(w),
+                &weather,
+                &shape,
+                &detail,
+                &turbulence,
+                &shadow,
+                &smp,
+                key,
+            )
+            .transmittance
+        })
+        .collect();
+    let cloudy = transmittances.iter().filter(|t| **t < 0.99).count();
+    let opaque = transmittances.iter().filter(|t| **t < 0.5).count();
+    println!(
+        "{cloudy} of {} rays meet clouds, {opaque} are mostly opaque",
+        transmittances.len()
+    );
+    assert!(
+        cloudy * 4 > transmittances.len(),
+        "only {cloudy} rays meet clouds"
+    );
+    assert!(opaque > 10, "only {opaque} rays are mostly opaque");
+    assert!(transmittances.iter().all(|t| (0.0..=1.0).contains(t)));
+}
+
+/// Index of `camera_altitude` in the flattened uniforms.
+fn uniforms_altitude_word() -> usize {
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let genus = lib.genus("cumulus").expect("cumulus");
+    let a = CloudUniforms::for_genus(genus, Quality::High, Vec3::Y, 1.0);
+    let mut b = a;
+    b.camera_altitude = 2.0;
+    let (mut wa, mut wb) = (Vec::new(), Vec::new());
+    a.flatten(&mut wa);
+    b.flatten(&mut wb);
+    wa.iter()
+        .zip(&wb)
+        .position(|(x, y)| x != y)
+        .expect("altitude word")
+}
