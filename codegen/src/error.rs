@@ -90,6 +90,16 @@ pub enum CodegenError {
         message: String,
     },
 
+    #[error(
+        "module `{module}` variant `{variant}`: baking the overrides for entry point `{entry_point}` failed: {message}"
+    )]
+    Bake {
+        module: String,
+        variant: String,
+        entry_point: String,
+        message: String,
+    },
+
     #[error("cannot {action} `{}`: {source}", path.display())]
     Output {
         action: &'static str,

@@ -158,6 +158,22 @@ pub fn generate(
     let (module, wgsl, spans, validated) = print_and_validate(module, variant)?;
     let mut files = Vec::new();
     let mut target_bytes = BTreeMap::new();
+    // Overrides are baked once per entry point and shared by every backend.
+    let constants = backend::default_constants(&module);
+    let mut baked = Vec::new();
+    if targets.iter().any(|t| *t != Target::Wgsl) {
+        for ep in &module.entry_points {
+            let b = backend::bake(&validated, ep.stage, &ep.function, &constants).map_err(
+                |message| CodegenError::Bake {
+                    module: module.name.clone(),
+                    variant: variant.to_string(),
+                    entry_point: ep.function.clone(),
+                    message,
+                },
+            )?;
+            baked.push(b);
+        }
+    }
     for &target in targets {
         if target == Target::Wgsl {
             files.push(OutputFile {
@@ -170,20 +186,27 @@ pub fn generate(
             target_bytes.insert(target, wgsl.len());
             continue;
         }
-        for ep in &module.entry_points {
+        for (ep, b) in module.entry_points.iter().zip(&baked) {
             // WebGL2 has no compute shaders; such entry points are skipped for GLSL ES only.
             if target == Target::GlslEs300 && ep.stage == Stage::Compute {
                 continue;
             }
-            let (contents, manifest) =
-                backend::translate(&validated, &module, variant, target, ep.stage, &ep.function)
-                    .map_err(|message| CodegenError::Backend {
-                        module: module.name.clone(),
-                        variant: variant.to_string(),
-                        target,
-                        entry_point: ep.function.clone(),
-                        message,
-                    })?;
+            let (contents, manifest) = backend::translate(
+                b,
+                &constants,
+                &module,
+                variant,
+                target,
+                ep.stage,
+                &ep.function,
+            )
+            .map_err(|message| CodegenError::Backend {
+                module: module.name.clone(),
+                variant: variant.to_string(),
+                target,
+                entry_point: ep.function.clone(),
+                message,
+            })?;
             *target_bytes.entry(target).or_insert(0) += contents.len_bytes();
             files.push(OutputFile {
                 file_name: file_name(&module.name, variant, target, &ep.function, ep.stage),

@@ -67,7 +67,7 @@ enum Command {
         #[command(flatten)]
         variants: VariantArgs,
         /// Comma-separated targets: wgsl, glsl-es300, glsl450, hlsl, msl, spirv, or all.
-        #[arg(short, long, default_value = "all")]
+        #[arg(short, long, visible_alias = "target", default_value = "all")]
         targets: String,
         /// Output folder (created; replaced only if it is empty or a previous Nimbus output).
         #[arg(short, long, default_value = "nimbus-out")]

@@ -102,29 +102,26 @@ pub(crate) fn bake(
 
 /// Translates one entry point to `target`; returns the file contents and, for targets that
 /// need one, the binding manifest.
-pub fn translate(
-    v: &Validated,
+pub(crate) fn translate(
+    baked: &Baked,
+    constants: &PipelineConstants,
     dsl: &DslModule,
     variant: &str,
     target: Target,
     stage: Stage,
     entry: &str,
 ) -> Result<(Contents, Option<BindingManifest>), String> {
-    let constants = default_constants(dsl);
-    let baked = bake(v, stage, entry, &constants)?;
     let (contents, names) = match target {
         Target::Wgsl => return Err("WGSL is printed, not translated".into()),
-        Target::GlslEs300 | Target::Glsl450 => glsl::write(&baked, target, stage, entry)?,
-        Target::Hlsl => hlsl::write(&baked, stage, entry)?,
-        Target::Msl => msl::write(&baked, dsl, stage, entry)?,
-        Target::SpirV => (spirv::write(&baked, stage, entry)?, Vec::new()),
+        Target::GlslEs300 | Target::Glsl450 => glsl::write(baked, target, stage, entry)?,
+        Target::Hlsl => hlsl::write(baked, stage, entry)?,
+        Target::Msl => msl::write(baked, dsl, stage, entry)?,
+        Target::SpirV => (spirv::write(baked, stage, entry)?, Vec::new()),
     };
     if !target.has_binding_manifest() {
         return Ok((contents, None));
     }
-    let manifest = manifest_for(
-        &baked, dsl, variant, target, stage, entry, &constants, &names,
-    );
+    let manifest = manifest_for(baked, dsl, variant, target, stage, entry, constants, &names);
     Ok((contents, Some(manifest)))
 }
 
