@@ -204,3 +204,35 @@ fn fnv(words: &[u32]) -> u64 {
     }
     h
 }
+
+#[test]
+fn more_than_four_layers_use_a_second_lane_group() {
+    let lib = library();
+    let mut genus = lib.genus("takram-default").expect("genus").clone();
+    let extra = genus.layers[0].clone();
+    for i in 0..3 {
+        let mut l = extra.clone();
+        l.altitude = 3000.0 + 1000.0 * i as f32;
+        l.height = 500.0;
+        genus.layers.push(l);
+    }
+    genus.validate().expect("seven layers are valid");
+    assert_eq!(genus.layer_groups(), 2);
+    let v = CloudVariant::new(&genus, Quality::High, Quality::High.features());
+    let g = generate(cloud_module(&v).expect("records"), "seven", &Target::ALL).expect("validates");
+    assert!(
+        g.wgsl.contains("u.group1"),
+        "second group unused:\n{}",
+        g.wgsl
+    );
+    let four = build(
+        &lib,
+        "takram-default",
+        Quality::High,
+        Quality::High.features(),
+    );
+    assert!(
+        !four.wgsl.contains("u.group1"),
+        "a four-layer genus must not read group 1"
+    );
+}

@@ -82,3 +82,69 @@ fn list_and_check_describe_and_validate_everything() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stdout).contains("0 failure(s)"));
 }
+
+#[test]
+fn a_bad_genus_file_names_file_field_and_reason_and_nothing_is_emitted() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let data = tmp.path().join("data");
+    std::fs::create_dir_all(data.join("genera")).expect("mkdir");
+    std::fs::write(
+        data.join("genera/bad.toml"),
+        "name = \"bad\"\ndescription = \"x\"\n[[layers]]\naltitude = 100.0\nheight = -4.0\n",
+    )
+    .expect("write");
+    let out = tmp.path().join("out");
+    let o = nimbus(&[
+        "emit",
+        "--data",
+        data.to_str().expect("utf8"),
+        "--genus",
+        "bad",
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    assert!(!o.status.success());
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("bad.toml") && err.contains("layers[0].height") && err.contains("≥ 0"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn emit_genus_quality_and_toggles() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let out = tmp.path().join("clouds");
+    let o = nimbus(&[
+        "emit",
+        "--genus",
+        "cumulus",
+        "--quality",
+        "high",
+        "--disable",
+        "haze",
+        "--target",
+        "wgsl,glsl-es300",
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let wgsl = std::fs::read_to_string(out.join("clouds.cumulus.high-haze.wgsl")).expect("wgsl");
+    assert!(wgsl.contains("fn march_clouds") && !wgsl.contains("haze_opacity"));
+    assert!(
+        out.join("clouds.cumulus.high-haze.fs_main.es300.frag")
+            .is_file()
+    );
+    let o = nimbus(&[
+        "emit",
+        "--genus",
+        "cumulus",
+        "--quality",
+        "extreme",
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("unknown quality preset `extreme`"));
+}
