@@ -407,7 +407,8 @@ pub fn shadow_length(
         let texel = shadow_tex.sample_level(smp, (u.shadow_matrix * p.extend(1.0)).xy(), 0.0);
         let to_top = (m.shadow_top_height - h).max(0.0) / u.light.sun_direction.y.max(0.01);
         length += (1.0 - (-shadow_optical_depth(texel, to_top, 0.0)).exp()) * step;
-        step *= m.perspective_step_scale;
+        // Steps grow with distance (coarser where a pixel covers more), up to the maximum step.
+        step = (step * m.perspective_step_scale).min(m.max_step);
         t += step;
     }
     length
@@ -600,7 +601,7 @@ pub fn march_clouds(
                 break;
             }
         }
-        step *= m.perspective_step_scale;
+        step = (step * m.perspective_step_scale).min(m.max_step);
         t += step;
     }
     MarchResult {
