@@ -134,3 +134,30 @@ impl<A: IntoValueOf, B: IntoValueOf<Value = A::Value>> SelectCond<A, B> for Bool
 pub fn select<A, B, C: SelectCond<A, B>>(if_false: A, if_true: B, cond: C) -> C::Out {
     cond.select_impl(if_false, if_true)
 }
+
+/// Packs four values in [0, 1] into the bytes of a `u32` (x in the lowest byte), rounding to the
+/// nearest of 256 levels: WGSL `pack4x8unorm`.
+pub trait Pack4x8Unorm {
+    type Out;
+    fn pack4x8unorm_impl(self) -> Self::Out;
+}
+
+impl Pack4x8Unorm for glam::Vec4 {
+    type Out = u32;
+    fn pack4x8unorm_impl(self) -> u32 {
+        let b = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u32;
+        b(self.x) | (b(self.y) << 8) | (b(self.z) << 16) | (b(self.w) << 24)
+    }
+}
+
+impl Pack4x8Unorm for Vec4 {
+    type Out = crate::value::U32;
+    fn pack4x8unorm_impl(self) -> crate::value::U32 {
+        crate::value::U32::from_id(builtin(Builtin::Pack4x8Unorm, &[self.id()], Type::U32))
+    }
+}
+
+/// `pack4x8unorm(v)`: four unorm bytes in one word (x lowest).
+pub fn pack4x8unorm<T: Pack4x8Unorm>(v: T) -> T::Out {
+    v.pack4x8unorm_impl()
+}

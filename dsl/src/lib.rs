@@ -48,7 +48,7 @@ pub mod shader {
 /// What a file of shader functions imports: the macros, the built-ins that work on both CPU and
 /// DSL values, and the CPU extension methods (`fract_gl`, `saturate`, ...).
 pub mod prelude {
-    pub use crate::builtins::{mix, select, smoothstep, step};
+    pub use crate::builtins::{mix, pack4x8unorm, select, smoothstep, step};
     pub use crate::value::CpuVecExt;
     pub use crate::value::scalar_ext::CpuScalarExt;
     pub use crate::{ShaderStruct, shader_fn};

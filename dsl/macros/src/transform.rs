@@ -12,7 +12,7 @@ use syn::spanned::Spanned;
 use syn::{BinOp, Block, Expr, Lit, Pat, Stmt, UnOp};
 
 /// Free functions that are the same generic function in both twins.
-const SHARED_BUILTINS: &[&str] = &["smoothstep", "step", "mix", "select"];
+const SHARED_BUILTINS: &[&str] = &["smoothstep", "step", "mix", "select", "pack4x8unorm"];
 /// glam's free constructors, which have DSL counterparts of the same name.
 const CONSTRUCTORS: &[&str] = &[
     "vec2", "vec3", "vec4", "ivec2", "ivec3", "ivec4", "uvec2", "uvec3", "uvec4",

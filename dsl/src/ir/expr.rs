@@ -138,6 +138,7 @@ pub enum Builtin {
     Atan,
     Fma,
     Saturate,
+    Pack4x8Unorm,
 }
 
 impl Builtin {
@@ -178,6 +179,7 @@ impl Builtin {
             Builtin::Atan => "atan",
             Builtin::Fma => "fma",
             Builtin::Saturate => "saturate",
+            Builtin::Pack4x8Unorm => "pack4x8unorm",
         }
     }
 }

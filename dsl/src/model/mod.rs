@@ -5,6 +5,7 @@ pub mod clouds;
 pub mod density;
 pub mod layers;
 pub mod march;
+pub mod noise;
 pub mod phase;
 pub mod preview;
 pub mod profile;

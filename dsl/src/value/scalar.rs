@@ -253,10 +253,9 @@ impl F32 {
     }
 }
 
-/// `x` clamped to [0, 1] for CPU `f32`, the twin of [`F32::saturate`] and friends.
+/// CPU twins of DSL scalar methods that neither std nor glam has (`fract_gl` comes from
+/// glam's `FloatExt`).
 pub trait CpuScalarExt {
-    /// GLSL/WGSL `fract`: `x - floor(x)`.
-    fn fract_gl(self) -> Self;
     /// `clamp(x, 0, 1)`.
     fn saturate(self) -> Self;
     /// `1 / sqrt(x)`.
@@ -264,13 +263,52 @@ pub trait CpuScalarExt {
 }
 
 impl CpuScalarExt for f32 {
-    fn fract_gl(self) -> f32 {
-        self - self.floor()
-    }
     fn saturate(self) -> f32 {
         self.clamp(0.0, 1.0)
     }
     fn inverse_sqrt(self) -> f32 {
         1.0 / self.sqrt()
+    }
+}
+
+macro_rules! wrapping {
+    ($name:ident, $rust:ty) => {
+        impl $name {
+            /// Wrapping `+` (WGSL integer arithmetic always wraps; Rust's twin is `wrapping_add`).
+            #[must_use]
+            pub fn wrapping_add(self, rhs: impl Into<$name>) -> $name {
+                self + rhs.into()
+            }
+            /// Wrapping `-`.
+            #[must_use]
+            pub fn wrapping_sub(self, rhs: impl Into<$name>) -> $name {
+                self - rhs.into()
+            }
+            /// Wrapping `*`.
+            #[must_use]
+            pub fn wrapping_mul(self, rhs: impl Into<$name>) -> $name {
+                self * rhs.into()
+            }
+        }
+    };
+}
+wrapping!(U32, u32);
+wrapping!(I32, i32);
+
+impl U32 {
+    /// `min(self, other)` is in `arith!`; this is Rust's `u32::rem_euclid` (same as `%` for u32).
+    #[must_use]
+    pub fn rem_euclid(self, rhs: impl Into<U32>) -> U32 {
+        self % rhs.into()
+    }
+}
+
+impl I32 {
+    /// Rust's `i32::rem_euclid`: the remainder in `[0, |rhs|)`.
+    #[must_use]
+    pub fn rem_euclid(self, rhs: impl Into<I32>) -> I32 {
+        let r = rhs.into();
+        let m = self % r;
+        crate::builtins::select(m, m + r.abs(), crate::ops::lt(m, 0i32))
     }
 }
