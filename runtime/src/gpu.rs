@@ -95,6 +95,14 @@ impl Gpu {
         &self.info
     }
 
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
     /// Runs compute entry point `entry` of `wgsl` over `input` (bound read-only at binding 0)
     /// and returns `output_words` words of the read-write buffer at binding 1. One invocation
     /// per `workgroup_size` words of work: `groups` workgroups are dispatched. `resources` are
@@ -230,7 +238,7 @@ enum GpuBinding {
 }
 
 /// f32 to f16 bits, exact for values f16 can represent (others are rounded towards zero).
-fn f16_bits(v: f32) -> u16 {
+pub(crate) fn f16_bits(v: f32) -> u16 {
     if v == 0.0 {
         return 0;
     }

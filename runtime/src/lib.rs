@@ -7,6 +7,7 @@
 mod error;
 mod gpu;
 pub mod parity;
+pub mod textures;
 
 pub use error::RuntimeError;
 pub use gpu::{Gpu, GpuInfo, GpuResource};

@@ -79,7 +79,8 @@ pub fn worley(p: Vec3, period: i32, seed: u32) -> f32 {
         for dy in -1i32..2i32 {
             for dx in -1i32..2i32 {
                 let c = cell + vec3(dx as f32, dy as f32, dz as f32);
-                let jitter = lattice_vector(c.x as i32, c.y as i32, c.z as i32, period, seed) * 0.5 + Vec3::splat(0.5);
+                let jitter = lattice_vector(c.x as i32, c.y as i32, c.z as i32, period, seed) * 0.5
+                    + Vec3::splat(0.5);
                 nearest = nearest.min((c + jitter - p).length());
             }
         }
@@ -146,8 +147,10 @@ pub fn weather_noise(uv: Vec2, cells: i32) -> Vec4 {
 pub fn curl_noise(uv: Vec2, cells: i32) -> Vec4 {
     let p = vec3(uv.x, uv.y, 0.0) * (cells as f32);
     let e = 0.01f32;
-    let dx = perlin(p + vec3(e, 0.0, 0.0), cells, 8u32) - perlin(p - vec3(e, 0.0, 0.0), cells, 8u32);
-    let dy = perlin(p + vec3(0.0, e, 0.0), cells, 8u32) - perlin(p - vec3(0.0, e, 0.0), cells, 8u32);
+    let dx =
+        perlin(p + vec3(e, 0.0, 0.0), cells, 8u32) - perlin(p - vec3(e, 0.0, 0.0), cells, 8u32);
+    let dy =
+        perlin(p + vec3(0.0, e, 0.0), cells, 8u32) - perlin(p - vec3(0.0, e, 0.0), cells, 8u32);
     let flow = vec2(dy, -dx) / (2.0 * e) * 0.25;
     vec4(flow.x * 0.5 + 0.5, flow.y * 0.5 + 0.5, 0.5, 1.0).saturate()
 }

@@ -1,0 +1,348 @@
+//! The cloud textures, generated on the GPU by compute shaders recorded from the noise
+//! `#[shader_fn]`s (whose CPU twins test them). Each kernel writes RGBA8 texels into a buffer
+//! with rows padded to 256 bytes, which is then copied into the texture.
+
+use nimbus_codegen::{Target, generate};
+use nimbus_dsl::model::noise::{curl_noise, detail_noise, shape_noise, weather_noise};
+use nimbus_dsl::shader::{self, F32, I32, U32};
+use nimbus_dsl::{ModuleBuilder, loc};
+use wgpu::util::DeviceExt;
+
+use crate::error::RuntimeError;
+use crate::gpu::Gpu;
+
+/// Which noise a texture holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum NoiseKind {
+    /// 2D RGBA coverage (low, mid, high, extra).
+    Weather,
+    /// 3D Perlin–Worley.
+    Shape,
+    /// 3D Worley.
+    Detail,
+    /// 2D curl noise.
+    Turbulence,
+}
+
+impl NoiseKind {
+    fn is_3d(self) -> bool {
+        matches!(self, NoiseKind::Shape | NoiseKind::Detail)
+    }
+
+    /// Lattice cells per side: the noise's base frequency within one tile.
+    fn cells(self) -> i32 {
+        match self {
+            NoiseKind::Weather => 4,
+            NoiseKind::Shape => 4,
+            NoiseKind::Detail => 4,
+            NoiseKind::Turbulence => 8,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            NoiseKind::Weather => "weather",
+            NoiseKind::Shape => "shape",
+            NoiseKind::Detail => "detail",
+            NoiseKind::Turbulence => "turbulence",
+        }
+    }
+}
+
+/// Texels per row in the buffer: rows padded to 256 bytes for `copy_buffer_to_texture`.
+pub fn padded_row(size: u32) -> u32 {
+    (size * 4).div_ceil(256) * 256 / 4
+}
+
+/// The WGSL of the kernel that fills a `size`-texel (per side) texture of `kind`.
+pub fn noise_kernel_wgsl(kind: NoiseKind, size: u32) -> Result<String, RuntimeError> {
+    let row = padded_row(size);
+    let module = ModuleBuilder::build(
+        &format!("{}_texture", kind.name()),
+        "Fills one procedural cloud texture, one texel per invocation.",
+        loc!(),
+        |m| {
+            let out = m.storage::<U32>(
+                "texels",
+                0,
+                0,
+                true,
+                "RGBA8 texels, rows padded to 256 bytes.",
+            );
+            m.compute(
+                "fill",
+                "One texel per invocation.",
+                loc!(),
+                [64, 1, 1],
+                |gid| {
+                    let index = gid.x;
+                    let x = index % size;
+                    let y = (index / size) % size;
+                    let z = index / (size * size);
+                    let inv = 1.0 / size as f32;
+                    let u = (nimbus_dsl::ops::cast::<F32, _>(x) + 0.5) * inv;
+                    let v = (nimbus_dsl::ops::cast::<F32, _>(y) + 0.5) * inv;
+                    let w = (nimbus_dsl::ops::cast::<F32, _>(z) + 0.5) * inv;
+                    let cells = I32::lit(kind.cells());
+                    let texel = match kind {
+                        NoiseKind::Shape => {
+                            let s = shape_noise::shader(shader::vec3(u, v, w), cells);
+                            shader::vec4(s, s, s, 1.0)
+                        }
+                        NoiseKind::Detail => {
+                            let d = detail_noise::shader(shader::vec3(u, v, w), cells);
+                            shader::vec4(d, d, d, 1.0)
+                        }
+                        NoiseKind::Weather => weather_noise::shader(shader::vec2(u, v), cells),
+                        NoiseKind::Turbulence => curl_noise::shader(shader::vec2(u, v), cells),
+                    };
+                    let target = x + y * row + z * row * size;
+                    out.array()
+                        .set(target, nimbus_dsl::builtins::pack4x8unorm(texel));
+                },
+            );
+        },
+    )?;
+    Ok(generate(module, "default", &[Target::Wgsl])?.wgsl)
+}
+
+/// A generated texture and its view.
+pub struct GpuTexture {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    pub size: u32,
+}
+
+impl Gpu {
+    /// Generates a procedural texture of `kind` with `size` texels per side on the GPU.
+    pub fn noise_texture(&self, kind: NoiseKind, size: u32) -> Result<GpuTexture, RuntimeError> {
+        let depth = if kind.is_3d() { size } else { 1 };
+        let count = size * size * depth;
+        let row = padded_row(size);
+        let words = (row * size * depth) as usize;
+        let wgsl = noise_kernel_wgsl(kind, size)?;
+        let groups = count.div_ceil(64);
+        let buffer = self.compute_to_buffer(&wgsl, "fill", words, groups)?;
+        let texture = self.device().create_texture(&wgpu::TextureDescriptor {
+            label: Some(kind.name()),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: depth,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: if kind.is_3d() {
+                wgpu::TextureDimension::D3
+            } else {
+                wgpu::TextureDimension::D2
+            },
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let mut encoder = self.device().create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row * 4),
+                    rows_per_image: Some(size),
+                },
+            },
+            texture.as_image_copy(),
+            wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: depth,
+            },
+        );
+        self.queue().submit([encoder.finish()]);
+        let view = texture.create_view(&Default::default());
+        Ok(GpuTexture {
+            texture,
+            view,
+            size,
+        })
+    }
+
+    /// A 1×1 texture holding `texel` (e.g. an empty shadow map).
+    pub fn constant_texture(&self, texel: [f32; 4]) -> GpuTexture {
+        let data: Vec<u16> = texel.iter().map(|v| crate::gpu::f16_bits(*v)).collect();
+        let texture = self.device().create_texture_with_data(
+            self.queue(),
+            &wgpu::TextureDescriptor {
+                label: Some("constant"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&data),
+        );
+        let view = texture.create_view(&Default::default());
+        GpuTexture {
+            texture,
+            view,
+            size: 1,
+        }
+    }
+
+    /// Runs a compute kernel whose only binding is a read-write `array<u32>` of `words` words
+    /// at binding 0, and returns the buffer (for copies).
+    pub(crate) fn compute_to_buffer(
+        &self,
+        wgsl: &str,
+        entry: &str,
+        words: usize,
+        groups: u32,
+    ) -> Result<wgpu::Buffer, RuntimeError> {
+        let device = self.device();
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(entry),
+            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: None,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("texels"),
+            contents: &vec![0u8; words.max(1) * 4],
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffer.as_entire_binding(),
+            }],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            // Large textures exceed 65535 groups in x; spread over y (the kernel's index is
+            // global_id.x, so each y row repeats the x range: split explicitly instead).
+            pass.dispatch_workgroups(groups, 1, 1);
+        }
+        self.queue().submit([encoder.finish()]);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Pipeline {
+                what: format!("texture kernel `{entry}`"),
+                reason: e.to_string(),
+            });
+        }
+        Ok(buffer)
+    }
+}
+
+impl Gpu {
+    /// Reads `words` words back from a buffer with `COPY_SRC` usage.
+    pub fn read_buffer(
+        &self,
+        buffer: &wgpu::Buffer,
+        words: usize,
+    ) -> Result<Vec<u32>, RuntimeError> {
+        let size = (words.max(1) * 4) as u64;
+        let readback = self.device().create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.device().create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(buffer, 0, &readback, 0, size);
+        self.queue().submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        readback.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device()
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let data = readback
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let out = bytemuck::cast_slice::<u8, u32>(&data)[..words].to_vec();
+        drop(data);
+        readback.unmap();
+        Ok(out)
+    }
+
+    /// The texels a noise kernel writes, unpadded, for tests against the CPU twins.
+    pub fn noise_texels(&self, kind: NoiseKind, size: u32) -> Result<Vec<u32>, RuntimeError> {
+        let depth = if kind.is_3d() { size } else { 1 };
+        let row = padded_row(size);
+        let words = (row * size * depth) as usize;
+        let buffer = self.compute_to_buffer(
+            &noise_kernel_wgsl(kind, size)?,
+            "fill",
+            words,
+            (size * size * depth).div_ceil(64),
+        )?;
+        let padded = self.read_buffer(&buffer, words)?;
+        let mut out = Vec::with_capacity((size * size * depth) as usize);
+        for z in 0..depth {
+            for y in 0..size {
+                let start = ((z * size + y) * row) as usize;
+                out.extend_from_slice(&padded[start..start + size as usize]);
+            }
+        }
+        Ok(out)
+    }
+}
+
+impl NoiseKind {
+    /// The texel the CPU twin computes for texel (x, y, z) of a `size` texture.
+    pub fn cpu_texel(self, size: u32, x: u32, y: u32, z: u32) -> u32 {
+        use nimbus_dsl::builtins::pack4x8unorm;
+        let inv = 1.0 / size as f32;
+        let (u, v, w) = (
+            (x as f32 + 0.5) * inv,
+            (y as f32 + 0.5) * inv,
+            (z as f32 + 0.5) * inv,
+        );
+        let cells = self.cells();
+        let texel = match self {
+            NoiseKind::Shape => {
+                let s = shape_noise(glam::vec3(u, v, w), cells);
+                glam::vec4(s, s, s, 1.0)
+            }
+            NoiseKind::Detail => {
+                let d = detail_noise(glam::vec3(u, v, w), cells);
+                glam::vec4(d, d, d, 1.0)
+            }
+            NoiseKind::Weather => weather_noise(glam::vec2(u, v), cells),
+            NoiseKind::Turbulence => curl_noise(glam::vec2(u, v), cells),
+        };
+        pack4x8unorm(texel)
+    }
+
+    pub const ALL: [NoiseKind; 4] = [
+        NoiseKind::Weather,
+        NoiseKind::Shape,
+        NoiseKind::Detail,
+        NoiseKind::Turbulence,
+    ];
+}
