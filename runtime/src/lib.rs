@@ -7,6 +7,7 @@
 mod error;
 mod gpu;
 pub mod parity;
+pub mod render;
 pub mod textures;
 
 pub use error::RuntimeError;
