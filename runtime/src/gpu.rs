@@ -99,6 +99,29 @@ impl Gpu {
         &self.device
     }
 
+    /// Maps a `MAP_READ` buffer (after the submitted work that fills it), copies its bytes out
+    /// and unmaps it.
+    pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RuntimeError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let data = buffer
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let bytes = data.to_vec();
+        drop(data);
+        buffer.unmap();
+        Ok(bytes)
+    }
+
     pub fn queue(&self) -> &wgpu::Queue {
         &self.queue
     }
@@ -195,29 +218,14 @@ impl Gpu {
         }
         encoder.copy_buffer_to_buffer(&output_buf, 0, &readback, 0, size);
         self.queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        readback.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let data = self.map_read(&readback)?;
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RuntimeError::Pipeline {
                 what: format!("dispatch of `{entry}`"),
                 reason: e.to_string(),
             });
         }
-        let data = readback
-            .slice(..)
-            .get_mapped_range()
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
         let words: Vec<u32> = bytemuck::cast_slice(&data)[..output_words].to_vec();
-        drop(data);
-        readback.unmap();
         Ok(words)
     }
 }

@@ -326,20 +326,7 @@ impl<'g> Renderer<'g> {
             },
         );
         self.gpu.queue().submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        readback.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
-        let data = readback
-            .slice(..)
-            .get_mapped_range()
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let data = self.gpu.map_read(&readback)?;
         let mut pixels = Vec::with_capacity((frame.width * frame.height) as usize);
         for y in 0..frame.height as usize {
             let row = &data[y * row_bytes as usize..];
@@ -353,8 +340,6 @@ impl<'g> Renderer<'g> {
                 ]);
             }
         }
-        drop(data);
-        readback.unmap();
         Ok(Image {
             width: frame.width,
             height: frame.height,

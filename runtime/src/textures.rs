@@ -270,23 +270,8 @@ impl Gpu {
         let mut encoder = self.device().create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(buffer, 0, &readback, 0, size);
         self.queue().submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        readback.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.device()
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
-        let data = readback
-            .slice(..)
-            .get_mapped_range()
-            .map_err(|e| RuntimeError::Readback(e.to_string()))?;
+        let data = self.map_read(&readback)?;
         let out = bytemuck::cast_slice::<u8, u32>(&data)[..words].to_vec();
-        drop(data);
-        readback.unmap();
         Ok(out)
     }
 
