@@ -61,11 +61,7 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
 
     let mut inputs = Vec::new();
     for altitude in [200.0, 2200.0, 6000.0] {
-        let mut u = CloudUniforms::for_genus(genus, quality, Vec3::new(0.4, 0.5, 0.3), altitude);
-        // A weather tile of 4 km and shape tiles of ~1 km keep the small textures busy.
-        u.media.weather_repeat = glam::Vec2::splat(1.0 / 4000.0);
-        u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
-        u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
+        let u = test_uniforms(genus, quality, altitude);
         let mut words = Vec::new();
         u.flatten(&mut words);
         for i in 0..400 {
@@ -108,11 +104,7 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
     let uniforms_of = |w: &[u32]| -> CloudUniforms {
         // The uniforms of a record are those of its camera altitude.
         let altitude = f32::from_bits(w[3 + uniforms_altitude_word()]);
-        let mut u = CloudUniforms::for_genus(genus, quality, Vec3::new(0.4, 0.5, 0.3), altitude);
-        u.media.weather_repeat = glam::Vec2::splat(1.0 / 4000.0);
-        u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
-        u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
-        u
+        test_uniforms(genus, quality, altitude)
     };
     compare_with(
         "march_clouds[cumulus.high]",
@@ -190,6 +182,20 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
     );
     assert!(opaque > 10, "only {opaque} rays are mostly opaque");
     assert!(transmittances.iter().all(|t| (0.0..=1.0).contains(t)));
+}
+
+/// The uniforms of the test scene seen from `altitude`: a weather tile of 4 km and shape tiles
+/// of ~1 km keep the small test textures busy.
+fn test_uniforms(
+    genus: &nimbus_dsl::cloud::Genus,
+    quality: Quality,
+    altitude: f32,
+) -> CloudUniforms {
+    let mut u = CloudUniforms::for_genus(genus, quality, Vec3::new(0.4, 0.5, 0.3), altitude);
+    u.media.weather_repeat = glam::Vec2::splat(1.0 / 4000.0);
+    u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
+    u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
+    u
 }
 
 /// Index of `camera_altitude` in the flattened uniforms.

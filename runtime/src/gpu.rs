@@ -99,6 +99,39 @@ impl Gpu {
         &self.device
     }
 
+    /// A compute pipeline for entry point `entry` of codegen's `wgsl`; wgpu's validation errors
+    /// come back as [`RuntimeError::Pipeline`].
+    pub(crate) fn compute_pipeline(
+        &self,
+        wgsl: &str,
+        entry: &str,
+    ) -> Result<wgpu::ComputePipeline, RuntimeError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = self
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(entry),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            });
+        let pipeline = self
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Pipeline {
+                what: format!("compute pipeline `{entry}`"),
+                reason: e.to_string(),
+            });
+        }
+        Ok(pipeline)
+    }
+
     /// Maps a `MAP_READ` buffer (after the submitted work that fills it), copies its bytes out
     /// and unmaps it.
     pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RuntimeError> {
@@ -140,25 +173,7 @@ impl Gpu {
         resources: &[GpuResource],
     ) -> Result<Vec<u32>, RuntimeError> {
         let device = &self.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(entry),
-            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RuntimeError::Pipeline {
-                what: format!("compute pipeline `{entry}`"),
-                reason: e.to_string(),
-            });
-        }
+        let pipeline = self.compute_pipeline(wgsl, entry)?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // Storage buffers cannot be empty.
         let input_bytes: &[u8] = if input.is_empty() {

@@ -206,20 +206,15 @@ impl Gpu {
         words: usize,
         groups: u32,
     ) -> Result<wgpu::Buffer, RuntimeError> {
+        let max_groups = self.device().limits().max_compute_workgroups_per_dimension;
+        if groups > max_groups {
+            return Err(RuntimeError::Kernel(format!(
+                "texture kernel `{entry}` needs {groups} workgroups; this adapter allows {max_groups} (use a smaller texture)"
+            )));
+        }
         let device = self.device();
+        let pipeline = self.compute_pipeline(wgsl, entry)?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(entry),
-            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        });
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("texels"),
             contents: &vec![0u8; words.max(1) * 4],
@@ -238,8 +233,6 @@ impl Gpu {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
-            // Large textures exceed 65535 groups in x; spread over y (the kernel's index is
-            // global_id.x, so each y row repeats the x range: split explicitly instead).
             pass.dispatch_workgroups(groups, 1, 1);
         }
         self.queue().submit([encoder.finish()]);

@@ -38,6 +38,8 @@ pub fn dual_lobe_hg(cos_theta: f32, g1: f32, g2: f32, weight: f32) -> f32 {
 /// Isotropic scattering, 1 / (4π).
 #[shader_fn]
 pub fn isotropic_phase(cos_theta: f32) -> f32 {
+    // Reads the cosine so every phase function keeps the same signature in the WGSL (codegen
+    // drops parameters a function never reads).
     INV_FOUR_PI + 0.0 * cos_theta
 }
 
