@@ -35,20 +35,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             turbulence: 64,
         },
     );
-    let frame = Frame {
-        width: 480,
-        height: 270,
-        genus,
-        quality,
-        features: quality.features(),
-        sun_elevation_deg: 35.0,
-        sun_azimuth_deg: 150.0,
-        camera_altitude: 2.0,
-        camera_pitch_deg: 12.0,
-        camera_yaw_deg: 0.0,
-        fov_deg: 60.0,
-        jitter: 0.5,
-    };
+    let mut frame = Frame::new(genus, quality, 480, 270);
+    frame.frames = std::env::var("FRAMES")
+        .ok()
+        .and_then(|f| f.parse().ok())
+        .unwrap_or(1);
+    frame.upscale = std::env::var_os("UPSCALE").is_some();
     let start = std::time::Instant::now();
     let image = renderer.render(&frame)?;
     println!(

@@ -88,9 +88,11 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
         GpuResource::Sampler(smp),
     ];
     let call = move |a: &[ExprId]| {
+        let u = CloudUniformsShader::from_id(a[1]);
         let r = march_clouds::shader(
             shader::Vec3::from_id(a[0]),
-            CloudUniformsShader::from_id(a[1]),
+            u.jitter,
+            u,
             shader::Texture2d::from_id(a[2]),
             shader::Texture3d::from_id(a[3]),
             shader::Texture3d::from_id(a[4]),
@@ -123,9 +125,11 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
                 f32::from_bits(w[1]),
                 f32::from_bits(w[2]),
             );
+            let u = uniforms_of(w);
             let r = march_clouds(
                 dir,
-                uniforms_of(w),
+                u.jitter,
+                u,
                 &weather,
                 &shape,
                 &detail,
@@ -156,9 +160,11 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
                 f32::from_bits(w[1]),
                 f32::from_bits(w[2]),
             );
+            let u = uniforms_of(w);
             march_clouds(
                 dir,
-                uniforms_of(w),
+                u.jitter,
+                u,
                 &weather,
                 &shape,
                 &detail,
@@ -195,6 +201,7 @@ fn test_uniforms(
     u.media.weather_repeat = glam::Vec2::splat(1.0 / 4000.0);
     u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
     u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
+    u.jitter = 0.5;
     u
 }
 

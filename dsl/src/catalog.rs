@@ -3,7 +3,7 @@
 
 use crate::cloud::{CloudLibrary, Features, Quality};
 use crate::ir::Module;
-use crate::model::clouds::{CloudVariant, cloud_module};
+use crate::model::clouds::{CloudVariant, cloud_module, resolve_module, shadow_module};
 use crate::model::preview::{PhaseModel, preview_module};
 use crate::{DslError, SpecValue};
 
@@ -20,6 +20,8 @@ pub struct VariantSource {
 enum BuildFn {
     Preview(PhaseModel),
     Clouds(Box<CloudVariant>),
+    Shadow(Box<CloudVariant>),
+    Resolve,
 }
 
 impl VariantSource {
@@ -33,14 +35,16 @@ impl VariantSource {
         match &self.build {
             BuildFn::Preview(model) => preview_module(*model),
             BuildFn::Clouds(v) => cloud_module(v),
+            BuildFn::Shadow(v) => shadow_module(v),
+            BuildFn::Resolve => resolve_module(),
         }
     }
 
     /// The cloud variant, for cloud modules.
     pub fn cloud_variant(&self) -> Option<&CloudVariant> {
         match &self.build {
-            BuildFn::Clouds(v) => Some(v),
-            BuildFn::Preview(_) => None,
+            BuildFn::Clouds(v) | BuildFn::Shadow(v) => Some(v),
+            BuildFn::Preview(_) | BuildFn::Resolve => None,
         }
     }
 
@@ -51,6 +55,28 @@ impl VariantSource {
             variant: variant.name(),
             description: description.to_string(),
             build: BuildFn::Clouds(Box::new(variant)),
+        }
+    }
+
+    /// The beer-shadow-map pass of a cloud variant, or `None` when the variant samples no
+    /// shadow map (no shadows, and no light shafts in haze): then there is no such pass at all.
+    pub fn shadow(variant: &CloudVariant) -> Option<VariantSource> {
+        variant.key.uses_shadow_map().then(|| VariantSource {
+            module: "cloud_shadow",
+            variant: variant.name(),
+            description: "beer shadow map atlas for the cloud variant of the same name".into(),
+            build: BuildFn::Shadow(Box::new(variant.clone())),
+        })
+    }
+
+    /// The temporal resolve pass.
+    pub fn resolve() -> VariantSource {
+        VariantSource {
+            module: "resolve",
+            variant: "temporal".into(),
+            description: "temporal upscaling and accumulation, reprojection, history clipping"
+                .into(),
+            build: BuildFn::Resolve,
         }
     }
 }
@@ -65,6 +91,7 @@ pub fn catalog() -> Vec<VariantSource> {
             description: "false-colour density profile and phase function preview".into(),
             build: BuildFn::Preview(*m),
         })
+        .chain([VariantSource::resolve()])
         .collect()
 }
 
@@ -74,6 +101,7 @@ pub fn cloud_catalog(lib: &CloudLibrary) -> Vec<VariantSource> {
     for (_, genus) in lib.genera.values() {
         for q in Quality::ALL {
             let v = CloudVariant::new(genus, q, q.features());
+            out.extend(VariantSource::shadow(&v));
             out.push(VariantSource::clouds(v, &genus.description));
         }
     }

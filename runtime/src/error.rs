@@ -19,6 +19,20 @@ pub enum RuntimeError {
     Codegen(#[from] nimbus_codegen::CodegenError),
     #[error(transparent)]
     Dsl(#[from] nimbus_dsl::DslError),
+    #[error("this adapter cannot: {0}")]
+    Limit(String),
+    #[error("cannot use texture {file}: {reason}")]
+    Texture {
+        file: std::path::PathBuf,
+        reason: String,
+    },
+    #[error("the rendered frame is unusable: {0}")]
+    BadFrame(String),
+    #[error("cannot write {file}: {reason}")]
+    Output {
+        file: std::path::PathBuf,
+        reason: String,
+    },
     #[error("parity kernel: {0}")]
     Kernel(String),
 }

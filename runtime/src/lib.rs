@@ -1,14 +1,19 @@
 //! nimbus-runtime: a thin wgpu layer over codegen's output. It never writes shader text: every
 //! pipeline is created from WGSL that codegen printed and naga validated.
 //!
-//! For now it holds the device setup (any adapter, including lavapipe/llvmpipe on machines
-//! without a GPU) and the compute path used by CPU/GPU parity tests.
+//! It opens any adapter (a GPU, or lavapipe/llvmpipe on machines without one), generates the
+//! procedural textures with compute kernels, renders cloud variants through the passes they
+//! need (shadow atlas, clouds, temporal resolve) with pipelines cached by variant key, and runs
+//! the compute kernels of the CPU/GPU parity tests.
 
 mod error;
 mod gpu;
 pub mod parity;
+pub mod pipelines;
+mod png;
 pub mod render;
 pub mod textures;
+pub mod user_textures;
 
 pub use error::RuntimeError;
 pub use gpu::{Gpu, GpuInfo, GpuResource};

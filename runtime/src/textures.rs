@@ -32,7 +32,7 @@ impl NoiseKind {
     /// Lattice cells per side: the noise's base frequency within one tile.
     fn cells(self) -> i32 {
         match self {
-            NoiseKind::Weather => 4,
+            NoiseKind::Weather => 8,
             NoiseKind::Shape => 4,
             NoiseKind::Detail => 4,
             NoiseKind::Turbulence => 8,

@@ -18,7 +18,7 @@ pub(crate) fn load(flag: Option<&Path>) -> Result<CloudLibrary, CodegenError> {
     Ok(CloudLibrary::load(&data_dir(flag))?)
 }
 
-fn parse_toggles(list: &[String]) -> Result<Vec<Toggle>, CodegenError> {
+pub(crate) fn parse_toggles(list: &[String]) -> Result<Vec<Toggle>, CodegenError> {
     let mut out = Vec::new();
     for item in list
         .iter()

@@ -1,10 +1,12 @@
-//! `nimbus`: emit, check, list and benchmark the generated shaders.
+//! `nimbus`: emit, check, list and benchmark the generated shaders, and render scenes.
 
 mod bench;
+mod bench_frames;
 mod check;
 mod data;
 mod emit;
 mod list;
+mod render;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -82,6 +84,17 @@ enum Command {
         #[arg(long)]
         no_external: bool,
     },
+    /// Render a scene to PNG with the wgpu runtime (any adapter: a GPU, or lavapipe/llvmpipe).
+    Render(Box<render::RenderArgs>),
+    /// Milliseconds per frame of every quality preset, full resolution and upscaled, as
+    /// ratios to `high` (takes the same scene arguments as `render`).
+    BenchFrames {
+        #[command(flatten)]
+        render: Box<render::RenderArgs>,
+        /// Timed frames per row (the median is reported).
+        #[arg(short = 'n', long, default_value_t = 5)]
+        iterations: u32,
+    },
     /// List genera, scene presets, quality presets, toggles, modules and targets.
     List,
     /// Time generation per variant and target, and the whole `check`.
@@ -105,6 +118,10 @@ fn main() -> ExitCode {
             variants,
             no_external,
         } => check::run(data, &variants.selection(), !no_external),
+        Command::Render(args) => render::run(data, args),
+        Command::BenchFrames { render, iterations } => {
+            bench_frames::run(data, render, (*iterations).max(1))
+        }
         Command::List => list::run(data).map_err(Into::into),
         Command::Bench { iterations } => bench::run(data, (*iterations).max(1)).map_err(Into::into),
     };

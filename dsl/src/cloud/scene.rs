@@ -66,6 +66,18 @@ pub struct ScenePreset {
     /// Camera altitude above the ground, metres.
     #[serde(default = "default_camera_altitude")]
     pub camera_altitude: f32,
+    /// Camera pitch above the horizon, degrees.
+    #[serde(default = "default_camera_pitch")]
+    pub camera_pitch_deg: f32,
+    /// Camera heading, degrees clockwise from north.
+    #[serde(default)]
+    pub camera_yaw_deg: f32,
+    /// Vertical field of view, degrees.
+    #[serde(default = "default_fov")]
+    pub fov_deg: f32,
+    /// Offset of the weather texture in tiles (one tile is 100 km): moves the clouds.
+    #[serde(default)]
+    pub weather_offset: [f32; 2],
     #[serde(default)]
     pub quality: Quality,
     #[serde(default)]
@@ -78,6 +90,14 @@ fn default_sun_elevation() -> f32 {
 
 fn default_camera_altitude() -> f32 {
     2.0
+}
+
+fn default_camera_pitch() -> f32 {
+    10.0
+}
+
+fn default_fov() -> f32 {
+    60.0
 }
 
 impl ScenePreset {
@@ -104,6 +124,30 @@ impl ScenePreset {
             return Err((
                 "camera_altitude".into(),
                 format!("must be ≥ 0 m, got {}", self.camera_altitude),
+            ));
+        }
+        if !(self.camera_pitch_deg.is_finite() && (-90.0..=90.0).contains(&self.camera_pitch_deg)) {
+            return Err((
+                "camera_pitch_deg".into(),
+                format!("must be in [-90, 90], got {}", self.camera_pitch_deg),
+            ));
+        }
+        if !self.weather_offset.iter().all(|v| v.is_finite()) {
+            return Err((
+                "weather_offset".into(),
+                format!("must be finite, got {:?}", self.weather_offset),
+            ));
+        }
+        if !self.camera_yaw_deg.is_finite() {
+            return Err((
+                "camera_yaw_deg".into(),
+                format!("must be finite, got {}", self.camera_yaw_deg),
+            ));
+        }
+        if !(self.fov_deg.is_finite() && self.fov_deg > 0.0 && self.fov_deg < 180.0) {
+            return Err((
+                "fov_deg".into(),
+                format!("must be in (0, 180), got {}", self.fov_deg),
             ));
         }
         if let Some(o) = self.features.octaves

@@ -8,6 +8,8 @@ use crate::{DslError, ModuleBuilder, loc};
 
 use super::march::{CloudUniforms, MarchKey, PhaseKind, cloud_fragment};
 use super::preview::fullscreen_position;
+use super::resolve::{ResolveParams, resolve_fragment};
+use super::shadow::shadow_fragment;
 
 /// A cloud variant: what codegen specialises for.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -129,7 +131,10 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use super::density::MediaParams;
 use super::layers::LayerGroup;
 use super::march::{HazeParams, LightParams, MarchParams};
+use super::shadow::{ShadowParams, shadow_matrices};
 use super::shell::EARTH_RADIUS;
+use super::sky::{AtmosphereParams, sky_irradiance_at, sun_irradiance_at};
+use crate::cloud::MarchSettings;
 
 impl CloudUniforms {
     /// Uniforms for `genus` at `quality`, lit by a sun in `sun_direction` (local frame, y up),
@@ -160,12 +165,14 @@ impl CloudUniforms {
             } => (0.7, -0.2, 0.5, droplet_diameter_um),
             crate::cloud::PhaseSpec::Isotropic => (0.0, 0.0, 0.0, 10.0),
         };
-        // Shadow map: an orthographic 20 km square around the camera, projected along the sun.
-        let shadow_matrix = Mat4::from_cols(
-            Vec4::new(1.0 / 20_000.0, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, 1.0 / 20_000.0, 0.0, 0.0),
-            Vec4::new(0.5, 0.5, 0.0, 1.0),
+        let sky = AtmosphereParams::default();
+        let sun_direction = sun_direction.normalize_or(Vec3::Y);
+        let shadow = ShadowParams::for_quality(
+            &st,
+            sun_direction,
+            camera_altitude,
+            shadow_top,
+            0.5 * (min_h.min(max_h) + max_h),
         );
         CloudUniforms {
             group0,
@@ -193,9 +200,20 @@ impl CloudUniforms {
                 radius: EARTH_RADIUS,
             },
             light: LightParams {
-                sun_direction: sun_direction.normalize_or(Vec3::Y),
-                sun_irradiance: Vec3::new(1.0, 0.96, 0.9),
-                sky_irradiance: Vec3::new(0.25, 0.35, 0.55),
+                sun_direction,
+                // Lit by the same atmosphere the sky is drawn with.
+                sun_irradiance: sun_irradiance_at(
+                    camera_altitude,
+                    sun_direction,
+                    &sky,
+                    EARTH_RADIUS,
+                ),
+                sky_irradiance: sky_irradiance_at(
+                    camera_altitude,
+                    sun_direction,
+                    &sky,
+                    EARTH_RADIUS,
+                ),
                 scattering_coefficient: genus.medium.scattering_coefficient,
                 absorption_coefficient: genus.medium.absorption_coefficient,
                 sky_light_scale: 1.0,
@@ -217,9 +235,121 @@ impl CloudUniforms {
             camera_altitude,
             camera_offset: Vec3::ZERO,
             inverse_view_projection: Mat4::IDENTITY,
-            shadow_matrix,
+            shadow,
+            sky,
             resolution: Vec2::new(640.0, 360.0),
-            jitter: 0.5,
+            pixel_offset: Vec2::ZERO,
+            pixel_scale: 1.0,
+            frame: 0,
+            jitter: 0.0,
         }
     }
+}
+
+impl ShadowParams {
+    /// Cascades for the quality preset's shadow settings: the largest covers the preset's
+    /// maximum ray distance on a side, each finer one a quarter of the previous.
+    pub fn for_quality(
+        st: &MarchSettings,
+        sun_direction: Vec3,
+        camera_altitude: f32,
+        top_altitude: f32,
+        mid_altitude: f32,
+    ) -> Self {
+        let count = st.shadow_cascade_count.clamp(1, 4);
+        let finest = st.max_ray_distance / 4f32.powi(count as i32 - 1);
+        let (matrix, inverse_matrix) = shadow_matrices(
+            sun_direction,
+            camera_altitude,
+            top_altitude,
+            mid_altitude,
+            finest,
+        );
+        ShadowParams {
+            matrix,
+            inverse_matrix,
+            cascade_scales: Vec4::new(1.0, 4.0, 16.0, 64.0),
+            cascade_count: count,
+            map_size: st.shadow_map_size as f32,
+            max_iterations: st.shadow_max_iteration_count,
+            min_step: st.shadow_min_step_size,
+            max_step: st.shadow_max_step_size,
+            min_extinction: st.shadow_min_extinction,
+            min_transmittance: st.shadow_min_transmittance,
+            tail_scale: 2.0,
+        }
+    }
+}
+
+/// Records the beer-shadow-map module for a variant: the atlas fragment with the density
+/// stages of the variant, and nothing of its lighting.
+pub fn shadow_module(variant: &CloudVariant) -> Result<Module, DslError> {
+    let key = variant.key;
+    ModuleBuilder::build(
+        "cloud_shadow",
+        &format!(
+            "Beer shadow map atlas: genus `{}`, quality `{}`.",
+            variant.genus,
+            variant.quality.name()
+        ),
+        loc!(),
+        |m| {
+            let u = m.uniform::<CloudUniforms>("clouds", 0, 0, "Layers, media and shadow march.");
+            let weather = m.handle::<Texture2d>("weather_texture", 0, 1, "Local weather.");
+            let shape = m.handle::<Texture3d>("shape_texture", 0, 2, "Perlin–Worley shape noise.");
+            let detail = m.handle::<Texture3d>("detail_texture", 0, 3, "Worley detail noise.");
+            let turbulence =
+                m.handle::<Texture2d>("turbulence_texture", 0, 4, "Curl noise for turbulence.");
+            let smp = m.handle::<Sampler>("linear_sampler", 0, 6, "Trilinear, repeat.");
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment(
+                "fs_shadow",
+                "One texel of the shadow atlas.",
+                loc!(),
+                |frag_coord| {
+                    shadow_fragment::shader(
+                        frag_coord,
+                        u.get(),
+                        weather.get(),
+                        shape.get(),
+                        detail.get(),
+                        turbulence.get(),
+                        smp.get(),
+                        key,
+                    )
+                },
+            );
+        },
+    )
+}
+
+/// Records the temporal resolve module (the same for every variant).
+pub fn resolve_module() -> Result<Module, DslError> {
+    ModuleBuilder::build(
+        "resolve",
+        "Temporal resolve: upscaling and accumulation with reprojection and history clipping.",
+        loc!(),
+        |m| {
+            let r = m.uniform::<ResolveParams>("resolve", 0, 0, "Offsets, weights, reprojection.");
+            let current = m.handle::<Texture2d>("current_texture", 0, 1, "This frame's clouds.");
+            let history = m.handle::<Texture2d>("history_texture", 0, 2, "Last resolved frame.");
+            let nearest = m.handle::<Sampler>("nearest_sampler", 0, 3, "Nearest, clamp.");
+            let linear = m.handle::<Sampler>("linear_sampler", 0, 4, "Bilinear, clamp.");
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment("fs_resolve", "One resolved pixel.", loc!(), |frag_coord| {
+                resolve_fragment::shader(
+                    frag_coord,
+                    r.get(),
+                    current.get(),
+                    history.get(),
+                    nearest.get(),
+                    linear.get(),
+                )
+            });
+        },
+    )
 }

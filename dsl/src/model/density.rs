@@ -57,7 +57,7 @@ impl Default for MediaParams {
             weather_repeat: Vec2::splat(1.0 / 100_000.0),
             weather_offset: Vec2::ZERO,
             turbulence_repeat: Vec2::splat(20.0),
-            shape_repeat: Vec3::splat(3e-4),
+            shape_repeat: Vec3::splat(1.5e-4),
             shape_offset: Vec3::ZERO,
             detail_repeat: Vec3::splat(6e-3),
             detail_offset: Vec3::ZERO,

@@ -15,8 +15,11 @@ use crate::prelude::*;
 
 use super::density::{DensityFeatures, MediaParams, layer_density, weather_density};
 use super::layers::LayerGroup;
+use super::noise::interleaved_gradient_noise;
 use super::phase::{approximate_mie, henyey_greenstein, isotropic_phase};
+use super::shadow::{ShadowParams, shadow_texel};
 use super::shell::ray_shell;
+use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
 
 /// Phase function of a variant (the genus decides it, `accurate_phase_function` forces Mie).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -63,6 +66,13 @@ pub struct MarchKey {
 }
 
 impl MarchKey {
+    /// Whether the variant samples the beer shadow map: for cloud shadows, or for light shafts
+    /// (which live in the haze).
+    pub fn uses_shadow_map(&self) -> bool {
+        let f = self.features;
+        f.shadows || (f.haze && f.light_shafts)
+    }
+
     /// The erosion stages the density sample runs.
     pub fn density_features(&self) -> DensityFeatures {
         DensityFeatures {
@@ -157,11 +167,19 @@ pub struct CloudUniforms {
     pub camera_offset: Vec3,
     /// Clip space to local-frame direction (inverse view-projection without translation).
     pub inverse_view_projection: Mat4,
-    /// World-to-shadow-map transform (local frame, camera-relative).
-    pub shadow_matrix: Mat4,
-    /// Render target size in pixels.
+    /// Beer shadow map cascades and their march.
+    pub shadow: ShadowParams,
+    /// The atmosphere behind and in front of the clouds.
+    pub sky: AtmosphereParams,
+    /// Full output size in pixels.
     pub resolution: Vec2,
-    /// Per-frame jitter in [0, 1) for the first sample.
+    /// Pixel of the full image a fragment shades: `floor(frag) · pixel_scale + pixel_offset`
+    /// (scale 4 and a Bayer offset per frame when temporally upscaled; 1 and 0 otherwise).
+    pub pixel_offset: Vec2,
+    pub pixel_scale: f32,
+    /// Frame index, which varies the per-pixel jitter of the first sample.
+    pub frame: u32,
+    /// Per-frame jitter phase in [0, 1), added to the per-pixel jitter.
     pub jitter: f32,
 }
 
@@ -390,6 +408,7 @@ pub fn haze_opacity(camera_altitude: f32, mu: f32, distance: f32, haze: HazePara
 pub fn shadow_length(
     direction: Vec3,
     distance: f32,
+    jitter: f32,
     u: CloudUniforms,
     shadow_tex: &Texture2d,
     smp: &Sampler,
@@ -397,14 +416,14 @@ pub fn shadow_length(
     let m = u.march;
     let mut length = 0.0f32;
     let mut step = m.min_step;
-    let mut t = step * u.jitter;
+    let mut t = step * jitter;
     for _i in 0u32..m.max_iterations {
         if t > distance {
             break;
         }
         let p = direction * t;
         let h = altitude_along(u.camera_altitude, direction.y, t, m.radius);
-        let texel = shadow_tex.sample_level(smp, (u.shadow_matrix * p.extend(1.0)).xy(), 0.0);
+        let texel = shadow_texel(p, u.shadow, shadow_tex, smp);
         let to_top = (m.shadow_top_height - h).max(0.0) / u.light.sun_direction.y.max(0.01);
         length += (1.0 - (-shadow_optical_depth(texel, to_top, 0.0)).exp()) * step;
         // Steps grow with distance (coarser where a pixel covers more), up to the maximum step.
@@ -463,6 +482,7 @@ pub fn next_boundary(
 #[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
 pub fn march_clouds(
     direction: Vec3,
+    jitter: f32,
     u: CloudUniforms,
     weather_tex: &Texture2d,
     shape_tex: &Texture3d,
@@ -483,7 +503,7 @@ pub fn march_clouds(
     let mut depth_sum = 0.0f32;
     let mut weight_sum = 0.0f32;
     let mut step = m.min_step + (m.perspective_step_scale - 1.0) * range.x.max(0.0);
-    let mut t = range.x.max(0.0) + step * u.jitter;
+    let mut t = range.x.max(0.0) + step * jitter;
     for _i in 0u32..m.max_iterations {
         if t > range.y {
             break;
@@ -547,8 +567,7 @@ pub fn march_clouds(
                 key,
             );
             if key.features.shadows {
-                let shadow_uv = (u.shadow_matrix * p.extend(1.0)).xy();
-                let texel = shadow_tex.sample_level(smp, shadow_uv, 0.0);
+                let texel = shadow_texel(p, u.shadow, shadow_tex, smp);
                 let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
                 tau_sun += shadow_optical_depth(texel, to_top, m.min_secondary_step * 1.5);
             }
@@ -611,8 +630,9 @@ pub fn march_clouds(
     }
 }
 
-/// Colour of one pixel: the clouds over a plain sky background, then haze in front of them
-/// (lit by the sun only where the light-shaft march finds no cloud shadow).
+/// Colour of one pixel: the clouds over a physically based sky, or over the ground lit by the
+/// sun through the clouds' shadows; the air between the camera and the clouds in front; then
+/// haze, lit by the sun only where the light-shaft march finds no cloud shadow.
 #[shader_fn]
 #[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
 pub fn cloud_fragment(
@@ -626,14 +646,19 @@ pub fn cloud_fragment(
     smp: &Sampler,
     #[spec] key: MarchKey,
 ) -> Vec4 {
+    let pixel = vec2(frag_coord.x, frag_coord.y).floor() * u.pixel_scale
+        + u.pixel_offset
+        + Vec2::splat(0.5);
     let ndc = vec2(
-        frag_coord.x / u.resolution.x * 2.0 - 1.0,
-        1.0 - frag_coord.y / u.resolution.y * 2.0,
+        pixel.x / u.resolution.x * 2.0 - 1.0,
+        1.0 - pixel.y / u.resolution.y * 2.0,
     );
     let clip = u.inverse_view_projection * vec4(ndc.x, ndc.y, 1.0, 1.0);
     let direction = (clip.xyz() / clip.w).normalize();
+    let jitter = (interleaved_gradient_noise(pixel, u.frame) + u.jitter).fract_gl();
     let clouds = march_clouds(
         direction,
+        jitter,
         u,
         weather_tex,
         shape_tex,
@@ -643,24 +668,66 @@ pub fn cloud_fragment(
         smp,
         key,
     );
-    let sky = u.light.sky_irradiance * INV_FOUR_PI;
-    let mut color = clouds.radiance + sky * clouds.transmittance;
-    if key.features.haze {
-        let distance = select(
-            u.march.max_ray_distance,
+    let sun = u.light.sun_direction;
+    let radius = u.march.radius;
+    let cos_theta = direction.dot(sun);
+    // Behind the clouds: the ground (negative distance) or the top of the atmosphere.
+    let behind = sky_distance(u.camera_altitude, direction.y, u.sky.top_height, radius);
+    let air = air_light(
+        u.camera_altitude,
+        direction,
+        sun,
+        behind.abs(),
+        u.sky,
+        radius,
+    );
+    let mut background = air.inscatter;
+    if behind < 0.0 {
+        let mut sunlit = 1.0f32;
+        if key.features.shadows {
+            let ground = direction * -behind;
+            let to_top = u.march.shadow_top_height / sun.y.max(0.01);
+            let texel = shadow_texel(ground, u.shadow, shadow_tex, smp);
+            sunlit = (-shadow_optical_depth(texel, to_top, 0.0)).exp();
+        }
+        background += air.transmittance
+            * ground_radiance(
+                u.light.sun_irradiance * sunlit,
+                sun.y,
+                u.light.sky_irradiance,
+                u.sky.ground_albedo,
+            );
+    } else {
+        background += sun_disc(cos_theta, air.transmittance, u.sky);
+    }
+    let mut color = background * clouds.transmittance;
+    if clouds.front_depth > 0.0 {
+        // Aerial perspective: the air in front of the clouds dims them and adds its own light.
+        let near = air_light(
+            u.camera_altitude,
+            direction,
+            sun,
             clouds.front_depth,
-            clouds.front_depth > 0.0,
+            u.sky,
+            radius,
         );
+        color +=
+            near.inscatter * (1.0 - clouds.transmittance) + clouds.radiance * near.transmittance;
+    }
+    if key.features.haze {
+        // Haze and shafts end at the clouds' front, the ground, or the march's reach.
+        let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
+        let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
         let opacity = haze_opacity(u.camera_altitude, direction.y, distance, u.haze);
         let mut sunlit = 1.0f32;
         if key.features.light_shafts {
             sunlit = 1.0
-                - (shadow_length(direction, distance, u, shadow_tex, smp) / distance.max(1.0))
-                    .saturate();
+                - (shadow_length(direction, distance, jitter, u, shadow_tex, smp)
+                    / distance.max(1.0))
+                .saturate();
         }
         let albedo = u.haze.scattering_coefficient
             / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
-        let cos_theta = direction.dot(u.light.sun_direction);
         let haze_light = (u.light.sun_irradiance
             * (cloud_phase(cos_theta, u.light, 1.0, key.phase) * sunlit)
             + u.light.sky_irradiance * INV_FOUR_PI)

@@ -9,5 +9,8 @@ pub mod noise;
 pub mod phase;
 pub mod preview;
 pub mod profile;
+pub mod resolve;
+pub mod shadow;
 pub mod shell;
+pub mod sky;
 pub mod tonemap;

@@ -130,6 +130,9 @@ pub fn detail_noise(uvw: Vec3, cells: i32) -> f32 {
     worley_fbm(uvw * (cells as f32), cells, 3u32)
 }
 
+/// Contrast of the weather signals about their mean.
+const WEATHER_CONTRAST: f32 = 3.0;
+
 /// Local weather at `uv` ∈ [0, 1)²: coverage signals for low (r), mid (g), high (b) and extra
 /// (a) clouds, each a tileable Perlin fbm at its own scale.
 #[shader_fn]
@@ -139,7 +142,9 @@ pub fn weather_noise(uv: Vec2, cells: i32) -> Vec4 {
     let g = perlin_fbm(p * 2.0, cells * 2i32, 5u32, 4u32);
     let b = perlin_fbm(p * 0.5 + vec3(0.0, 0.0, 0.5), cells, 6u32, 4u32);
     let a = perlin_fbm(p + vec3(0.0, 0.0, 1.5), cells, 7u32, 3u32);
-    vec4(r, g, b, a)
+    // fbm clusters around 0.5; stretching it gives clear sky between cloud fields, as a
+    // painted weather map has.
+    ((vec4(r, g, b, a) - Vec4::splat(0.5)) * WEATHER_CONTRAST + Vec4::splat(0.5)).saturate()
 }
 
 /// Curl of a tileable 2D potential at `uv`, encoded in [0, 1] (0.5 = no flow), for turbulence.

@@ -1,0 +1,76 @@
+//! Display output: tonemapped 8-bit sRGB through the same `tonemap` shader function the model
+//! defines, written to PNG atomically (a temporary file renamed into place), and refused when
+//! the frame is broken (non-finite) or black, so a failed render is never passed off as one.
+
+use std::path::Path;
+
+use nimbus_dsl::model::tonemap::tonemap;
+
+use crate::error::RuntimeError;
+use crate::render::Image;
+
+impl Image {
+    /// Checks that the frame is usable: every value finite, and not uniformly black.
+    pub fn check(&self) -> Result<(), RuntimeError> {
+        if let Some(i) = self
+            .pixels
+            .iter()
+            .position(|p| p.iter().any(|v| !v.is_finite()))
+        {
+            let (x, y) = (i as u32 % self.width, i as u32 / self.width);
+            return Err(RuntimeError::BadFrame(format!(
+                "pixel ({x}, {y}) is not finite: {:?}",
+                self.pixels[i]
+            )));
+        }
+        let brightest = self
+            .pixels
+            .iter()
+            .map(|p| p[0].max(p[1]).max(p[2]))
+            .fold(0.0f32, f32::max);
+        if brightest <= 0.0 {
+            return Err(RuntimeError::BadFrame(
+                "every pixel is black: the adapter produced no output".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Display-referred RGBA8 pixels: `exposure` times the radiance, ACES, sRGB.
+    pub fn to_rgba8(&self, exposure: f32) -> image::RgbaImage {
+        image::RgbaImage::from_fn(self.width, self.height, |x, y| {
+            let p = self.pixels[(y * self.width + x) as usize];
+            let c = tonemap(glam::vec3(p[0], p[1], p[2]), exposure);
+            let to8 = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+            image::Rgba([to8(c.x), to8(c.y), to8(c.z), 255])
+        })
+    }
+
+    /// Writes the tonemapped frame to `path` (PNG) after [`Image::check`]; nothing is left
+    /// behind on failure.
+    pub fn save_png(&self, path: &Path, exposure: f32) -> Result<(), RuntimeError> {
+        self.check()?;
+        let err = |reason: String| RuntimeError::Output {
+            file: path.to_path_buf(),
+            reason,
+        };
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        if !dir.is_dir() {
+            return Err(err(format!("folder {} does not exist", dir.display())));
+        }
+        let name = path.file_name().ok_or_else(|| err("no file name".into()))?;
+        let tmp = dir.join(format!(".{}.partial", name.to_string_lossy()));
+        let result = self
+            .to_rgba8(exposure)
+            .save_with_format(&tmp, image::ImageFormat::Png)
+            .map_err(|e| err(e.to_string()))
+            .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| err(e.to_string())));
+        if result.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        result
+    }
+}

@@ -1,0 +1,129 @@
+//! Textures supplied by the user instead of the procedural ones: PNG for the 2D textures
+//! (weather, turbulence), raw bytes for the 3D ones (shape, detail).
+//!
+//! The raw format: `N³` texels, x fastest, then y, then z, each either one byte (R8, copied
+//! to every channel) or four (RGBA8); `N` follows from the file's length, which must be
+//! `N³` or `4·N³` for a power-of-two `N`. That is what most noise tools write and what a
+//! `numpy.ndarray.tofile` of a `uint8` cube gives.
+
+use std::path::Path;
+
+use wgpu::util::DeviceExt;
+
+use crate::error::RuntimeError;
+use crate::gpu::Gpu;
+use crate::textures::GpuTexture;
+
+fn texture_error(file: &Path, reason: impl Into<String>) -> RuntimeError {
+    RuntimeError::Texture {
+        file: file.to_path_buf(),
+        reason: reason.into(),
+    }
+}
+
+/// Side of a cube texture stored as `bytes` bytes, and bytes per texel.
+pub fn raw_cube_side(bytes: usize) -> Option<(u32, u32)> {
+    for channels in [4u32, 1] {
+        if !bytes.is_multiple_of(channels as usize) {
+            continue;
+        }
+        let texels = bytes / channels as usize;
+        let side = (texels as f64).cbrt().round() as u32;
+        if side >= 2 && side.is_power_of_two() && (side as usize).pow(3) == texels {
+            return Some((side, channels));
+        }
+    }
+    None
+}
+
+impl Gpu {
+    fn upload_rgba8(
+        &self,
+        label: &str,
+        size: wgpu::Extent3d,
+        dimension: wgpu::TextureDimension,
+        rgba: &[u8],
+    ) -> GpuTexture {
+        let texture = self.device().create_texture_with_data(
+            self.queue(),
+            &wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension,
+                format: wgpu::TextureFormat::Rgba8Unorm,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            rgba,
+        );
+        let view = texture.create_view(&Default::default());
+        GpuTexture {
+            texture,
+            view,
+            size: size.width,
+        }
+    }
+
+    /// Loads a 2D texture from a PNG file (any colour type; stored as RGBA8, linear).
+    pub fn load_png_texture(&self, file: &Path) -> Result<GpuTexture, RuntimeError> {
+        let img = image::open(file).map_err(|e| texture_error(file, e.to_string()))?;
+        let rgba = img.to_rgba8();
+        let (w, h) = rgba.dimensions();
+        let max = self.device().limits().max_texture_dimension_2d;
+        if w > max || h > max {
+            return Err(texture_error(
+                file,
+                format!("{w}x{h} exceeds this adapter's {max} texels per side"),
+            ));
+        }
+        Ok(self.upload_rgba8(
+            &file.display().to_string(),
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            wgpu::TextureDimension::D2,
+            rgba.as_raw(),
+        ))
+    }
+
+    /// Loads a 3D texture from a raw R8 or RGBA8 cube (see the module documentation).
+    pub fn load_raw_volume(&self, file: &Path) -> Result<GpuTexture, RuntimeError> {
+        let bytes = std::fs::read(file).map_err(|e| texture_error(file, e.to_string()))?;
+        let (side, channels) = raw_cube_side(bytes.len()).ok_or_else(|| {
+            texture_error(
+                file,
+                format!(
+                    "{} bytes is not N³ (R8) or 4·N³ (RGBA8) for a power-of-two N ≥ 2",
+                    bytes.len()
+                ),
+            )
+        })?;
+        let max = self.device().limits().max_texture_dimension_3d;
+        if side > max {
+            return Err(texture_error(
+                file,
+                format!("{side}³ exceeds this adapter's {max} texels per side"),
+            ));
+        }
+        let rgba = if channels == 4 {
+            bytes
+        } else {
+            bytes.iter().flat_map(|b| [*b, *b, *b, *b]).collect()
+        };
+        Ok(self.upload_rgba8(
+            &file.display().to_string(),
+            wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: side,
+            },
+            wgpu::TextureDimension::D3,
+            &rgba,
+        ))
+    }
+}

@@ -1,0 +1,83 @@
+//! `nimbus bench-frames`: milliseconds per frame of each quality preset, at full resolution
+//! and temporally upscaled, on whatever adapter runs it, with ratios to `high` measured in the
+//! same run (absolute times on a shared or software adapter are noisy; ratios less so).
+//!
+//! Each timed frame is one `render` call of one frame, as a game loop makes them: the shadow
+//! atlas, the cloud pass (and the resolve when upscaled), and the readback that waits for the
+//! GPU. Pipelines and textures are built in an untimed warm-up.
+
+use std::path::Path;
+use std::time::Instant;
+
+use nimbus_dsl::cloud::Quality;
+use nimbus_runtime::Gpu;
+use nimbus_runtime::render::{Renderer, TextureSizes};
+
+use crate::render::{RenderArgs, frame};
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+pub(crate) fn run(
+    data: Option<&Path>,
+    args: &RenderArgs,
+    iterations: u32,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let base = frame(data, args)?;
+    let gpu = Gpu::new()?;
+    println!("adapter: {}", gpu.info());
+    println!(
+        "scene: genus {}, {}x{}, {} timed frames per row (median)",
+        base.genus.name, base.width, base.height, iterations
+    );
+    let mut renderer = Renderer::new(&gpu, TextureSizes::default());
+    let mut rows = Vec::new();
+    for quality in Quality::ALL {
+        for upscale in [false, true] {
+            let mut f = base.clone();
+            f.quality = quality;
+            f.features = quality.features();
+            f.upscale = upscale;
+            f.frames = 1;
+            f.continue_history = false;
+            renderer.render(&f)?;
+            f.continue_history = upscale;
+            let mut times = Vec::new();
+            for _ in 0..iterations {
+                let start = Instant::now();
+                renderer.render(&f)?;
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+            rows.push((quality, upscale, median(times)));
+        }
+    }
+    let high = |upscale: bool| {
+        rows.iter()
+            .find(|(q, u, _)| *q == Quality::High && *u == upscale)
+            .map_or(f64::NAN, |r| r.2)
+    };
+    let (high_full, high_up) = (high(false), high(true));
+    println!();
+    println!(
+        "| preset | full res ms/frame | ×high | upscaled ms/frame | ×high | upscaling speed-up |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|");
+    for q in Quality::ALL {
+        let ms = |u: bool| {
+            rows.iter()
+                .find(|(rq, ru, _)| *rq == q && *ru == u)
+                .map_or(f64::NAN, |r| r.2)
+        };
+        let (full, up) = (ms(false), ms(true));
+        println!(
+            "| {} | {full:.1} | {:.2} | {up:.1} | {:.2} | {:.2}× |",
+            q.name(),
+            full / high_full,
+            up / high_up,
+            full / up
+        );
+    }
+    Ok(())
+}
