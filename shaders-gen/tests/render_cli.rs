@@ -178,18 +178,13 @@ fn bad_flags_are_refused_before_any_gpu_work() {
     assert!(err.contains("fog"), "{err}");
 }
 
-#[test]
-fn a_user_texture_replaces_the_procedural_one() {
-    if !have_gpu() {
-        return;
-    }
-    // An all-clear weather map: no coverage anywhere, so no clouds.
-    let tmp = tempfile::tempdir().expect("tempdir");
-    let weather = tmp.path().join("clear.png");
-    image::RgbaImage::from_pixel(8, 8, image::Rgba([0, 0, 0, 0]))
+/// Renders the default scene at low quality looking up, with `weather` as the weather map.
+fn render_with_weather(dir: &Path, name: &str, texel: u8) -> image::RgbImage {
+    let weather = dir.join(format!("{name}.png"));
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([texel; 4]))
         .save(&weather)
         .expect("write");
-    let out = tmp.path().join("clear-sky.png");
+    let out = dir.join(format!("{name}-render.png"));
     let o = nimbus(
         &[
             "render",
@@ -198,8 +193,10 @@ fn a_user_texture_replaces_the_procedural_one() {
             "64x36",
             "-q",
             "low",
+            "--pitch",
+            "30",
             "--coverage",
-            "0.2",
+            "0.6",
             "--weather-texture",
             weather.to_str().expect("utf8"),
             "-o",
@@ -208,10 +205,29 @@ fn a_user_texture_replaces_the_procedural_one() {
         &[],
     );
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let img = image::open(&out).expect("png").to_rgb8();
-    let white = img
-        .pixels()
-        .filter(|p| p[0] > 150 && p[0].abs_diff(p[2]) < 40)
-        .count();
-    assert_eq!(white, 0, "clouds drawn with an empty weather map");
+    image::open(&out).expect("png").to_rgb8()
+}
+
+#[test]
+fn a_user_texture_replaces_the_procedural_one() {
+    if !have_gpu() {
+        return;
+    }
+    // An empty weather map leaves clear blue sky; a full one an overcast, grey or dim one.
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let clear_blue = |img: &image::RgbImage| img.pixels().filter(|p| p[2] > p[0] + 50).count();
+    let empty = clear_blue(&render_with_weather(tmp.path(), "empty", 0));
+    let full = clear_blue(&render_with_weather(tmp.path(), "full", 255));
+    println!(
+        "clear-blue pixels: empty map {empty}, full map {full} of {}",
+        64 * 36
+    );
+    assert!(
+        empty > 64 * 36 / 2,
+        "an empty weather map should leave blue sky: {empty}"
+    );
+    assert!(
+        full < empty / 4,
+        "a full weather map should cover the sky: {full} vs {empty}"
+    );
 }
