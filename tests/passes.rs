@@ -127,3 +127,24 @@ fn a_variant_switched_off_drops_the_atlas_it_no_longer_needs() {
     assert!(!has(&r.stats().textures, "shadow_map"));
     assert!(r.shadow_atlas().expect("readback").is_none());
 }
+
+#[test]
+fn the_atlas_is_redrawn_only_when_its_inputs_change() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut r = Renderer::new(gpu, SIZES);
+    let mut f = frame();
+    r.render(&f).expect("first");
+    assert_eq!(r.stats().passes, ["shadow", "clouds"]);
+    // Turning the camera does not move a shadow.
+    f.camera_yaw_deg = 30.0;
+    r.render(&f).expect("turned");
+    assert_eq!(r.stats().passes, ["clouds"]);
+    // Moving the sun does.
+    f.sun_elevation_deg += 5.0;
+    r.render(&f).expect("sun moved");
+    assert_eq!(r.stats().passes, ["shadow", "clouds"]);
+    // So does the wind.
+    f.weather_offset.x += 0.01;
+    r.render(&f).expect("weather moved");
+    assert_eq!(r.stats().passes, ["shadow", "clouds"]);
+}

@@ -1,7 +1,8 @@
 //! Rendering a frame: the passes a cloud variant needs, and only those.
 //!
 //! 1. Shadow: the beer shadow map atlas, when the variant samples it (shadows, or light shafts
-//!    in haze). Otherwise neither its pipeline nor its texture exists.
+//!    in haze), and only when its inputs changed since it was last drawn (sun, layers,
+//!    weather, variant). Otherwise neither its pipeline nor its texture exists.
 //! 2. Clouds: the march composited over the sky or ground, at full resolution or one pixel in
 //!    sixteen (temporal upscaling).
 //! 3. Resolve: reconstruction of the full image from the history, when upscaling or when
@@ -193,6 +194,9 @@ pub struct Renderer<'g> {
     textures: BTreeMap<&'static str, GpuTexture>,
     user: BTreeMap<&'static str, GpuTexture>,
     shadow_atlas: Option<(u32, u32, Target)>,
+    /// What the atlas was last rendered from (variant key and uniform bytes): the atlas is
+    /// redrawn only when the sun, the layers, the weather or the variant change.
+    shadow_inputs: Option<(PipelineKey, Vec<u8>)>,
     pipelines: PipelineCache,
     history: Option<History>,
     samplers: Samplers,
@@ -268,6 +272,7 @@ impl<'g> Renderer<'g> {
             textures: BTreeMap::new(),
             user: BTreeMap::new(),
             shadow_atlas: None,
+            shadow_inputs: None,
             pipelines: PipelineCache::default(),
             history: None,
             samplers,
@@ -503,23 +508,36 @@ impl<'g> Renderer<'g> {
             self.check_size("the shadow atlas (cascades side by side)", w, h)?;
             if !matches!(&self.shadow_atlas, Some((aw, ah, _)) if (*aw, *ah) == (w, h)) {
                 self.shadow_atlas = Some((w, h, self.target("shadow atlas", w, h)));
+                self.shadow_inputs = None;
             }
-            let pipeline = self.built(Pass::Shadow, &variant)?;
-            let group = self.bind_group(pipeline, &uniform, &[])?;
-            let (_, _, atlas) = self.shadow_atlas.as_ref().ok_or_else(|| {
-                RuntimeError::Kernel("shadow atlas missing after creation".into())
-            })?;
-            draw(
-                &mut encoder,
-                "shadow",
-                &atlas.view,
-                &pipeline.pipeline,
-                &group,
+            // The camera's orientation and the image size do not enter the atlas.
+            let mut inputs = u;
+            inputs.inverse_view_projection = Mat4::IDENTITY;
+            inputs.resolution = Vec2::ZERO;
+            let inputs = (
+                pipeline_key(Pass::Shadow, &variant),
+                inputs.to_uniform_bytes(),
             );
-            self.passes.push(Pass::Shadow.name());
+            if self.shadow_inputs.as_ref() != Some(&inputs) {
+                let pipeline = self.built(Pass::Shadow, &variant)?;
+                let group = self.bind_group(pipeline, &uniform, &[])?;
+                let (_, _, atlas) = self.shadow_atlas.as_ref().ok_or_else(|| {
+                    RuntimeError::Kernel("shadow atlas missing after creation".into())
+                })?;
+                draw(
+                    &mut encoder,
+                    "shadow",
+                    &atlas.view,
+                    &pipeline.pipeline,
+                    &group,
+                );
+                self.passes.push(Pass::Shadow.name());
+                self.shadow_inputs = Some(inputs);
+            }
         } else {
             // No shadows in this variant: the atlas of an earlier one is not kept.
             self.shadow_atlas = None;
+            self.shadow_inputs = None;
         }
         self.gpu.queue().submit([encoder.finish()]);
 

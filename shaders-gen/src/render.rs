@@ -40,8 +40,8 @@ pub(crate) struct RenderArgs {
     /// Image size, WIDTHxHEIGHT.
     #[arg(short, long, default_value = "640x360")]
     resolution: String,
-    /// Frames of temporal accumulation (default 1, or 16 with --upscale so every pixel is
-    /// shaded once).
+    /// Frames of temporal accumulation (default 4, averaging the march's jitter; 16 with
+    /// --upscale, so that every pixel is shaded once).
     #[arg(short, long)]
     frames: Option<u32>,
     /// Temporal upscaling: shade one pixel in sixteen per frame.
@@ -174,7 +174,7 @@ pub(crate) fn frame(
     frame.fov_deg = a.fov.unwrap_or(scene.fov_deg);
     frame.weather_offset = glam::Vec2::from_array(scene.weather_offset);
     frame.upscale = a.upscale;
-    frame.frames = a.frames.unwrap_or(if a.upscale { 16 } else { 1 });
+    frame.frames = a.frames.unwrap_or(if a.upscale { 16 } else { 4 });
     frame.seed = a.seed;
     let checks = [
         ("--sun-elevation", frame.sun_elevation_deg, -90.0, 90.0),
