@@ -37,15 +37,22 @@ struct VariantArgs {
     /// Quality preset: low, medium, high, ultra.
     #[arg(short, long)]
     quality: Option<String>,
+    #[command(flatten)]
+    toggles: ToggleArgs,
+}
+
+/// Effects switched on or off beyond the preset's.
+#[derive(Args)]
+pub(crate) struct ToggleArgs {
     /// Toggles to switch on beyond the preset's (comma-separated, see `nimbus list`).
     #[arg(long, value_delimiter = ',')]
-    enable: Vec<String>,
+    pub(crate) enable: Vec<String>,
     /// Toggles to switch off.
     #[arg(long, value_delimiter = ',')]
-    disable: Vec<String>,
+    pub(crate) disable: Vec<String>,
     /// Multiple-scattering octaves (1..=12).
     #[arg(long)]
-    octaves: Option<u32>,
+    pub(crate) octaves: Option<u32>,
 }
 
 impl VariantArgs {
@@ -54,9 +61,9 @@ impl VariantArgs {
             name: self.name.as_deref(),
             genus: self.genus.as_deref(),
             quality: self.quality.as_deref(),
-            enable: &self.enable,
-            disable: &self.disable,
-            octaves: self.octaves,
+            enable: &self.toggles.enable,
+            disable: &self.toggles.disable,
+            octaves: self.toggles.octaves,
         }
     }
 }

@@ -28,15 +28,8 @@ pub(crate) struct RenderArgs {
     /// Quality preset: low, medium, high, ultra.
     #[arg(short, long)]
     quality: Option<String>,
-    /// Toggles to switch on beyond the preset's and the scene's (comma-separated).
-    #[arg(long, value_delimiter = ',')]
-    enable: Vec<String>,
-    /// Toggles to switch off.
-    #[arg(long, value_delimiter = ',')]
-    disable: Vec<String>,
-    /// Multiple-scattering octaves (1..=12).
-    #[arg(long)]
-    octaves: Option<u32>,
+    #[command(flatten)]
+    toggles: crate::ToggleArgs,
     /// Image size, WIDTHxHEIGHT.
     #[arg(short, long, default_value = "640x360")]
     resolution: String,
@@ -152,13 +145,13 @@ pub(crate) fn frame(
         None => scene.quality,
     };
     let mut features = scene.features.apply(quality.features());
-    for t in data::parse_toggles(&a.enable)? {
+    for t in data::parse_toggles(&a.toggles.enable)? {
         t.set(&mut features, true);
     }
-    for t in data::parse_toggles(&a.disable)? {
+    for t in data::parse_toggles(&a.toggles.disable)? {
         t.set(&mut features, false);
     }
-    if let Some(o) = a.octaves {
+    if let Some(o) = a.toggles.octaves {
         if !(1..=12).contains(&o) {
             return Err(format!("--octaves must be in 1..=12, got {o}").into());
         }

@@ -4,7 +4,7 @@
 use crate::cloud::{Features, Genus, Quality};
 use crate::cpu::{Sampler, Texture2d, Texture3d};
 use crate::ir::Module;
-use crate::{DslError, ModuleBuilder, loc};
+use crate::{DslError, GlobalRef, ModuleBuilder, ShaderType, loc};
 
 use super::march::{CloudUniforms, MarchKey, PhaseKind, cloud_fragment};
 use super::preview::fullscreen_position;
@@ -51,6 +51,64 @@ impl CloudVariant {
     }
 }
 
+type Handle<T> = GlobalRef<<T as ShaderType>::Dsl>;
+
+/// The bindings of the cloud passes, declared in one place so that every pass numbers them
+/// alike; codegen drops those a pass does not read.
+struct CloudBindings {
+    clouds: Handle<CloudUniforms>,
+    weather: Handle<Texture2d>,
+    shape: Handle<Texture3d>,
+    detail: Handle<Texture3d>,
+    turbulence: Handle<Texture2d>,
+    shadow: Handle<Texture2d>,
+    sampler: Handle<Sampler>,
+}
+
+impl CloudBindings {
+    fn declare(m: &mut ModuleBuilder) -> CloudBindings {
+        CloudBindings {
+            clouds: m.uniform::<CloudUniforms>(
+                "clouds",
+                0,
+                0,
+                "Layers, media, march, shadow map, light, sky and camera.",
+            ),
+            weather: m.handle::<Texture2d>(
+                "weather_texture",
+                0,
+                1,
+                "Local weather: coverage per channel.",
+            ),
+            shape: m.handle::<Texture3d>(
+                "shape_texture",
+                0,
+                2,
+                "Perlin–Worley shape noise (128³, tileable).",
+            ),
+            detail: m.handle::<Texture3d>(
+                "detail_texture",
+                0,
+                3,
+                "Worley detail noise (32³, tileable).",
+            ),
+            turbulence: m.handle::<Texture2d>(
+                "turbulence_texture",
+                0,
+                4,
+                "Curl noise for turbulent displacement.",
+            ),
+            shadow: m.handle::<Texture2d>(
+                "shadow_map",
+                0,
+                5,
+                "Beer shadow map atlas: front depth, mean extinction, max and tail optical depth.",
+            ),
+            sampler: m.handle::<Sampler>("linear_sampler", 0, 6, "Trilinear, repeat."),
+        }
+    }
+}
+
 /// Records the cloud module for one variant.
 pub fn cloud_module(variant: &CloudVariant) -> Result<Module, DslError> {
     let key = variant.key;
@@ -64,43 +122,7 @@ pub fn cloud_module(variant: &CloudVariant) -> Result<Module, DslError> {
         ),
         loc!(),
         |m| {
-            let u = m.uniform::<CloudUniforms>(
-                "clouds",
-                0,
-                0,
-                "Layers, media, march, light and camera.",
-            );
-            let weather = m.handle::<Texture2d>(
-                "weather_texture",
-                0,
-                1,
-                "Local weather: coverage per channel.",
-            );
-            let shape = m.handle::<Texture3d>(
-                "shape_texture",
-                0,
-                2,
-                "Perlin–Worley shape noise (128³, tileable).",
-            );
-            let detail = m.handle::<Texture3d>(
-                "detail_texture",
-                0,
-                3,
-                "Worley detail noise (32³, tileable).",
-            );
-            let turbulence = m.handle::<Texture2d>(
-                "turbulence_texture",
-                0,
-                4,
-                "Curl noise for turbulent displacement.",
-            );
-            let shadow = m.handle::<Texture2d>(
-                "shadow_map",
-                0,
-                5,
-                "Beer shadow map: front depth, mean extinction, max and tail optical depth.",
-            );
-            let smp = m.handle::<Sampler>("linear_sampler", 0, 6, "Trilinear, repeat.");
+            let b = CloudBindings::declare(m);
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
@@ -111,13 +133,13 @@ pub fn cloud_module(variant: &CloudVariant) -> Result<Module, DslError> {
                 |frag_coord| {
                     cloud_fragment::shader(
                         frag_coord,
-                        u.get(),
-                        weather.get(),
-                        shape.get(),
-                        detail.get(),
-                        turbulence.get(),
-                        shadow.get(),
-                        smp.get(),
+                        b.clouds.get(),
+                        b.weather.get(),
+                        b.shape.get(),
+                        b.detail.get(),
+                        b.turbulence.get(),
+                        b.shadow.get(),
+                        b.sampler.get(),
                         key,
                     )
                 },
@@ -294,13 +316,8 @@ pub fn shadow_module(variant: &CloudVariant) -> Result<Module, DslError> {
         ),
         loc!(),
         |m| {
-            let u = m.uniform::<CloudUniforms>("clouds", 0, 0, "Layers, media and shadow march.");
-            let weather = m.handle::<Texture2d>("weather_texture", 0, 1, "Local weather.");
-            let shape = m.handle::<Texture3d>("shape_texture", 0, 2, "Perlin–Worley shape noise.");
-            let detail = m.handle::<Texture3d>("detail_texture", 0, 3, "Worley detail noise.");
-            let turbulence =
-                m.handle::<Texture2d>("turbulence_texture", 0, 4, "Curl noise for turbulence.");
-            let smp = m.handle::<Sampler>("linear_sampler", 0, 6, "Trilinear, repeat.");
+            // The shadow map binding is declared too, and dropped: nothing here reads it.
+            let b = CloudBindings::declare(m);
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
@@ -311,12 +328,12 @@ pub fn shadow_module(variant: &CloudVariant) -> Result<Module, DslError> {
                 |frag_coord| {
                     shadow_fragment::shader(
                         frag_coord,
-                        u.get(),
-                        weather.get(),
-                        shape.get(),
-                        detail.get(),
-                        turbulence.get(),
-                        smp.get(),
+                        b.clouds.get(),
+                        b.weather.get(),
+                        b.shape.get(),
+                        b.detail.get(),
+                        b.turbulence.get(),
+                        b.sampler.get(),
                         key,
                     )
                 },
