@@ -132,3 +132,24 @@ fn ray_shell_is_accurate_at_planet_scale() {
     }
     println!("ray_shell worst error vs f64: {worst:.3} m");
 }
+
+/// The reference's detail erosion doubles density even at amount 0, so a variant without the
+/// stage was not the same as one with a zero amount; the gain now follows the amount.
+#[test]
+fn detail_erosion_at_amount_zero_is_no_detail() {
+    use nimbus_dsl::model::density::detail_erosion;
+    for rho in [0.0f32, 0.1, 0.37, 0.5, 0.99, 1.0] {
+        for d in [0.0f32, 0.3, 1.0] {
+            let eta = glam::Vec4::new(0.0, 0.25, 0.6, 1.0);
+            let out = detail_erosion(glam::Vec4::splat(rho), d, eta, glam::Vec4::ZERO);
+            assert_eq!(out, glam::Vec4::splat(rho), "rho {rho}, d {d}");
+        }
+    }
+    // At amount 1 it is the reference's (2ρ − m/2)/(1 − m/2).
+    let (rho, d) = (0.3f32, 0.5f32);
+    let eta = glam::Vec4::splat(1.0);
+    let m = 1.0 - d;
+    let expect = ((2.0 * rho - 0.5 * m) / (1.0 - 0.5 * m)).clamp(0.0, 1.0);
+    let got = detail_erosion(glam::Vec4::splat(rho), d, eta, glam::Vec4::ONE);
+    assert!((got.x - expect).abs() < 1e-6, "{got} vs {expect}");
+}

@@ -14,7 +14,7 @@
 use std::collections::BTreeMap;
 
 use glam::{Mat4, Vec2, Vec3};
-use nimbus_dsl::cloud::{Features, Genus, Quality};
+use nimbus_dsl::cloud::{Features, Genus, Quality, ScenePreset, analyse};
 use nimbus_dsl::layout::UniformBytes;
 use nimbus_dsl::model::clouds::{CloudVariant, cloud_module, resolve_module, shadow_module};
 use nimbus_dsl::model::march::CloudUniforms;
@@ -85,6 +85,10 @@ pub struct Frame {
     pub seed: u32,
     /// Offset of the weather texture in tiles (wind drift).
     pub weather_offset: Vec2,
+    /// Haze density at sea level (1/m).
+    pub haze_density: f32,
+    /// Turbulent displacement of cloud bases (m).
+    pub turbulence_displacement: f32,
 }
 
 impl Frame {
@@ -108,7 +112,31 @@ impl Frame {
             continue_history: false,
             seed: 0,
             weather_offset: Vec2::ZERO,
+            haze_density: 3e-5,
+            turbulence_displacement: 350.0,
         }
+    }
+
+    /// The frame a scene describes, with the variant the scene derives (see
+    /// [`nimbus_dsl::cloud::analyse`]): only the effects it can show.
+    pub fn from_scene(scene: &ScenePreset, genus: &Genus, width: u32, height: u32) -> Frame {
+        let mut genus = genus.clone();
+        if let Some(c) = scene.coverage {
+            genus.coverage = c;
+        }
+        let features = analyse(scene, &genus).features;
+        let mut f = Frame::new(genus, scene.quality, width, height);
+        f.features = features;
+        f.sun_elevation_deg = scene.sun_elevation_deg;
+        f.sun_azimuth_deg = scene.sun_azimuth_deg;
+        f.camera_altitude = scene.camera_altitude;
+        f.camera_pitch_deg = scene.camera_pitch_deg;
+        f.camera_yaw_deg = scene.camera_yaw_deg;
+        f.fov_deg = scene.fov_deg;
+        f.weather_offset = Vec2::from_array(scene.weather_offset);
+        f.haze_density = scene.haze_density;
+        f.turbulence_displacement = scene.turbulence_displacement;
+        f
     }
 
     /// The cloud variant this frame renders.
@@ -459,6 +487,8 @@ impl<'g> Renderer<'g> {
         u.inverse_view_projection = frame.view_projection().inverse();
         u.resolution = Vec2::new(frame.width as f32, frame.height as f32);
         u.media.weather_offset = frame.weather_offset;
+        u.media.turbulence_displacement = frame.turbulence_displacement;
+        u.haze.density = frame.haze_density;
         u
     }
 

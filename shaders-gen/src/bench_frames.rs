@@ -81,3 +81,51 @@ pub(crate) fn run(
     }
     Ok(())
 }
+
+/// Every scene of the data folder: ms per frame of the variant the scene derives against the
+/// all-effects variant of the same preset, measured in one run.
+pub(crate) fn run_scenes(
+    data: Option<&Path>,
+    resolution: (u32, u32),
+    iterations: u32,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let lib = crate::data::load(data)?;
+    let gpu = Gpu::new()?;
+    println!("adapter: {}", gpu.info());
+    println!(
+        "{}x{}, one full-resolution frame per render call, median of {iterations}",
+        resolution.0, resolution.1
+    );
+    println!();
+    println!("| scene | derived variant | derived ms | all-effects ms | derived / all |");
+    println!("|---|---|---:|---:|---:|");
+    let mut renderer = Renderer::new(&gpu, TextureSizes::default());
+    for (name, (_, scene)) in &lib.scenes {
+        let genus = lib
+            .genus(&scene.genus)
+            .ok_or_else(|| format!("scene {name}: genus {} missing", scene.genus))?;
+        let derived =
+            nimbus_runtime::render::Frame::from_scene(scene, genus, resolution.0, resolution.1);
+        let mut all = derived.clone();
+        all.features = scene.quality.features();
+        all.features.octaves = derived.features.octaves;
+        let mut time =
+            |f: &nimbus_runtime::render::Frame| -> Result<f64, Box<dyn std::error::Error>> {
+                renderer.render(f)?;
+                let mut times = Vec::new();
+                for _ in 0..iterations {
+                    let start = Instant::now();
+                    renderer.render(f)?;
+                    times.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+                Ok(median(times))
+            };
+        let (d, a) = (time(&derived)?, time(&all)?);
+        println!(
+            "| {name} | {} | {d:.1} | {a:.1} | {:.2} |",
+            derived.variant().name(),
+            d / a
+        );
+    }
+    Ok(())
+}

@@ -5,6 +5,7 @@ mod bench_frames;
 mod check;
 mod data;
 mod emit;
+mod explain;
 mod list;
 mod render;
 
@@ -75,6 +76,9 @@ enum Command {
     Emit {
         #[command(flatten)]
         variants: VariantArgs,
+        /// Emit the variant a scene file derives (see `explain`) with its shadow pass.
+        #[arg(long, conflicts_with_all = ["name", "genus", "quality"])]
+        scene: Option<PathBuf>,
         /// Comma-separated targets: wgsl, glsl-es300, glsl450, hlsl, msl, spirv, or all.
         #[arg(short, long, visible_alias = "target", default_value = "all")]
         targets: String,
@@ -102,6 +106,21 @@ enum Command {
         #[arg(short = 'n', long, default_value_t = 5)]
         iterations: u32,
     },
+    /// Time per frame of each example scene's derived variant against its all-effects
+    /// variant, as a ratio.
+    BenchScenes {
+        /// Image size, WIDTHxHEIGHT.
+        #[arg(short, long, default_value = "480x270")]
+        resolution: String,
+        /// Timed frames per variant (the median is reported).
+        #[arg(short = 'n', long, default_value_t = 3)]
+        iterations: u32,
+    },
+    /// Which effects a scene's variant simulates, each with the reason, and the variant key.
+    Explain {
+        /// Scene file (TOML).
+        scene: PathBuf,
+    },
     /// List genera, scene presets, quality presets, toggles, modules and targets.
     List,
     /// Time generation per variant and target, and the whole `check`.
@@ -118,9 +137,10 @@ fn main() -> ExitCode {
     let result: Result<(), Box<dyn std::error::Error>> = match &cli.command {
         Command::Emit {
             variants,
+            scene,
             targets,
             out,
-        } => emit::run(data, &variants.selection(), targets, out).map_err(Into::into),
+        } => emit::run(data, &variants.selection(), scene.as_deref(), targets, out),
         Command::Check {
             variants,
             no_external,
@@ -129,6 +149,13 @@ fn main() -> ExitCode {
         Command::BenchFrames { render, iterations } => {
             bench_frames::run(data, render, (*iterations).max(1))
         }
+        Command::BenchScenes {
+            resolution,
+            iterations,
+        } => render::parse_resolution(resolution)
+            .map_err(Into::into)
+            .and_then(|r| bench_frames::run_scenes(data, r, (*iterations).max(1))),
+        Command::Explain { scene } => explain::run(data, scene),
         Command::List => list::run(data).map_err(Into::into),
         Command::Bench { iterations } => bench::run(data, (*iterations).max(1)).map_err(Into::into),
     };

@@ -7,7 +7,9 @@ use std::time::Instant;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use nimbus_codegen::CodegenError;
-use nimbus_dsl::cloud::{CloudLibrary, Genus, Quality, load_genus, load_scene};
+use nimbus_dsl::cloud::{
+    CloudLibrary, Features, Genus, Quality, ScenePreset, analyse, load_genus, load_scene,
+};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes, TextureSource};
 use nimbus_runtime::textures::NoiseKind;
@@ -81,7 +83,7 @@ pub(crate) struct RenderArgs {
     detail_texture: Option<PathBuf>,
 }
 
-fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("resolution `{s}`: expected WIDTHxHEIGHT, e.g. 640x360");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
@@ -91,7 +93,10 @@ fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
 
 /// The library a scene's genus names refer to: `--data`, else `$NIMBUS_DATA`, else the folder
 /// above the scene's `scenes/` when it has `genera/`, else the repository's examples.
-fn library_for(data: Option<&Path>, scene: Option<&Path>) -> Result<CloudLibrary, CodegenError> {
+pub(crate) fn library_for(
+    data: Option<&Path>,
+    scene: Option<&Path>,
+) -> Result<CloudLibrary, CodegenError> {
     if data.is_none() && std::env::var_os("NIMBUS_DATA").is_none() {
         let beside = scene
             .and_then(Path::parent)
@@ -104,7 +109,7 @@ fn library_for(data: Option<&Path>, scene: Option<&Path>) -> Result<CloudLibrary
     data::load(data)
 }
 
-fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CodegenError> {
+pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CodegenError> {
     if name.ends_with(".toml") || name.contains('/') {
         return Ok(load_genus(Path::new(name))?);
     }
@@ -115,6 +120,34 @@ fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CodegenError> {
             given: name.to_string(),
             known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
         })
+}
+
+/// The scene's derived features (see `nimbus explain`), with what the flags changed in the
+/// scene taken into account, then the flags' own toggles on top.
+fn derive_features(
+    scene: &ScenePreset,
+    frame: &Frame,
+    toggles: &crate::ToggleArgs,
+) -> Result<Features, Box<dyn std::error::Error>> {
+    let mut seen = scene.clone();
+    seen.quality = frame.quality;
+    seen.coverage = Some(frame.genus.coverage);
+    seen.sun_elevation_deg = frame.sun_elevation_deg;
+    seen.camera_altitude = frame.camera_altitude;
+    let mut features = analyse(&seen, &frame.genus).features;
+    for t in data::parse_toggles(&toggles.enable)? {
+        t.set(&mut features, true);
+    }
+    for t in data::parse_toggles(&toggles.disable)? {
+        t.set(&mut features, false);
+    }
+    if let Some(o) = toggles.octaves {
+        if !(1..=12).contains(&o) {
+            return Err(format!("--octaves must be in 1..=12, got {o}").into());
+        }
+        features.octaves = o;
+    }
+    Ok(features)
 }
 
 /// Builds the frame the arguments describe (no GPU needed: bad input fails here first).
@@ -144,28 +177,16 @@ pub(crate) fn frame(
         })?,
         None => scene.quality,
     };
-    let mut features = scene.features.apply(quality.features());
-    for t in data::parse_toggles(&a.toggles.enable)? {
-        t.set(&mut features, true);
-    }
-    for t in data::parse_toggles(&a.toggles.disable)? {
-        t.set(&mut features, false);
-    }
-    if let Some(o) = a.toggles.octaves {
-        if !(1..=12).contains(&o) {
-            return Err(format!("--octaves must be in 1..=12, got {o}").into());
-        }
-        features.octaves = o;
-    }
-    let mut frame = Frame::new(genus, quality, width, height);
-    frame.features = features;
+    let mut seen = scene.clone();
+    seen.quality = quality;
+    seen.coverage = None; // already in the genus, with --coverage applied
+    let mut frame = Frame::from_scene(&seen, &genus, width, height);
     frame.sun_elevation_deg = a.sun_elevation.unwrap_or(scene.sun_elevation_deg);
     frame.sun_azimuth_deg = a.sun_azimuth.unwrap_or(scene.sun_azimuth_deg);
     frame.camera_altitude = a.camera_altitude.unwrap_or(scene.camera_altitude);
     frame.camera_pitch_deg = a.pitch.unwrap_or(scene.camera_pitch_deg);
     frame.camera_yaw_deg = a.yaw.unwrap_or(scene.camera_yaw_deg);
     frame.fov_deg = a.fov.unwrap_or(scene.fov_deg);
-    frame.weather_offset = glam::Vec2::from_array(scene.weather_offset);
     frame.upscale = a.upscale;
     frame.frames = a.frames.unwrap_or(if a.upscale { 16 } else { 4 });
     frame.seed = a.seed;
@@ -183,6 +204,7 @@ pub(crate) fn frame(
     if frame.frames == 0 || frame.frames > 4096 {
         return Err(format!("--frames must be in 1..=4096, got {}", frame.frames).into());
     }
+    frame.features = derive_features(&scene, &frame, &a.toggles)?;
     Ok(frame)
 }
 

@@ -148,3 +148,52 @@ fn emit_genus_quality_and_toggles() {
     assert!(!o.status.success());
     assert!(text(&o.stderr).contains("unknown quality preset `extreme`"));
 }
+
+fn example_scene(name: &str) -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("../examples/scenes/{name}.toml"))
+        .display()
+        .to_string()
+}
+
+#[test]
+fn explain_prints_each_effect_with_its_reason_and_the_variant() {
+    let o = nimbus(&["explain", &example_scene("twilight-cirrus")]);
+    let out = text(&o.stdout);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for line in [
+        "haze                     out  haze density is 0",
+        "shadows                  out  sun -4° (below the horizon): nothing to shadow",
+        "shape-detail             out  every layer's shape-detail amount is 0",
+        "turbulence               out  turbulent displacement is 0",
+        "shadow-map-pass          out  nothing samples it: no pass, no texture",
+        "powder                   in   on in the `high` preset (no scene rule)",
+        "variant: cirrus.high-shape-detail-turbulence-light-shafts-haze-shadows",
+    ] {
+        assert!(out.contains(line), "missing `{line}` in\n{out}");
+    }
+}
+
+#[test]
+fn emit_and_explain_agree_on_the_scene_variant() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let out = tmp.path().join("shaders");
+    let o = nimbus(&[
+        "emit",
+        "--scene",
+        &example_scene("above-the-deck"),
+        "-t",
+        "wgsl",
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let name = "stratocumulus.high-light-shafts-ground-bounce";
+    let clouds = std::fs::read_to_string(out.join(format!("clouds.{name}.wgsl"))).expect("clouds");
+    assert!(out.join(format!("cloud_shadow.{name}.wgsl")).is_file());
+    // Shafts and ground bounce are out: their code is not in the shader.
+    assert!(!clouds.contains("fn shadow_length"));
+    assert!(clouds.contains("fn shadow_texel"), "shadows stay in");
+    let e = text(&nimbus(&["explain", &example_scene("above-the-deck")]).stdout);
+    assert!(e.contains(&format!("variant: {name}")), "{e}");
+}

@@ -1,6 +1,7 @@
 //! Cloud data: layers, genera, scene presets, quality presets and feature toggles. Plain data
 //! loaded with serde; the model in [`crate::model`] turns it into shader variants.
 
+pub mod analysis;
 mod error;
 mod features;
 mod genus;
@@ -9,6 +10,7 @@ mod load;
 mod quality;
 mod scene;
 
+pub use analysis::{Analysis, analyse};
 pub use error::DataError;
 pub use features::{Features, Toggle};
 pub use genus::{Genus, MAX_LAYERS, Medium, PhaseSpec};

@@ -22,6 +22,22 @@ pub struct FeatureOverrides {
 }
 
 impl FeatureOverrides {
+    /// The forced state of `t`, if the scene forces it.
+    pub fn get(&self, t: super::features::Toggle) -> Option<bool> {
+        use super::features::Toggle as T;
+        match t {
+            T::ShapeDetail => self.shape_detail,
+            T::Turbulence => self.turbulence,
+            T::LightShafts => self.light_shafts,
+            T::Haze => self.haze,
+            T::Shadows => self.shadows,
+            T::GroundBounce => self.ground_bounce,
+            T::Powder => self.powder,
+            T::AccurateSunSkyLight => self.accurate_sun_sky_light,
+            T::AccuratePhaseFunction => self.accurate_phase_function,
+        }
+    }
+
     pub fn apply(&self, mut f: Features) -> Features {
         let pairs = [
             (self.shape_detail, &mut f.shape_detail),
@@ -75,6 +91,12 @@ pub struct ScenePreset {
     /// Vertical field of view, degrees.
     #[serde(default = "default_fov")]
     pub fov_deg: f32,
+    /// Density of the haze at sea level (1/m); 0 for air without haze.
+    #[serde(default = "default_haze_density")]
+    pub haze_density: f32,
+    /// Turbulent displacement of cloud bases (m); 0 for none.
+    #[serde(default = "default_turbulence_displacement")]
+    pub turbulence_displacement: f32,
     /// Offset of the weather texture in tiles (one tile is 100 km): moves the clouds.
     #[serde(default)]
     pub weather_offset: [f32; 2],
@@ -90,6 +112,14 @@ fn default_sun_elevation() -> f32 {
 
 fn default_camera_altitude() -> f32 {
     2.0
+}
+
+fn default_haze_density() -> f32 {
+    3e-5
+}
+
+fn default_turbulence_displacement() -> f32 {
+    350.0
 }
 
 fn default_camera_pitch() -> f32 {
@@ -130,6 +160,23 @@ impl ScenePreset {
             return Err((
                 "camera_pitch_deg".into(),
                 format!("must be in [-90, 90], got {}", self.camera_pitch_deg),
+            ));
+        }
+        if !(self.haze_density.is_finite() && (0.0..=1e-2).contains(&self.haze_density)) {
+            return Err((
+                "haze_density".into(),
+                format!("must be in [0, 0.01] per metre, got {}", self.haze_density),
+            ));
+        }
+        if !(self.turbulence_displacement.is_finite()
+            && (0.0..=5000.0).contains(&self.turbulence_displacement))
+        {
+            return Err((
+                "turbulence_displacement".into(),
+                format!(
+                    "must be in [0, 5000] m, got {}",
+                    self.turbulence_displacement
+                ),
             ));
         }
         if !self.weather_offset.iter().all(|v| v.is_finite()) {

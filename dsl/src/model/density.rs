@@ -106,13 +106,18 @@ pub fn shape_erosion(density: Vec4, s: f32, amount: Vec4) -> Vec4 {
 
 /// Erodes density by the detail noise `d` (0..1): wispy `d⁶` at the bottom, billowy `1 − d`
 /// towards the top.
+///
+/// The reference computes `(2ρ − m/2) / (1 − m/2)`, whose gain of 2 applies even at amount 0,
+/// so "detail on, amount 0" would be twice as dense as "detail off". Here the gain is
+/// `1 + amount`: amount 1 is the reference, amount 0 leaves the density exactly as it is, so a
+/// variant without the stage is exact for layers that do not use it.
 #[shader_fn]
 pub fn detail_erosion(density: Vec4, d: f32, eta: Vec4, amount: Vec4) -> Vec4 {
     let wispy = d * d * d * d * d * d;
     let billowy = 1.0 - d;
     let t = ((eta - Vec4::splat(0.2)) / 0.2).saturate();
     let m = (Vec4::splat(wispy) + (Vec4::splat(billowy) - Vec4::splat(wispy)) * t) * amount;
-    ((density * 2.0 - m * 0.5) / (Vec4::ONE - m * 0.5)).saturate()
+    ((density * (Vec4::ONE + amount) - m * 0.5) / (Vec4::ONE - m * 0.5)).saturate()
 }
 
 /// The vertical profile `a·e^(b·η) + c·η + d` per lane (|b| ≤ 80 is validated, so the
