@@ -155,6 +155,25 @@ impl Gpu {
         Ok(bytes)
     }
 
+    /// A sampler with one address mode on every axis and one filter for both magnification
+    /// and minification (the textures have one mip level).
+    pub fn sampler(
+        &self,
+        label: &str,
+        address: wgpu::AddressMode,
+        filter: wgpu::FilterMode,
+    ) -> wgpu::Sampler {
+        self.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some(label),
+            address_mode_u: address,
+            address_mode_v: address,
+            address_mode_w: address,
+            mag_filter: filter,
+            min_filter: filter,
+            ..Default::default()
+        })
+    }
+
     pub fn queue(&self) -> &wgpu::Queue {
         &self.queue
     }
@@ -311,14 +330,7 @@ impl Gpu {
                     nimbus_dsl::cpu::Filter::Linear => wgpu::FilterMode::Linear,
                     nimbus_dsl::cpu::Filter::Nearest => wgpu::FilterMode::Nearest,
                 };
-                return GpuBinding::Sampler(self.device.create_sampler(&wgpu::SamplerDescriptor {
-                    address_mode_u: address,
-                    address_mode_v: address,
-                    address_mode_w: address,
-                    mag_filter: filter,
-                    min_filter: filter,
-                    ..Default::default()
-                }));
+                return GpuBinding::Sampler(self.sampler("parity sampler", address, filter));
             }
         };
         let data: Vec<u16> = texels

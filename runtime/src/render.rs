@@ -265,18 +265,7 @@ fn f16_to_f32(h: u16) -> f32 {
 
 impl<'g> Renderer<'g> {
     pub fn new(gpu: &'g Gpu, sizes: TextureSizes) -> Self {
-        let device = gpu.device();
-        let sampler = |label, address, filter| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some(label),
-                address_mode_u: address,
-                address_mode_v: address,
-                address_mode_w: address,
-                mag_filter: filter,
-                min_filter: filter,
-                ..Default::default()
-            })
-        };
+        let sampler = |label, address, filter| gpu.sampler(label, address, filter);
         let samplers = Samplers {
             repeat: sampler(
                 "linear repeat",
