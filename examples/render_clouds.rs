@@ -35,12 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             turbulence: 64,
         },
     );
-    let mut frame = Frame::new(genus, quality, 480, 270);
-    frame.frames = std::env::var("FRAMES")
-        .ok()
-        .and_then(|f| f.parse().ok())
-        .unwrap_or(1);
-    frame.upscale = std::env::var_os("UPSCALE").is_some();
+    let frame = Frame::new(genus, quality, 480, 270);
     let start = std::time::Instant::now();
     let image = renderer.render(&frame)?;
     println!(

@@ -108,6 +108,27 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
         let altitude = f32::from_bits(w[3 + uniforms_altitude_word()]);
         test_uniforms(genus, quality, altitude)
     };
+    // The CPU twin on one input record (direction, then the uniforms' words).
+    let cpu_march = |w: &[u32]| {
+        let dir = Vec3::new(
+            f32::from_bits(w[0]),
+            f32::from_bits(w[1]),
+            f32::from_bits(w[2]),
+        );
+        let u = uniforms_of(w);
+        march_clouds(
+            dir,
+            u.jitter,
+            u,
+            &weather,
+            &shape,
+            &detail,
+            &turbulence,
+            &shadow,
+            &smp,
+            key,
+        )
+    };
     compare_with(
         "march_clouds[cumulus.high]",
         vec![
@@ -120,24 +141,7 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
         &inputs,
         1000,
         |w| {
-            let dir = Vec3::new(
-                f32::from_bits(w[0]),
-                f32::from_bits(w[1]),
-                f32::from_bits(w[2]),
-            );
-            let u = uniforms_of(w);
-            let r = march_clouds(
-                dir,
-                u.jitter,
-                u,
-                &weather,
-                &shape,
-                &detail,
-                &turbulence,
-                &shadow,
-                &smp,
-                key,
-            );
+            let r = cpu_march(w);
             r.radiance
                 .extend(r.transmittance)
                 .to_array()
@@ -152,30 +156,7 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
         },
     );
     // The rays must actually meet clouds for the comparison to mean anything.
-    let transmittances: Vec<f32> = inputs
-        .iter()
-        .map(|w| {
-            let dir = Vec3::new(
-                f32::from_bits(w[0]),
-                f32::from_bits(w[1]),
-                f32::from_bits(w[2]),
-            );
-            let u = uniforms_of(w);
-            march_clouds(
-                dir,
-                u.jitter,
-                u,
-                &weather,
-                &shape,
-                &detail,
-                &turbulence,
-                &shadow,
-                &smp,
-                key,
-            )
-            .transmittance
-        })
-        .collect();
+    let transmittances: Vec<f32> = inputs.iter().map(|w| cpu_march(w).transmittance).collect();
     let cloudy = transmittances.iter().filter(|t| **t < 0.99).count();
     let opaque = transmittances.iter().filter(|t| **t < 0.5).count();
     println!(

@@ -11,13 +11,33 @@ use std::time::Instant;
 
 use nimbus_dsl::cloud::Quality;
 use nimbus_runtime::Gpu;
-use nimbus_runtime::render::{Renderer, TextureSizes};
+use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
 use crate::render::{RenderArgs, frame};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
+}
+
+/// Median wall time (ms) of `iterations` render calls of `frame`, after one untimed call that
+/// builds its pipelines and textures. With `continue_history` set, the untimed call starts the
+/// history afresh and the timed ones continue it, as a game loop does.
+fn time_frames(
+    renderer: &mut Renderer<'_>,
+    frame: &Frame,
+    iterations: u32,
+) -> Result<f64, Box<dyn std::error::Error>> {
+    let mut first = frame.clone();
+    first.continue_history = false;
+    renderer.render(&first)?;
+    let mut times = Vec::new();
+    for _ in 0..iterations {
+        let start = Instant::now();
+        renderer.render(frame)?;
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok(median(times))
 }
 
 pub(crate) fn run(
@@ -41,16 +61,12 @@ pub(crate) fn run(
             f.features = quality.features();
             f.upscale = upscale;
             f.frames = 1;
-            f.continue_history = false;
-            renderer.render(&f)?;
             f.continue_history = upscale;
-            let mut times = Vec::new();
-            for _ in 0..iterations {
-                let start = Instant::now();
-                renderer.render(&f)?;
-                times.push(start.elapsed().as_secs_f64() * 1e3);
-            }
-            rows.push((quality, upscale, median(times)));
+            rows.push((
+                quality,
+                upscale,
+                time_frames(&mut renderer, &f, iterations)?,
+            ));
         }
     }
     let high = |upscale: bool| {
@@ -104,23 +120,12 @@ pub(crate) fn run_scenes(
         let genus = lib
             .genus(&scene.genus)
             .ok_or_else(|| format!("scene {name}: genus {} missing", scene.genus))?;
-        let derived =
-            nimbus_runtime::render::Frame::from_scene(scene, genus, resolution.0, resolution.1);
+        let derived = Frame::from_scene(scene, genus, resolution.0, resolution.1);
         let mut all = derived.clone();
         all.features = scene.quality.features();
         all.features.octaves = derived.features.octaves;
-        let mut time =
-            |f: &nimbus_runtime::render::Frame| -> Result<f64, Box<dyn std::error::Error>> {
-                renderer.render(f)?;
-                let mut times = Vec::new();
-                for _ in 0..iterations {
-                    let start = Instant::now();
-                    renderer.render(f)?;
-                    times.push(start.elapsed().as_secs_f64() * 1e3);
-                }
-                Ok(median(times))
-            };
-        let (d, a) = (time(&derived)?, time(&all)?);
+        let d = time_frames(&mut renderer, &derived, iterations)?;
+        let a = time_frames(&mut renderer, &all, iterations)?;
         println!(
             "| {name} | {} | {d:.1} | {a:.1} | {:.2} |",
             derived.variant().name(),
