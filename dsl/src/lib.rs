@@ -30,6 +30,7 @@ pub mod model;
 mod module;
 pub mod ops;
 pub mod record;
+pub mod stability;
 pub mod value;
 
 pub use module::{DslError, GlobalRef, ModuleBuilder};

@@ -110,23 +110,35 @@ fn load(ty: Type, offset: &mut usize, read: &mut impl FnMut(usize) -> ExprId) ->
     }
 }
 
-/// Words of a result value (scalars and vectors only).
+/// Words of a result value: scalars, vectors, and structs of them field by field (as
+/// [`load`] reads parameters).
 fn store(
     ty: Type,
     value: ExprId,
-    mut write: impl FnMut(usize, ExprId),
+    write: &mut impl FnMut(usize, ExprId),
+    offset: &mut usize,
 ) -> Result<(), RuntimeError> {
     match ty {
-        Type::Scalar(s) => write(0, to_word(value, s)),
+        Type::Scalar(s) => {
+            write(*offset, to_word(value, s));
+            *offset += 1;
+        }
         Type::Vector(n, s) => {
             for i in 0..n {
                 let c = push_expr(ExprKind::Swizzle(value, vec![i]), Type::Scalar(s));
-                write(usize::from(i), to_word(c, s));
+                write(*offset, to_word(c, s));
+                *offset += 1;
+            }
+        }
+        Type::Struct(def) => {
+            for (i, f) in def.fields.iter().enumerate() {
+                let member = push_expr(ExprKind::Member(value, i as u32), f.ty);
+                store(f.ty, member, write, offset)?;
             }
         }
         other => {
             return Err(RuntimeError::Kernel(format!(
-                "parity results must be scalars or vectors, not {}",
+                "parity results must be scalars, vectors or structs of them, not {}",
                 other.wgsl()
             )));
         }
@@ -246,9 +258,10 @@ pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
                     let result = (f.call)(&args);
                     let outputs = output.array();
                     let out_base = index * (out_words as u32);
-                    let _ = store(f.result, result, |i, word| {
+                    let mut write = |i: usize, word: ExprId| {
                         outputs.set(out_base + i as u32, U32::from_id(word));
-                    });
+                    };
+                    let _ = store(f.result, result, &mut write, &mut 0);
                 },
             );
         },

@@ -1,7 +1,8 @@
 //! Quality presets with the semantics and numbers of @takram/three-clouds (`qualityPresets.ts`):
 //! low drops shape detail, light shafts and turbulence and marches far more coarsely; medium
 //! drops light shafts and turbulence; high is the baseline; ultra refines the shadow map and
-//! the minimum step.
+//! the minimum step. `reference` is not a real-time preset: it is the converged render the
+//! others are measured against (`nimbus tradeoff`).
 
 use serde::{Deserialize, Serialize};
 
@@ -17,6 +18,10 @@ pub enum Quality {
     #[default]
     High,
     Ultra,
+    /// Converged, for measuring the others: short steps that never grow past 100 m, no early
+    /// termination or density cut-offs, long secondary marches, every effect on. Seconds per
+    /// frame; not for real time.
+    Reference,
 }
 
 /// Numbers of the primary, secondary, light-shaft and shadow marches.
@@ -48,6 +53,7 @@ pub struct MarchSettings {
 }
 
 impl Quality {
+    /// The real-time presets (the reference is left out of catalogues and benchmarks).
     pub const ALL: [Quality; 4] = [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra];
 
     pub fn name(self) -> &'static str {
@@ -56,12 +62,14 @@ impl Quality {
             Quality::Medium => "medium",
             Quality::High => "high",
             Quality::Ultra => "ultra",
+            Quality::Reference => "reference",
         }
     }
 
     pub fn parse(s: &str) -> Option<Quality> {
         Quality::ALL
             .into_iter()
+            .chain([Quality::Reference])
             .find(|q| q.name() == s.trim().to_ascii_lowercase())
     }
 
@@ -83,6 +91,10 @@ impl Quality {
                 ..high
             },
             Quality::High | Quality::Ultra => high,
+            Quality::Reference => Features {
+                octaves: 12,
+                ..high
+            },
         }
     }
 
@@ -144,6 +156,31 @@ impl Quality {
             Quality::Ultra => MarchSettings {
                 min_step_size: 10.0,
                 shadow_map_size: 1024,
+                ..high
+            },
+            Quality::Reference => MarchSettings {
+                max_iteration_count: 6000,
+                min_step_size: 20.0,
+                max_step_size: 100.0,
+                perspective_step_scale: 1.002,
+                min_density: 0.0,
+                min_extinction: 0.0,
+                min_transmittance: 0.0,
+                max_iteration_count_to_sun: 16,
+                max_iteration_count_to_ground: 8,
+                min_secondary_step_size: 100.0,
+                // 16 steps from 6.25 m growing ×1.25: the sun march itself covers 862 m.
+                secondary_step_scale: 1.25,
+                max_shadow_length_iteration_count: 4000,
+                min_shadow_length_step_size: 20.0,
+                shadow_cascade_count: 4,
+                shadow_map_size: 1024,
+                shadow_max_iteration_count: 400,
+                shadow_min_step_size: 20.0,
+                shadow_max_step_size: 100.0,
+                shadow_min_density: 0.0,
+                shadow_min_extinction: 0.0,
+                shadow_min_transmittance: 0.0,
                 ..high
             },
         }

@@ -29,6 +29,7 @@ impl CloudVariant {
                 features,
                 phase: PhaseKind::of(&genus.phase, &features),
                 groups: genus.layer_groups() as u32,
+                count_samples: false,
             },
         }
     }

@@ -18,7 +18,7 @@ use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
 use super::phase::{approximate_mie, henyey_greenstein, isotropic_phase};
 use super::shadow::{ShadowParams, shadow_texel};
-use super::shell::ray_shell;
+use super::shell::{ground_hit, ray_shell};
 use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
 
 /// Phase function of a variant (the genus decides it, `accurate_phase_function` forces Mie).
@@ -63,6 +63,9 @@ pub struct MarchKey {
     pub phase: PhaseKind,
     /// Layer groups (1 = up to four layers, 2 = up to eight).
     pub groups: u32,
+    /// The instrumented variant: the pixel's alpha carries the number of density samples its
+    /// march took instead of the cloud opacity (for `nimbus tradeoff`).
+    pub count_samples: bool,
 }
 
 impl MarchKey {
@@ -192,6 +195,8 @@ pub struct MarchResult {
     pub transmittance: f32,
     /// Transmittance-weighted mean distance of the scattering (m); -1 if none.
     pub front_depth: f32,
+    /// Full density evaluations the march made (primary and secondary rays).
+    pub samples: f32,
 }
 
 /// Altitude above the ground at distance `t` along a ray leaving `camera_altitude` with
@@ -356,26 +361,56 @@ pub fn shadow_optical_depth(texel: Vec4, distance: f32, offset: f32) -> f32 {
 
 /// Near and far distances of the cloud slab along a ray from the camera; far < near when the
 /// ray sees no clouds (it hits the ground first, or points away).
+///
+/// The far end is where the ray leaves the slab for good: the ground, or its last crossing of
+/// the top shell. A ray that dips below the slab's bottom and comes back up (a downward ray
+/// near the horizon, seen from inside or above the slab) re-enters it far away; the march skips
+/// the gap ([`next_boundary`]) rather than stopping at the first exit, so the result does not
+/// jump when the ray, or the camera, crosses a shell.
 #[shader_fn]
 pub fn cloud_range(camera_altitude: f32, mu: f32, march: MarchParams) -> Vec2 {
     let bottom = ray_shell(camera_altitude, mu, march.min_height, march.radius);
     let top = ray_shell(camera_altitude, mu, march.max_height, march.radius);
-    let ground = ray_shell(camera_altitude, mu, 0.0, march.radius);
-    let hits_ground = ground.x > 0.0;
+    let ground = ground_hit(camera_altitude, mu, march.radius);
+    let hits_ground = ground >= 0.0;
+    let exit = select(top.y, ground, hits_ground);
     let mut near = 0.0f32;
     let mut far = -1.0f32;
     if camera_altitude < march.min_height {
         if !hits_ground {
             near = bottom.y;
-            far = top.y;
+            far = exit;
         }
     } else if camera_altitude <= march.max_height {
-        far = select(top.y, bottom.x, bottom.x > 0.0);
+        far = exit;
     } else if top.x > 0.0 {
         near = top.x;
-        far = select(top.y, bottom.x, bottom.x > 0.0);
+        far = exit;
     }
     vec2(near, far.min(near + march.max_ray_distance))
+}
+
+/// How far along its ray a secondary march of `steps` steps reaches: the first step is
+/// `min_step / steps` and each next one `scale` times longer. The beer shadow map takes over
+/// from there, so the two neither overlap nor leave a gap.
+#[shader_fn]
+pub fn secondary_reach(steps: u32, min_step: f32, scale: f32) -> f32 {
+    let n = steps.max(1u32) as f32;
+    let growth = select(
+        n,
+        (scale.powf(n) - 1.0) / (scale - 1.0),
+        (scale - 1.0).abs() > 1e-4,
+    );
+    select(0.0, min_step / n * growth, steps > 0u32)
+}
+
+/// `(1 − e^(−x)) / x` for optical depth `x ≥ 0`. Below 0.1 the direct form loses digits to
+/// cancellation (all of them as x → 0, where it is 0/0); the series `1 − x/2 + x²/6 − x³/24`
+/// is good to x⁴/120 < 1e-6 there.
+#[shader_fn]
+pub fn one_minus_exp_over(x: f32) -> f32 {
+    let series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0));
+    select((1.0 - (-x).exp()) / x.max(1e-30), series, x < 0.1)
 }
 
 /// Relative change of the sun's atmospheric transmittance between the camera's altitude and
@@ -436,14 +471,26 @@ pub fn shadow_length(
 const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
 const INV_FOUR_PI: f32 = 0.079_577_47;
 
-/// How many of a group's layers contain `altitude` (a zero-height layer contains nothing).
+/// How many of a group's layers contain `altitude`, give or take 1 cm: a sample placed on a
+/// boundary must not read as outside because its altitude rounded the wrong way (the march
+/// would then jump past the layer). A zero-height layer contains nothing.
 #[shader_fn]
 pub fn layers_containing(altitude: f32, group: LayerGroup) -> f32 {
     let h = Vec4::splat(altitude);
-    let inside = step(group.min_height, h)
-        * step(h, group.max_height)
+    let tolerance = Vec4::splat(1e-2);
+    let inside = step(group.min_height - tolerance, h)
+        * step(h, group.max_height + tolerance)
         * step(Vec4::splat(1e-3), group.max_height - group.min_height);
     inside.dot(Vec4::ONE)
+}
+
+/// Length of the primary step at distance `t`: the minimum step, growing with distance (a
+/// pixel covers more there) up to the maximum. A function of distance alone, so a march that
+/// jumps a gap between layers resumes with the step it would have had, and a camera either
+/// side of a shell samples the layer beyond alike.
+#[shader_fn]
+pub fn march_step(t: f32, march: MarchParams) -> f32 {
+    (march.min_step + (march.perspective_step_scale - 1.0) * t.max(0.0)).min(march.max_step)
 }
 
 /// The earlier of `best` and each root of `roots` that lies beyond `t`.
@@ -502,7 +549,8 @@ pub fn march_clouds(
     let mut transmittance = 1.0f32;
     let mut depth_sum = 0.0f32;
     let mut weight_sum = 0.0f32;
-    let mut step = m.min_step + (m.perspective_step_scale - 1.0) * range.x.max(0.0);
+    let mut samples = 0.0f32;
+    let mut step = march_step(range.x, m);
     let mut t = range.x.max(0.0) + step * jitter;
     for _i in 0u32..m.max_iterations {
         if t > range.y {
@@ -522,7 +570,10 @@ pub fn march_clouds(
             if next > 1e29 {
                 break;
             }
-            t = next.max(t + m.min_step);
+            // Resume inside the next layer as a march starting there would: same step, same
+            // jitter.
+            step = march_step(next, m);
+            t = next + step * jitter;
             continue;
         }
         let p = direction * t;
@@ -537,6 +588,7 @@ pub fn march_clouds(
         }
         if coverage <= m.min_density {
             t += step.max(m.max_step);
+            step = march_step(t, m);
             continue;
         }
         let rho = total_density(
@@ -550,9 +602,11 @@ pub fn march_clouds(
             smp,
             key,
         );
+        samples += 1.0;
         let sigma_s = rho * l.scattering_coefficient;
         let sigma_t = rho * sigma_ratio;
         if sigma_t > m.min_extinction {
+            samples += m.sun_steps as f32;
             let mut tau_sun = secondary_optical_depth(
                 p,
                 h,
@@ -569,7 +623,8 @@ pub fn march_clouds(
             if key.features.shadows {
                 let texel = shadow_texel(p, u.shadow, shadow_tex, smp);
                 let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
-                tau_sun += shadow_optical_depth(texel, to_top, m.min_secondary_step * 1.5);
+                let reach = secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale);
+                tau_sun += shadow_optical_depth(texel, to_top, reach);
             }
             let mut sun = l.sun_irradiance;
             if key.features.accurate_sun_sky_light {
@@ -578,6 +633,7 @@ pub fn march_clouds(
             let mut light =
                 sun * multiple_scattering(tau_sun, cos_theta, l, key.phase, key.features.octaves);
             if key.features.ground_bounce {
+                samples += m.ground_steps as f32;
                 let tau_ground = secondary_optical_depth(
                     p,
                     h,
@@ -609,9 +665,10 @@ pub fn march_clouds(
             if key.features.powder {
                 source *= 1.0 - l.powder_scale * (-sigma_t * l.powder_exponent).exp();
             }
-            // Energy-conserving integration over the step (Hillaire 2016, §5.6.3).
+            // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
+            // S·(1 − e^(−σt·Δ))/σt, written as S·Δ·f(σt·Δ) so thin media stay exact.
             let step_transmittance = (-sigma_t * step).exp();
-            let integral = (source - source * step_transmittance) / sigma_t.max(1e-7);
+            let integral = source * (step * one_minus_exp_over(sigma_t * step));
             radiance += integral * transmittance;
             depth_sum += t * transmittance;
             weight_sum += transmittance;
@@ -620,19 +677,19 @@ pub fn march_clouds(
                 break;
             }
         }
-        step = (step * m.perspective_step_scale).min(m.max_step);
         t += step;
+        step = march_step(t, m);
     }
     MarchResult {
         radiance,
         transmittance,
         front_depth: select(-1.0, depth_sum / weight_sum.max(1e-20), weight_sum > 0.0),
+        samples,
     }
 }
 
-/// Colour of one pixel: the clouds over a physically based sky, or over the ground lit by the
-/// sun through the clouds' shadows; the air between the camera and the clouds in front; then
-/// haze, lit by the sun only where the light-shaft march finds no cloud shadow.
+/// Colour of one pixel: its ray marched through the clouds, then composited
+/// ([`composite`]). The instrumented variant puts the march's density samples in alpha.
 #[shader_fn]
 #[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
 pub fn cloud_fragment(
@@ -668,6 +725,28 @@ pub fn cloud_fragment(
         smp,
         key,
     );
+    let color = composite(direction, jitter, clouds, u, shadow_tex, smp, key);
+    if key.count_samples {
+        return color.xyz().extend(clouds.samples);
+    }
+    color
+}
+
+/// What a view ray shows around the clouds' march result: the clouds over a physically based
+/// sky, or over the ground lit by the sun through the clouds' shadows; the air between the
+/// camera and the clouds in front; then haze, lit by the sun only where the light-shaft march
+/// finds no cloud shadow. Alpha is the clouds' opacity.
+#[shader_fn]
+#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
+pub fn composite(
+    direction: Vec3,
+    jitter: f32,
+    clouds: MarchResult,
+    u: CloudUniforms,
+    shadow_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] key: MarchKey,
+) -> Vec4 {
     let sun = u.light.sun_direction;
     let radius = u.march.radius;
     let cos_theta = direction.dot(sun);

@@ -39,3 +39,13 @@ pub fn ray_shell(camera_altitude: f32, mu: f32, shell_altitude: f32, radius: f32
     let t1 = q;
     vec2(t0.min(t1), t0.max(t1))
 }
+
+/// Distance along a ray to the ground, or −1 when the ray never meets it. A camera standing on
+/// the ground (altitude 0) and looking below the horizon meets it at distance 0: the shell's
+/// near root is then exactly 0, which a "root > 0" test would miss, sending the ray under the
+/// planet to clouds on the far side.
+#[shader_fn]
+pub fn ground_hit(camera_altitude: f32, mu: f32, radius: f32) -> f32 {
+    let ground = ray_shell(camera_altitude, mu, 0.0, radius);
+    select(-1.0, ground.x.max(0.0), ground.x >= 0.0 && mu < 0.0)
+}

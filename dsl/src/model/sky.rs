@@ -12,7 +12,7 @@ use crate::prelude::*;
 
 use super::march::altitude_along;
 use super::phase::henyey_greenstein;
-use super::shell::ray_shell;
+use super::shell::{ground_hit, ray_shell};
 
 /// Scattering media of the atmosphere (Bruneton 2017's Earth defaults, without ozone).
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
@@ -87,8 +87,7 @@ pub fn transmittance_towards(
     radius: f32,
 ) -> Vec3 {
     let h = altitude.max(0.0);
-    let ground = ray_shell(h, mu, 0.0, radius);
-    if ground.x > 0.0 {
+    if ground_hit(h, mu, radius) >= 0.0 {
         return Vec3::ZERO;
     }
     let rayleigh = atmosphere.rayleigh_height
@@ -155,12 +154,13 @@ pub fn air_light(
 }
 
 /// Distance along a view ray to what ends it in the sky: the ground, or the top of the
-/// atmosphere. Negative when the ray hits the ground.
+/// atmosphere. Negative when the ray hits the ground (at least 1 mm away, so that a camera
+/// on the ground still reads as "ground": −0 would not).
 #[shader_fn]
 pub fn sky_distance(camera_altitude: f32, mu: f32, top_height: f32, radius: f32) -> f32 {
-    let ground = ray_shell(camera_altitude, mu, 0.0, radius);
-    if ground.x > 0.0 {
-        return -ground.x;
+    let ground = ground_hit(camera_altitude, mu, radius);
+    if ground >= 0.0 {
+        return -ground.max(1e-3);
     }
     ray_shell(camera_altitude, mu, top_height, radius)
         .y
