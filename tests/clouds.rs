@@ -72,7 +72,7 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
         Toggle::Turbulence => &["turbulence_texture", "turbulence_tex", "curl"],
         Toggle::LightShafts => &["shadow_length"],
         Toggle::Haze => &["haze_opacity", "haze_light"],
-        Toggle::Shadows => &["shadow_optical_depth(texel, to_top, m.min_secondary_step"],
+        Toggle::Shadows => &["shadow_optical_depth(texel, to_top, reach)"],
         Toggle::GroundBounce => &["tau_ground", "ground_irradiance"],
         Toggle::Powder => &["powder_exponent)"],
         Toggle::AccurateSunSkyLight => &["sun_attenuation"],

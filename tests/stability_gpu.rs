@@ -106,8 +106,13 @@ fn stability_catalogue_holds_on_the_gpu() {
         .iter()
         .flat_map(|g| g.iter().copied().zip(run_cases_gpu(gpu, g)))
     {
-        assert_eq!(gpu_out.len(), case.probes.len(), "{}: outcome count", case.name);
-        let cpu_out = run_case_cpu(&case);
+        assert_eq!(
+            gpu_out.len(),
+            case.probes.len(),
+            "{}: outcome count",
+            case.name
+        );
+        let cpu_out = run_case_cpu(case);
         let transmittance = gpu_out
             .iter()
             .zip(&cpu_out)
@@ -118,7 +123,7 @@ fn stability_catalogue_holds_on_the_gpu() {
             .zip(&cpu_out)
             .filter(|(g, c)| g.march.samples != c.march.samples)
             .count();
-        let violations = check_case(&case, &gpu_out);
+        let violations = check_case(case, &gpu_out);
         println!(
             "{:<30} {:>4} probes: {} violations on the GPU; largest |T_gpu - T_cpu| {:.2e}; {} probes with another sample count",
             case.name,
@@ -132,5 +137,9 @@ fn stability_catalogue_holds_on_the_gpu() {
         }
         failures.extend(violations);
     }
-    assert!(failures.is_empty(), "{} violations on the GPU", failures.len());
+    assert!(
+        failures.is_empty(),
+        "{} violations on the GPU",
+        failures.len()
+    );
 }

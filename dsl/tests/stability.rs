@@ -22,7 +22,11 @@ fn run(name: &str) {
     for v in violations.iter().take(20) {
         println!("  {v}");
     }
-    assert!(violations.is_empty(), "{name}: {} violations", violations.len());
+    assert!(
+        violations.is_empty(),
+        "{name}: {} violations",
+        violations.len()
+    );
 }
 
 macro_rules! cases {
@@ -84,7 +88,9 @@ fn thin_medium_radiance_is_linear_in_density() {
     use nimbus_dsl::model::march::{CloudUniforms, march_clouds, one_minus_exp_over};
     use nimbus_dsl::stability::{CaseTextures, base_genus};
 
-    for x in [0.0f64, 1e-12, 1e-9, 1e-6, 1e-3, 0.0999, 0.1001, 0.5, 1.0, 10.0, 100.0, 1e4] {
+    for x in [
+        0.0f64, 1e-12, 1e-9, 1e-6, 1e-3, 0.0999, 0.1001, 0.5, 1.0, 10.0, 100.0, 1e4,
+    ] {
         let exact = if x == 0.0 { 1.0 } else { -(-x).exp_m1() / x };
         let got = f64::from(one_minus_exp_over(x as f32));
         assert!(
@@ -115,7 +121,10 @@ fn thin_medium_radiance_is_linear_in_density() {
         r.radiance.x
     };
     let (one, two) = (radiance(1e-9), radiance(2e-9));
-    println!("radiance at density 1e-9: {one:e}, at 2e-9: {two:e}, ratio {}", two / one);
+    println!(
+        "radiance at density 1e-9: {one:e}, at 2e-9: {two:e}, ratio {}",
+        two / one
+    );
     assert!(one > 0.0, "a thin medium must scatter something");
     assert!(
         (two / one - 2.0).abs() < 0.01,

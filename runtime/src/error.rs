@@ -33,6 +33,8 @@ pub enum RuntimeError {
         file: std::path::PathBuf,
         reason: String,
     },
+    #[error("density export: {field} {reason}")]
+    Region { field: &'static str, reason: String },
     #[error("parity kernel: {0}")]
     Kernel(String),
 }

@@ -75,7 +75,8 @@ impl Gpu {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("nimbus"),
-                required_features: wgpu::Features::empty(),
+                // Timestamps let benchmarks time the passes themselves where the adapter can.
+                required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
                 required_limits: adapter.limits(),
                 ..Default::default()
             })

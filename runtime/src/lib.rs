@@ -6,13 +6,16 @@
 //! need (shadow atlas, clouds, temporal resolve) with pipelines cached by variant key, and runs
 //! the compute kernels of the CPU/GPU parity tests.
 
+pub mod density_export;
 mod error;
 mod gpu;
+pub mod metrics;
 pub mod parity;
 pub mod pipelines;
 mod png;
 pub mod render;
 pub mod textures;
+pub mod tradeoff;
 pub mod user_textures;
 
 pub use error::RuntimeError;

@@ -89,6 +89,9 @@ pub struct Frame {
     pub haze_density: f32,
     /// Turbulent displacement of cloud bases (m).
     pub turbulence_displacement: f32,
+    /// Render the instrumented variant: alpha holds each pixel's density samples (use one
+    /// full-resolution frame, so no resolve averages them).
+    pub count_samples: bool,
 }
 
 impl Frame {
@@ -114,6 +117,7 @@ impl Frame {
             weather_offset: Vec2::ZERO,
             haze_density: 3e-5,
             turbulence_displacement: 350.0,
+            count_samples: false,
         }
     }
 
@@ -141,7 +145,9 @@ impl Frame {
 
     /// The cloud variant this frame renders.
     pub fn variant(&self) -> CloudVariant {
-        CloudVariant::new(&self.genus, self.quality, self.features)
+        let mut v = CloudVariant::new(&self.genus, self.quality, self.features);
+        v.key.count_samples = self.count_samples;
+        v
     }
 
     fn sun_direction(&self) -> Vec3 {
@@ -229,6 +235,32 @@ pub struct Renderer<'g> {
     history: Option<History>,
     samplers: Samplers,
     passes: Vec<&'static str>,
+    /// GPU time of the passes of the last `render` call, where the adapter has timestamps.
+    gpu_time_ms: Option<f64>,
+}
+
+/// Timestamp queries around every pass of one `render` call.
+struct PassTimer {
+    queries: wgpu::QuerySet,
+    capacity: u32,
+    used: u32,
+}
+
+impl PassTimer {
+    /// Timestamp writes for the next pass, or none when the adapter has no timestamps or the
+    /// set is full.
+    fn next(timer: &mut Option<PassTimer>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let t = timer.as_mut()?;
+        if t.used + 2 > t.capacity {
+            return None;
+        }
+        t.used += 2;
+        Some(wgpu::RenderPassTimestampWrites {
+            query_set: &t.queries,
+            beginning_of_pass_write_index: Some(t.used - 2),
+            end_of_pass_write_index: Some(t.used - 1),
+        })
+    }
 }
 
 struct Samplers {
@@ -294,6 +326,7 @@ impl<'g> Renderer<'g> {
             history: None,
             samplers,
             passes: Vec::new(),
+            gpu_time_ms: None,
         }
     }
 
@@ -491,6 +524,24 @@ impl<'g> Renderer<'g> {
         let frames = frame.frames.max(1);
         let variant = frame.variant();
         self.passes.clear();
+        self.gpu_time_ms = None;
+        let device = self.gpu.device();
+        let mut timer = device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+            .then(|| {
+                // Shadow, then clouds and resolve per frame: two timestamps each.
+                let capacity = (2 * (1 + 2 * frames)).min(4096);
+                PassTimer {
+                    queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                        label: Some("pass timestamps"),
+                        ty: wgpu::QueryType::Timestamp,
+                        count: capacity,
+                    }),
+                    capacity,
+                    used: 0,
+                }
+            });
         let mut u = Self::uniforms(frame);
 
         // Pipelines first: their bindings decide which textures exist.
@@ -549,6 +600,7 @@ impl<'g> Renderer<'g> {
                     &atlas.view,
                     &pipeline.pipeline,
                     &group,
+                    PassTimer::next(&mut timer),
                 );
                 self.passes.push(Pass::Shadow.name());
                 self.shadow_inputs = Some(inputs);
@@ -609,6 +661,7 @@ impl<'g> Renderer<'g> {
                 &current.view,
                 &pipeline.pipeline,
                 &group,
+                PassTimer::next(&mut timer),
             );
             self.passes.push(Pass::Clouds.name());
             if let Some(h) = &self.history {
@@ -642,6 +695,7 @@ impl<'g> Renderer<'g> {
                     &h.targets[write].view,
                     &pipeline.pipeline,
                     &group,
+                    PassTimer::next(&mut timer),
                 );
                 self.passes.push(Pass::Resolve.name());
             }
@@ -655,11 +709,53 @@ impl<'g> Renderer<'g> {
         if let Some(h) = &mut self.history {
             h.frames += frames;
         }
+        if let Some(t) = &timer {
+            self.gpu_time_ms = Some(self.read_timestamps(t)?);
+        }
         let out = match &self.history {
             Some(h) => &h.targets[h.latest],
             None => &current,
         };
         self.read_back(out)
+    }
+
+    /// GPU time of the passes of the last `render` call (ms), from timestamp queries; `None`
+    /// where the adapter has none (time the call on the CPU instead).
+    pub fn last_gpu_time_ms(&self) -> Option<f64> {
+        self.gpu_time_ms
+    }
+
+    /// Sum over the timed passes of end − start, in milliseconds.
+    fn read_timestamps(&self, timer: &PassTimer) -> Result<f64, RuntimeError> {
+        if timer.used == 0 {
+            return Ok(0.0);
+        }
+        let device = self.gpu.device();
+        let size = u64::from(timer.used) * 8;
+        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.resolve_query_set(&timer.queries, 0..timer.used, &resolve, 0);
+        encoder.copy_buffer_to_buffer(&resolve, 0, &readback, 0, size);
+        self.gpu.queue().submit([encoder.finish()]);
+        let bytes = self.gpu.map_read(&readback)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+        let period_ns = f64::from(self.gpu.queue().get_timestamp_period());
+        let total: u64 = ticks
+            .chunks_exact(2)
+            .map(|p| p[1].saturating_sub(p[0]))
+            .sum();
+        Ok(total as f64 * period_ns * 1e-6)
     }
 
     /// The shadow atlas of the last frame (front depth, mean extinction, max optical depth,
@@ -727,9 +823,15 @@ impl<'g> Renderer<'g> {
 }
 
 fn pipeline_key(pass: Pass, variant: &CloudVariant) -> PipelineKey {
+    // The shadow pass depends on the density alone: variants that differ in lighting (or in
+    // the sample counter) share its pipeline and atlas.
+    let key = match pass {
+        Pass::Shadow => variant.key.shadow_key(),
+        _ => variant.key,
+    };
     PipelineKey {
         pass,
-        key: (pass != Pass::Resolve).then_some(variant.key),
+        key: (pass != Pass::Resolve).then_some(key),
     }
 }
 
@@ -740,9 +842,11 @@ fn draw(
     view: &wgpu::TextureView,
     pipeline: &wgpu::RenderPipeline,
     group: &wgpu::BindGroup,
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
+        timestamp_writes,
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
             view,
             depth_slice: None,

@@ -6,8 +6,11 @@ mod check;
 mod data;
 mod emit;
 mod explain;
+mod export_density;
 mod list;
+mod plot;
 mod render;
+mod tradeoff;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -116,6 +119,12 @@ enum Command {
         #[arg(short = 'n', long, default_value_t = 3)]
         iterations: u32,
     },
+    /// What accuracy costs in time: every preset, and high minus each effect, on the canonical
+    /// views against a converged reference; writes a Markdown report and an SVG plot.
+    Tradeoff(Box<tradeoff::TradeoffArgs>),
+    /// Write a scene's cloud density on a grid as a Mitsuba volume (.vol), for offline
+    /// renderers.
+    ExportDensity(Box<export_density::ExportDensityArgs>),
     /// Which effects a scene's variant simulates, each with the reason, and the variant key.
     Explain {
         /// Scene file (TOML).
@@ -155,6 +164,8 @@ fn main() -> ExitCode {
         } => render::parse_resolution(resolution)
             .map_err(Into::into)
             .and_then(|r| bench_frames::run_scenes(data, r, (*iterations).max(1))),
+        Command::Tradeoff(args) => tradeoff::run(data, args),
+        Command::ExportDensity(args) => export_density::run(data, args),
         Command::Explain { scene } => explain::run(data, scene),
         Command::List => list::run(data).map_err(Into::into),
         Command::Bench { iterations } => bench::run(data, (*iterations).max(1)).map_err(Into::into),

@@ -48,6 +48,9 @@ impl CloudVariant {
         if self.key.features.octaves != preset.octaves {
             s.push_str(&format!("+octaves{}", self.key.features.octaves));
         }
+        if self.key.count_samples {
+            s.push_str("+count-samples");
+        }
         s
     }
 }
@@ -307,7 +310,7 @@ impl ShadowParams {
 /// Records the beer-shadow-map module for a variant: the atlas fragment with the density
 /// stages of the variant, and nothing of its lighting.
 pub fn shadow_module(variant: &CloudVariant) -> Result<Module, DslError> {
-    let key = variant.key;
+    let key = variant.key.shadow_key();
     ModuleBuilder::build(
         "cloud_shadow",
         &format!(

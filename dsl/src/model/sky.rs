@@ -107,7 +107,8 @@ const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
 
 /// Single scattering along the view ray from `camera_altitude` in unit `direction` (y up), over
 /// `distance` metres. Samples are spaced quadratically (denser near the camera, where the air
-/// is thick), each lit by the sun through [`transmittance_towards`].
+/// is thick), each lit by the sun through [`transmittance_towards`]. From above the atmosphere
+/// (a camera in orbit) they start where the ray enters it, not in the vacuum before.
 #[shader_fn]
 pub fn air_light(
     camera_altitude: f32,
@@ -123,11 +124,18 @@ pub fn air_light(
     let mie_phase = henyey_greenstein(cos_theta, atmosphere.mie_g);
     let mut optical_depth = Vec3::ZERO;
     let mut inscatter = Vec3::ZERO;
-    let mut previous = 0.0f32;
+    let top = ray_shell(camera_altitude, mu, atmosphere.top_height, radius);
+    let entry = select(
+        0.0,
+        top.x.max(0.0).min(distance),
+        camera_altitude > atmosphere.top_height,
+    );
+    let length = distance - entry;
+    let mut previous = entry;
     let n = VIEW_SAMPLES as f32;
     for i in 0u32..VIEW_SAMPLES {
         let f = (i as f32 + 1.0) / n;
-        let t_end = distance * f * f;
+        let t_end = entry + length * f * f;
         let dt = t_end - previous;
         let t = previous + dt * 0.5;
         previous = t_end;

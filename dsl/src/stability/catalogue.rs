@@ -372,12 +372,22 @@ fn phase_case(name: &'static str, about: &'static str, g: f32) -> Case {
 fn profile_case() -> Case {
     let huge = |a: f32, b: f32| {
         with_layer(move |l| {
-            l.density_profile = DensityProfileParams { a, b, c: 0.0, d: 0.0 };
+            l.density_profile = DensityProfileParams {
+                a,
+                b,
+                c: 0.0,
+                d: 0.0,
+            };
         })
     };
     let g = huge(1.0, 80.0);
     let mut b = Builder::new(&g);
-    for genus in [huge(1.0, 80.0), huge(1.0, -80.0), huge(1e-30, 80.0), huge(-1.0, 80.0)] {
+    for genus in [
+        huge(1.0, 80.0),
+        huge(1.0, -80.0),
+        huge(1e-30, 80.0),
+        huge(-1.0, 80.0),
+    ] {
         b.fan(uniforms(&genus, 30.0, 2.0));
         b.fan(uniforms(&genus, 30.0, 2250.0));
     }
@@ -443,7 +453,10 @@ pub fn single_ray_case(
     direction: Vec3,
 ) -> Case {
     let mut b = Builder::new(genus);
-    b.chain(uniforms(genus, sun_elevation_deg, camera_altitude), direction);
+    b.chain(
+        uniforms(genus, sun_elevation_deg, camera_altitude),
+        direction,
+    );
     b.finish("random-ray", "a random ray of a random valid genus")
 }
 
@@ -451,11 +464,7 @@ pub fn single_ray_case(
 pub fn catalogue() -> Vec<Case> {
     vec![
         tangent_rays(),
-        sun_case(
-            "sun-at-horizon",
-            "sun at 0° (and ±0.01° either side)",
-            0.0,
-        ),
+        sun_case("sun-at-horizon", "sun at 0° (and ±0.01° either side)", 0.0),
         sun_case(
             "sun-just-below-horizon",
             "sun 0.5° below the horizon: clouds lit by the grazing sun, ground in the earth's shadow",

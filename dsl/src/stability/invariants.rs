@@ -103,11 +103,17 @@ pub fn check_case(case: &Case, outcomes: &[RayOutcome]) -> Vec<Violation> {
             o.colour,
         ];
         if !values.iter().all(|v| finite(*v)) {
-            fail(i, format!("non-finite output: march {m:?}, colour {}", o.colour));
+            fail(
+                i,
+                format!("non-finite output: march {m:?}, colour {}", o.colour),
+            );
             continue;
         }
         if !(0.0..=1.0).contains(&m.transmittance) {
-            fail(i, format!("transmittance {} outside [0, 1]", m.transmittance));
+            fail(
+                i,
+                format!("transmittance {} outside [0, 1]", m.transmittance),
+            );
         }
         let l = u.light;
         let albedo = l.scattering_coefficient
@@ -116,7 +122,8 @@ pub fn check_case(case: &Case, outcomes: &[RayOutcome]) -> Vec<Violation> {
         // f32 rounding over thousands of steps: a thousandth of the bound, and a sliver of the
         // source for rays whose transmittance rounds to 1.
         let slack = source_bound(u, &case.key) * 1e-5;
-        if m.radiance.min_element() < 0.0 || (m.radiance - (limit * 1.001 + slack)).max_element() > 0.0
+        if m.radiance.min_element() < 0.0
+            || (m.radiance - (limit * 1.001 + slack)).max_element() > 0.0
         {
             fail(
                 i,

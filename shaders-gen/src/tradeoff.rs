@@ -1,0 +1,370 @@
+//! `nimbus tradeoff`: what accuracy costs in time. Renders the canonical views (the scene files
+//! of `views/`) with each quality preset and with the high preset missing one effect at a
+//! time, measures each against the converged reference of the same model, and writes a
+//! Markdown report and an SVG plot of error against time with the Pareto front.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use nimbus_dsl::cloud::{Quality, load_scene};
+use nimbus_runtime::Gpu;
+use nimbus_runtime::metrics::ImageError;
+use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+use nimbus_runtime::tradeoff::{
+    Clock, Measurement, StudyOptions, dominators, measure, pareto_front, reference, rows,
+};
+
+use crate::plot::{Point, write_svg};
+
+/// What `nimbus tradeoff` takes.
+#[derive(Args)]
+pub(crate) struct TradeoffArgs {
+    /// Folder of view files (scene TOML). Default: views/ of the data folder.
+    #[arg(long)]
+    views: Option<PathBuf>,
+    /// Output folder: tradeoff.md, tradeoff.svg and one reference PNG per view.
+    #[arg(short, long, default_value = "tradeoff")]
+    out: PathBuf,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(short, long, default_value = "256x144")]
+    resolution: String,
+    /// Frames accumulated per measured image.
+    #[arg(short, long, default_value_t = 4)]
+    frames: u32,
+    /// Frames accumulated for each reference.
+    #[arg(long, default_value_t = 16)]
+    reference_frames: u32,
+    /// Exposure of the display values the error is measured on (as `render`'s).
+    #[arg(long, default_value_t = 8.0)]
+    exposure: f32,
+    /// Timed renders per row; the median time is reported.
+    #[arg(short = 'n', long, default_value_t = 3)]
+    repeats: u32,
+    /// Only these rows (comma-separated labels: `low`, `high - shadows`...); default all.
+    #[arg(long, value_delimiter = ',')]
+    rows: Vec<String>,
+}
+
+/// Mean over the views of one row.
+struct Summary {
+    label: String,
+    preset: bool,
+    ms: f64,
+    samples: f64,
+    rmse: f64,
+    psnr: f64,
+    ssim: f64,
+}
+
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    sum / n.max(1) as f64
+}
+
+fn view_files(dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("views folder {}: {e}", dir.display()))?
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(format!("no view files (*.toml) in {}", dir.display()).into());
+    }
+    Ok(files)
+}
+
+pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let (width, height) = crate::render::parse_resolution(&a.resolution)?;
+    let mut specs = rows();
+    if !a.rows.is_empty() {
+        let wanted: Vec<&str> = a.rows.iter().map(|r| r.trim()).collect();
+        if let Some(unknown) = wanted
+            .iter()
+            .find(|w| !specs.iter().any(|s| s.label == **w))
+        {
+            return Err(format!(
+                "unknown row `{unknown}`; rows are: {}",
+                specs
+                    .iter()
+                    .map(|s| s.label.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+            .into());
+        }
+        specs.retain(|s| wanted.contains(&s.label.as_str()));
+    }
+    let lib = crate::data::load(data)?;
+    let dir = a
+        .views
+        .clone()
+        .unwrap_or_else(|| crate::data::data_dir(data).join("views"));
+    // Every view file is read and checked before any GPU work.
+    let mut views: Vec<(String, Frame)> = Vec::new();
+    for file in view_files(&dir)? {
+        let scene = load_scene(&file)?;
+        let genus = lib.genus(&scene.genus).ok_or_else(|| {
+            format!(
+                "{}: genus `{}` is not in the library",
+                file.display(),
+                scene.genus
+            )
+        })?;
+        views.push((
+            scene.name.clone(),
+            Frame::from_scene(&scene, genus, width, height),
+        ));
+    }
+    std::fs::create_dir_all(&a.out)
+        .map_err(|e| format!("output folder {}: {e}", a.out.display()))?;
+    let options = StudyOptions {
+        frames: a.frames.max(1),
+        reference_frames: a.reference_frames.max(1),
+        exposure: a.exposure,
+        repeats: a.repeats.max(1),
+    };
+    let gpu = Gpu::new()?;
+    println!("adapter: {}", gpu.info());
+    let mut renderer = Renderer::new(&gpu, TextureSizes::default());
+    let bar = ProgressBar::new((views.len() * (specs.len() + 1)) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut measurements: Vec<Measurement> = Vec::new();
+    let mut references = Vec::new();
+    let mut clock = Clock::Wall;
+    for (name, view) in &views {
+        bar.set_message(format!("{name}: reference"));
+        let r = reference(&mut renderer, view, &options)?;
+        r.image
+            .save_png(&a.out.join(format!("reference-{name}.png")), a.exposure)?;
+        bar.inc(1);
+        for spec in &specs {
+            bar.set_message(format!("{name}: {}", spec.label));
+            let (m, c) = measure(&mut renderer, name, view, spec, &r, &options)?;
+            clock = c;
+            measurements.push(m);
+            bar.inc(1);
+        }
+        references.push((name.clone(), r.ms_per_frame, r.samples_per_pixel, r.noise));
+    }
+    bar.finish_and_clear();
+
+    let summaries: Vec<Summary> = specs
+        .iter()
+        .map(|s| {
+            let of = |f: &dyn Fn(&Measurement) -> f64| {
+                mean(measurements.iter().filter(|m| m.row == s.label).map(f))
+            };
+            Summary {
+                label: s.label.clone(),
+                preset: s.preset,
+                ms: of(&|m| m.ms_per_frame),
+                samples: of(&|m| m.samples_per_pixel),
+                rmse: of(&|m| m.error.rmse),
+                psnr: of(&|m| m.error.psnr_db),
+                ssim: of(&|m| m.error.ssim),
+            }
+        })
+        .collect();
+    let points: Vec<(f64, f64)> = summaries.iter().map(|s| (s.ms, s.rmse)).collect();
+    let front = pareto_front(&points);
+    let report = report(
+        &gpu.info().to_string(),
+        clock,
+        (width, height),
+        &options,
+        &views,
+        &summaries,
+        &front,
+        &measurements,
+        &references,
+    );
+    let md = a.out.join("tradeoff.md");
+    std::fs::write(&md, &report).map_err(|e| format!("{}: {e}", md.display()))?;
+    let plot: Vec<Point<'_>> = summaries
+        .iter()
+        .map(|s| Point {
+            label: &s.label,
+            ms: s.ms,
+            error: s.rmse,
+            preset: s.preset,
+        })
+        .collect();
+    let svg = a.out.join("tradeoff.svg");
+    write_svg(
+        &svg,
+        &format!(
+            "Error against time, mean of {} views ({width}x{height}, {})",
+            views.len(),
+            gpu.info().name
+        ),
+        "RMSE against the reference (display values)",
+        &plot,
+        &front,
+    )?;
+    print!("{report}");
+    println!("wrote {} and {}", md.display(), svg.display());
+    Ok(())
+}
+
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one report from every part of the study"
+)]
+fn report(
+    adapter: &str,
+    clock: Clock,
+    (width, height): (u32, u32),
+    options: &StudyOptions,
+    views: &[(String, Frame)],
+    summaries: &[Summary],
+    front: &[usize],
+    measurements: &[Measurement],
+    references: &[(String, f64, f64, ImageError)],
+) -> String {
+    let mut s = String::new();
+    let clock = match clock {
+        Clock::GpuTimestamps => "GPU timestamp queries around the passes",
+        Clock::Wall => "wall time around a render call that waits for the GPU",
+    };
+    let high = summaries
+        .iter()
+        .find(|r| r.label == Quality::High.name())
+        .map_or(f64::NAN, |r| r.ms);
+    let _ = writeln!(s, "# Accuracy against time\n");
+    let _ = writeln!(
+        s,
+        "Adapter: {adapter}. Times: {clock}, per frame of {} accumulated frames at {width}x{height} (median of {} renders), shadow map cached as in a game loop. \
+         Error: each image against the reference of its view ({} frames of the `reference` preset: 20 m steps up to 100 m, no early termination or cut-offs, \
+         16 sun and 8 ground steps, 12 octaves, every effect), tonemapped at exposure {}. Rows are means over the {} views: {}.\n",
+        options.frames,
+        options.repeats,
+        options.reference_frames,
+        options.exposure,
+        views.len(),
+        views
+            .iter()
+            .map(|(n, _)| format!("`{n}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "| row | ms/frame | ×high | density samples/px | RMSE | PSNR (dB) | SSIM | Pareto front |"
+    );
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|:---:|");
+    for (i, r) in summaries.iter().enumerate() {
+        let name = if r.preset {
+            format!("**{}**", r.label)
+        } else {
+            r.label.clone()
+        };
+        let _ = writeln!(
+            s,
+            "| {name} | {:.1} | {:.2} | {:.0} | {:.4} | {:.1} | {:.3} | {} |",
+            r.ms,
+            r.ms / high,
+            r.samples,
+            r.rmse,
+            r.psnr,
+            r.ssim,
+            if front.contains(&i) { "yes" } else { "" }
+        );
+    }
+    let refs = mean(references.iter().map(|r| r.1));
+    let ref_samples = mean(references.iter().map(|r| r.2));
+    let floor = mean(references.iter().map(|r| r.3.rmse));
+    let _ = writeln!(
+        s,
+        "| reference | {refs:.1} | {:.2} | {ref_samples:.0} | 0 | ∞ | 1 | |",
+        refs / high
+    );
+    let _ = writeln!(
+        s,
+        "| reference, another seed | | | | {floor:.4} | {:.1} | {:.3} | |\n",
+        mean(references.iter().map(|r| r.3.psnr_db)),
+        mean(references.iter().map(|r| r.3.ssim))
+    );
+    let _ = writeln!(
+        s,
+        "The last line is the reference against itself rendered with another jitter seed: RMSE differences smaller than {floor:.4} are the reference's own noise.\n"
+    );
+    let points: Vec<(f64, f64)> = summaries.iter().map(|r| (r.ms, r.rmse)).collect();
+    let _ = writeln!(s, "## Presets and the Pareto front\n");
+    for (i, r) in summaries.iter().enumerate().filter(|(_, r)| r.preset) {
+        if front.contains(&i) {
+            let _ = writeln!(
+                s,
+                "- **{}** is on the front: nothing measured is both faster and more accurate.",
+                r.label
+            );
+        } else {
+            // How far it is from the front: the least RMSE it would have to shed to join it.
+            let gap = front
+                .iter()
+                .filter(|&&j| summaries[j].ms <= r.ms)
+                .map(|&j| r.rmse - summaries[j].rmse)
+                .fold(f64::INFINITY, f64::min);
+            let near = if gap <= floor {
+                format!(
+                    " It is within the reference's noise ({floor:.4}) of the front, so near it."
+                )
+            } else {
+                String::new()
+            };
+            let by: Vec<String> = dominators(&points, i)
+                .into_iter()
+                .map(|j| {
+                    format!(
+                        "`{}` ({:.1} ms, RMSE {:.4})",
+                        summaries[j].label, summaries[j].ms, summaries[j].rmse
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                s,
+                "- **{}** is off the front ({:.1} ms, RMSE {:.4}): beaten by {}.{near}",
+                r.label,
+                r.ms,
+                r.rmse,
+                by.join(", ")
+            );
+        }
+    }
+    let _ = writeln!(s, "\n## Per view\n");
+    let _ = writeln!(
+        s,
+        "| view | row | ms/frame | density samples/px | RMSE | PSNR (dB) | SSIM |"
+    );
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|");
+    for (view, ms, samples, noise) in references {
+        let _ = writeln!(
+            s,
+            "| {view} | reference | {ms:.1} | {samples:.0} | 0 | ∞ | 1 |"
+        );
+        let _ = writeln!(
+            s,
+            "| {view} | reference, another seed | | | {:.4} | {:.1} | {:.3} |",
+            noise.rmse, noise.psnr_db, noise.ssim
+        );
+        for m in measurements.iter().filter(|m| &m.view == view) {
+            let _ = writeln!(
+                s,
+                "| {view} | {} | {:.1} | {:.0} | {:.4} | {:.1} | {:.3} |",
+                m.row,
+                m.ms_per_frame,
+                m.samples_per_pixel,
+                m.error.rmse,
+                m.error.psnr_db,
+                m.error.ssim
+            );
+        }
+    }
+    s
+}
