@@ -305,18 +305,22 @@ fn report(
                 r.label
             );
         } else {
-            // How far it is from the front: the least RMSE it would have to shed to join it.
-            let gap = front
+            // How far above the front it sits: its RMSE less the best the front reaches in
+            // the same time or less.
+            let best = front
                 .iter()
                 .filter(|&&j| summaries[j].ms <= r.ms)
-                .map(|&j| r.rmse - summaries[j].rmse)
+                .map(|&j| summaries[j].rmse)
                 .fold(f64::INFINITY, f64::min);
+            let gap = r.rmse - best;
             let near = if gap <= floor {
                 format!(
-                    " It is within the reference's noise ({floor:.4}) of the front, so near it."
+                    " It is {gap:.4} above the front, within the reference's own noise ({floor:.4}): near it."
                 )
             } else {
-                String::new()
+                format!(
+                    " It is {gap:.4} above the front (the reference's own noise is {floor:.4})."
+                )
             };
             let by: Vec<String> = dominators(&points, i)
                 .into_iter()

@@ -1,17 +1,8 @@
 //! The `nimbus` command as a user runs it.
 
-use std::process::Command;
+mod common;
 
-fn nimbus(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_nimbus"))
-        .args(args)
-        .output()
-        .expect("run nimbus")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use common::{nimbus, text};
 
 #[test]
 fn emit_writes_every_target_and_a_manifest() {

@@ -1,41 +1,14 @@
 //! `nimbus render` as a user runs it: a picture on success, and on bad input a clear error
 //! naming what is wrong, no panic, and no PNG left behind.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
 
-fn nimbus(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_nimbus"));
-    c.args(args);
-    for (k, v) in env {
-        c.env(k, v);
-    }
-    c.output().expect("run nimbus")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use common::{examples, have_gpu, nimbus_env as nimbus, text};
 
 fn scene() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../examples/scenes/default.toml")
-        .display()
-        .to_string()
-}
-
-/// Whether an adapter exists; without one, rendering tests check the no-adapter message
-/// instead (and fail under NIMBUS_REQUIRE_GPU=1, which CI sets).
-fn have_gpu() -> bool {
-    let ok = nimbus_runtime::Gpu::new().is_ok();
-    if !ok {
-        assert!(
-            !std::env::var("NIMBUS_REQUIRE_GPU").is_ok_and(|v| v == "1"),
-            "NIMBUS_REQUIRE_GPU=1 but no adapter"
-        );
-        eprintln!("SKIPPED: no GPU adapter, so no render to check");
-    }
-    ok
+    examples("scenes/default.toml")
 }
 
 /// Runs a render that must fail; returns stderr after checking nothing was written.

@@ -1,39 +1,9 @@
 //! `nimbus tradeoff` and `nimbus export-density` as a user runs them: a report, a plot and
 //! reference images from one command; a Mitsuba volume; and clear errors on bad input.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn nimbus(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_nimbus"))
-        .args(args)
-        .output()
-        .expect("run nimbus")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn examples(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../examples")
-        .join(rel)
-        .display()
-        .to_string()
-}
-
-fn have_gpu() -> bool {
-    let ok = nimbus_runtime::Gpu::new().is_ok();
-    if !ok {
-        assert!(
-            !std::env::var("NIMBUS_REQUIRE_GPU").is_ok_and(|v| v == "1"),
-            "NIMBUS_REQUIRE_GPU=1 but no adapter"
-        );
-        eprintln!("SKIPPED: no GPU adapter, so no study to run");
-    }
-    ok
-}
+use common::{examples, have_gpu, nimbus, text};
 
 #[test]
 fn tradeoff_writes_a_table_a_plot_and_the_references() {

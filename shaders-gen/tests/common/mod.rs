@@ -1,0 +1,48 @@
+//! Helpers shared by the command-line tests: run the `nimbus` binary, read its output, find the
+//! example data, and decide whether GPU work can run here.
+#![allow(dead_code, reason = "each test binary uses a different subset")]
+
+use std::path::Path;
+use std::process::Command;
+
+/// Runs `nimbus` with `args` and extra environment variables.
+pub fn nimbus_env(args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_nimbus"));
+    c.args(args);
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("run nimbus")
+}
+
+/// Runs `nimbus` with `args`.
+pub fn nimbus(args: &[&str]) -> std::process::Output {
+    nimbus_env(args, &[])
+}
+
+pub fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// A path under the repository's examples/.
+pub fn examples(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples")
+        .join(rel)
+        .display()
+        .to_string()
+}
+
+/// Whether an adapter exists; without one, GPU tests print why they skip (and fail under
+/// NIMBUS_REQUIRE_GPU=1, which CI sets).
+pub fn have_gpu() -> bool {
+    let ok = nimbus_runtime::Gpu::new().is_ok();
+    if !ok {
+        assert!(
+            !std::env::var("NIMBUS_REQUIRE_GPU").is_ok_and(|v| v == "1"),
+            "NIMBUS_REQUIRE_GPU=1 but no adapter"
+        );
+        eprintln!("SKIPPED: no GPU adapter, so no GPU work to check");
+    }
+    ok
+}
