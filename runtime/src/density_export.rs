@@ -12,7 +12,6 @@
 //! i32 encoding 1 (f32), i32 resolution x, y, z, i32 channel count 1, f32 bounding box min x,
 //! y, z and max x, y, z, then the values with x varying fastest, then y, then z.
 
-use std::io::Write as _;
 use std::path::Path;
 
 use glam::{Vec3, Vec4};
@@ -20,6 +19,7 @@ use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::model::march::total_density;
 use nimbus_dsl::model::shadow::altitude_at;
 
+use crate::atomic_write::write_atomically;
 use crate::error::RuntimeError;
 use crate::render::{Frame, Renderer, TextureSizes};
 use crate::textures::NoiseKind;
@@ -177,23 +177,8 @@ impl DensityGrid {
 
     /// Writes the grid to `path` atomically (a temporary file renamed into place).
     pub fn save_mitsuba_vol(&self, path: &Path) -> Result<(), RuntimeError> {
-        let err = |reason: String| RuntimeError::Output {
-            file: path.to_path_buf(),
-            reason,
-        };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        let name = path.file_name().ok_or_else(|| err("no file name".into()))?;
-        let tmp = dir.join(format!(".{}.partial", name.to_string_lossy()));
-        let result = std::fs::File::create(&tmp)
-            .and_then(|mut f| f.write_all(&self.to_mitsuba_vol()))
-            .and_then(|()| std::fs::rename(&tmp, path))
-            .map_err(|e| err(e.to_string()));
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result
+        write_atomically(path, |tmp| {
+            std::fs::write(tmp, self.to_mitsuba_vol()).map_err(|e| e.to_string())
+        })
     }
 }

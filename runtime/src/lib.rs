@@ -6,6 +6,7 @@
 //! need (shadow atlas, clouds, temporal resolve) with pipelines cached by variant key, and runs
 //! the compute kernels of the CPU/GPU parity tests.
 
+mod atomic_write;
 pub mod density_export;
 mod error;
 mod gpu;

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use nimbus_dsl::model::tonemap::tonemap;
 
+use crate::atomic_write::write_atomically;
 use crate::error::RuntimeError;
 use crate::render::Image;
 
@@ -50,27 +51,10 @@ impl Image {
     /// behind on failure.
     pub fn save_png(&self, path: &Path, exposure: f32) -> Result<(), RuntimeError> {
         self.check()?;
-        let err = |reason: String| RuntimeError::Output {
-            file: path.to_path_buf(),
-            reason,
-        };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        if !dir.is_dir() {
-            return Err(err(format!("folder {} does not exist", dir.display())));
-        }
-        let name = path.file_name().ok_or_else(|| err("no file name".into()))?;
-        let tmp = dir.join(format!(".{}.partial", name.to_string_lossy()));
-        let result = self
-            .to_rgba8(exposure)
-            .save_with_format(&tmp, image::ImageFormat::Png)
-            .map_err(|e| err(e.to_string()))
-            .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| err(e.to_string())));
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result
+        write_atomically(path, |tmp| {
+            self.to_rgba8(exposure)
+                .save_with_format(tmp, image::ImageFormat::Png)
+                .map_err(|e| e.to_string())
+        })
     }
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use nimbus_codegen::{
     CodegenError, VariantSource, catalog, cloud_catalog, cloud_variant, select_variants,
 };
-use nimbus_dsl::cloud::{CloudLibrary, Quality, Toggle};
+use nimbus_dsl::cloud::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, load_scene};
 
 /// The data folder: `--data`, else `NIMBUS_DATA`, else this repository's `examples/`.
 pub(crate) fn data_dir(flag: Option<&Path>) -> PathBuf {
@@ -16,6 +16,22 @@ pub(crate) fn data_dir(flag: Option<&Path>) -> PathBuf {
 
 pub(crate) fn load(flag: Option<&Path>) -> Result<CloudLibrary, CodegenError> {
     Ok(CloudLibrary::load(&data_dir(flag))?)
+}
+
+/// A scene file and the library genus it names (an unknown genus is an error naming the file).
+pub(crate) fn scene_with_genus<'a>(
+    lib: &'a CloudLibrary,
+    file: &Path,
+) -> Result<(ScenePreset, &'a Genus), Box<dyn std::error::Error>> {
+    let scene = load_scene(file)?;
+    let genus = lib.genus(&scene.genus).ok_or_else(|| {
+        format!(
+            "{}: genus `{}` is not in the library",
+            file.display(),
+            scene.genus
+        )
+    })?;
+    Ok((scene, genus))
 }
 
 pub(crate) fn parse_toggles(list: &[String]) -> Result<Vec<Toggle>, CodegenError> {

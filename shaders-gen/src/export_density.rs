@@ -5,7 +5,6 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::Vec3;
-use nimbus_dsl::cloud::load_scene;
 use nimbus_runtime::density_export::{CpuTextures, Region, density_grid};
 use nimbus_runtime::render::{Frame, TextureSizes};
 
@@ -35,14 +34,7 @@ pub(crate) fn run(
         .scene
         .clone()
         .unwrap_or_else(|| crate::data::data_dir(data).join("scenes/default.toml"));
-    let scene = load_scene(&file)?;
-    let genus = lib.genus(&scene.genus).ok_or_else(|| {
-        format!(
-            "{}: genus `{}` is not in the library",
-            file.display(),
-            scene.genus
-        )
-    })?;
+    let (scene, genus) = crate::data::scene_with_genus(&lib, &file)?;
     let frame = Frame::from_scene(&scene, genus, 1, 1);
     if a.size.len() != 3 {
         return Err(format!("--size takes NX,NY,NZ (3 numbers), got {}", a.size.len()).into());

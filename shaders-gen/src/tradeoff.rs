@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use nimbus_dsl::cloud::{Quality, load_scene};
+use nimbus_dsl::cloud::Quality;
 use nimbus_runtime::Gpu;
 use nimbus_runtime::metrics::ImageError;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
@@ -106,14 +106,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     // Every view file is read and checked before any GPU work.
     let mut views: Vec<(String, Frame)> = Vec::new();
     for file in view_files(&dir)? {
-        let scene = load_scene(&file)?;
-        let genus = lib.genus(&scene.genus).ok_or_else(|| {
-            format!(
-                "{}: genus `{}` is not in the library",
-                file.display(),
-                scene.genus
-            )
-        })?;
+        let (scene, genus) = crate::data::scene_with_genus(&lib, &file)?;
         views.push((
             scene.name.clone(),
             Frame::from_scene(&scene, genus, width, height),
