@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 

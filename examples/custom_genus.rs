@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use nimbus_dsl::cloud::{Quality, load_genus};
+use nimbus_clouds::{Quality, load_genus};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 

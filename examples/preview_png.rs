@@ -3,7 +3,7 @@
 //!
 //! `cargo run --example preview_png -- [out.png] [hg|dual_lobe]`
 
-use nimbus_dsl::model::preview::{PhaseModel, PreviewParams, preview_fragment};
+use nimbus_clouds::model::preview::{PhaseModel, PreviewParams, preview_fragment};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);

@@ -8,8 +8,8 @@ use std::path::Path;
 
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{Contents, Generated, Target, cloud_catalog, generate, generate_variant};
-use nimbus_dsl::cloud::{CloudLibrary, Features, Quality, Toggle};
-use nimbus_dsl::model::clouds::{CloudVariant, cloud_module};
+use nimbus_clouds::{CloudLibrary, Features, Quality, Toggle};
+use nimbus_clouds::model::clouds::{CloudVariant, cloud_module};
 
 fn library() -> CloudLibrary {
     CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data")

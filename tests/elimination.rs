@@ -5,7 +5,7 @@ mod common;
 
 use std::path::Path;
 
-use nimbus_dsl::cloud::{CloudLibrary, Features, ScenePreset};
+use nimbus_clouds::{CloudLibrary, Features, ScenePreset};
 use nimbus_runtime::render::{Frame, Image, Renderer, TextureSizes};
 
 const SIZES: TextureSizes = TextureSizes {
@@ -46,7 +46,7 @@ fn derived_against_all(scene: &ScenePreset, expect_off: &[&str]) -> Option<f32> 
     let mut all = derived.clone();
     all.features = Features::default();
     for t in expect_off {
-        let toggle = nimbus_dsl::cloud::Toggle::parse(t).expect("toggle");
+        let toggle = nimbus_clouds::Toggle::parse(t).expect("toggle");
         assert!(!toggle.get(&derived.features), "{t} should be derived off");
     }
     assert_ne!(derived.variant().key, all.variant().key);

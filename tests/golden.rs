@@ -15,7 +15,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use image_compare::rgb_hybrid_compare;
-use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
 /// Below this score a render has changed visibly.

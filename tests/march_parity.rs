@@ -8,12 +8,12 @@ use std::path::Path;
 use common::{Rng, Tolerance, compare_with};
 use glam::{Vec3, Vec4};
 use nimbus_dsl::Value;
-use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::ir::{ExprId, Scalar, Type};
 use nimbus_dsl::layout::Flatten;
-use nimbus_dsl::model::clouds::CloudVariant;
-use nimbus_dsl::model::march::{CloudUniforms, CloudUniformsShader, march_clouds};
+use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::model::march::{CloudUniforms, CloudUniformsShader, march_clouds};
 use nimbus_dsl::shader;
 use nimbus_runtime::GpuResource;
 
@@ -174,7 +174,7 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
 /// The uniforms of the test scene seen from `altitude`: a weather tile of 4 km and shape tiles
 /// of ~1 km keep the small test textures busy.
 fn test_uniforms(
-    genus: &nimbus_dsl::cloud::Genus,
+    genus: &nimbus_clouds::Genus,
     quality: Quality,
     altitude: f32,
 ) -> CloudUniforms {

@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::render::{Frame, RenderStats, Renderer, TextureSizes};
 
 const SIZES: TextureSizes = TextureSizes {

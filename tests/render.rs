@@ -5,7 +5,7 @@ mod common;
 
 use std::path::Path;
 
-use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
 fn frame(quality: Quality) -> Frame {

@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 
 use image_compare::rgb_hybrid_compare;
-use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::render::{Frame, Image, Renderer, TextureSizes};
 
 const SIZES: TextureSizes = TextureSizes {

@@ -49,7 +49,7 @@ fn gpu_noise_textures_match_their_cpu_twins() {
 
 #[test]
 fn noise_tiles_seamlessly() {
-    use nimbus_dsl::model::noise::{perlin, worley};
+    use nimbus_clouds::model::noise::{perlin, worley};
     let period = 4;
     for (x, y, z) in [(0.3f32, 1.7f32, 2.2f32), (3.9, 0.1, 3.5)] {
         let p = glam::vec3(x, y, z);

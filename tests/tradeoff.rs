@@ -6,10 +6,10 @@ mod common;
 
 use std::path::Path;
 
-use nimbus_dsl::cloud::{CloudLibrary, Quality, load_scene};
-use nimbus_runtime::metrics::image_error;
+use nimbus_clouds::{CloudLibrary, Quality, load_scene};
+use nimbus_testkit::metrics::image_error;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
-use nimbus_runtime::tradeoff::{StudyOptions, measure, reference, rows, samples_per_pixel};
+use nimbus_testkit::tradeoff::{StudyOptions, measure, reference, rows, samples_per_pixel};
 
 fn view() -> Frame {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");

@@ -4,10 +4,10 @@
 use std::path::Path;
 
 use nimbus_codegen::{catalog, generate_variant, print_and_validate};
-use nimbus_dsl::cloud::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_dsl::layout::{UniformBytes, struct_layout};
-use nimbus_dsl::model::clouds::{CloudVariant, cloud_module};
-use nimbus_dsl::model::preview::PreviewParams;
+use nimbus_clouds::model::clouds::{CloudVariant, cloud_module};
+use nimbus_clouds::model::preview::PreviewParams;
 
 fn check_module(module: nimbus_dsl::ir::Module) -> usize {
     let (ir, _, _, validated) = print_and_validate(module, "layout").expect("valid");

@@ -42,16 +42,6 @@ pub enum CodegenError {
     #[error(transparent)]
     Dsl(#[from] nimbus_dsl::DslError),
 
-    #[error(transparent)]
-    Data(#[from] nimbus_dsl::cloud::DataError),
-
-    #[error("unknown {kind} `{given}`; known: {known}")]
-    Unknown {
-        kind: &'static str,
-        given: String,
-        known: String,
-    },
-
     #[error(
         "`{function}` ({loc}) contains a non-finite literal (NaN or infinity), which WGSL cannot spell"
     )]
@@ -59,9 +49,6 @@ pub enum CodegenError {
 
     #[error("unknown target `{given}`; known targets: {known}")]
     UnknownTarget { given: String, known: String },
-
-    #[error("unknown module or variant `{given}`; run `nimbus list` to see them (known: {known})")]
-    UnknownVariant { given: String, known: String },
 
     #[error("module `{module}` variant `{variant}`: naga could not parse the generated WGSL {}: {message}", origin_text(.origin))]
     Parse {

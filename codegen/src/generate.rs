@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use nimbus_dsl::ir::{ExprKind, Module, Stage, Stmt};
 
 use crate::backend::{self, Contents};
+use crate::bindings::{BindingInfo, describe};
 use crate::error::CodegenError;
 use crate::manifest::BindingManifest;
 use crate::specialise::{specialise, walk_block};
@@ -70,13 +71,23 @@ pub struct Generated {
     pub ir: Module,
     pub wgsl: String,
     pub spans: SpanTable,
+    /// Every binding the specialised module keeps, as data.
+    pub bindings: Vec<BindingInfo>,
     pub files: Vec<OutputFile>,
     pub stats: VariantStats,
 }
 
 impl Generated {
-    pub fn key(&self) -> String {
-        format!("{}/{}", self.module_name, self.variant)
+    /// `module-variant`: the shader's identity (file names, snapshots, manifest rows).
+    pub fn id(&self) -> String {
+        shader_id(&self.module_name, &self.variant)
+    }
+
+    /// The binding at `(group, binding)`, if the module kept it.
+    pub fn binding(&self, group: u32, binding: u32) -> Option<&BindingInfo> {
+        self.bindings
+            .iter()
+            .find(|b| b.group == group && b.binding == binding)
     }
 
     pub fn file(&self, target: Target, entry: &str) -> Option<&OutputFile> {
@@ -103,11 +114,17 @@ fn stage_ext(stage: Stage) -> &'static str {
     }
 }
 
+/// `module-variant`.
+pub fn shader_id(module: &str, variant: &str) -> String {
+    format!("{module}-{variant}")
+}
+
 /// The file name of one entry point's output.
 pub fn file_name(module: &str, variant: &str, target: Target, entry: &str, stage: Stage) -> String {
-    let base = format!("{module}.{variant}.{entry}");
+    let id = shader_id(module, variant);
+    let base = format!("{id}.{entry}");
     match target {
-        Target::Wgsl => format!("{module}.{variant}.wgsl"),
+        Target::Wgsl => format!("{id}.wgsl"),
         Target::GlslEs300 => format!("{base}.es300.{}", stage_ext(stage)),
         Target::Glsl450 => format!("{base}.450.{}", stage_ext(stage)),
         Target::Hlsl | Target::Msl | Target::SpirV => format!("{base}.{}", target.extension()),
@@ -177,7 +194,7 @@ pub fn generate(
     for &target in targets {
         if target == Target::Wgsl {
             files.push(OutputFile {
-                file_name: format!("{}.{variant}.wgsl", module.name),
+                file_name: file_name(&module.name, variant, target, "", Stage::Vertex),
                 target,
                 entry_point: None,
                 contents: Contents::Text(wgsl.clone()),
@@ -217,6 +234,7 @@ pub fn generate(
             });
         }
     }
+    let bindings = describe(&module, &validated);
     let (texture_samples, loops) = count(&module);
     let stats = VariantStats {
         hash: fnv1a(wgsl.as_bytes()),
@@ -238,6 +256,7 @@ pub fn generate(
         ir: module,
         wgsl,
         spans,
+        bindings,
         files,
         stats,
     })

@@ -5,6 +5,7 @@
 //! Codegen knows nothing of wgpu.
 
 mod backend;
+pub mod bindings;
 mod emit;
 mod error;
 pub mod external;
@@ -16,37 +17,22 @@ mod validate;
 pub mod wgsl;
 
 pub use backend::{Contents, default_constants};
-pub use emit::{EmitReport, MARKER_FILE, emit};
+pub use bindings::{BindingInfo, BindingKind, TextureDimension};
+pub use emit::{EmitExtras, EmitReport, MARKER_FILE, emit};
 pub use error::{CodegenError, Origin};
-pub use generate::{Generated, OutputFile, VariantStats, file_name, generate, print_and_validate};
-pub use nimbus_dsl::catalog::{VariantSource, catalog, cloud_catalog, cloud_variant};
+pub use generate::{
+    Generated, OutputFile, VariantStats, file_name, generate, print_and_validate, shader_id,
+};
 pub use target::Target;
 pub use validate::{Validated, validate};
 
-/// Generates one catalogue variant for `targets`.
+use nimbus_dsl::ShaderVariant;
+
+/// Records and generates one shader variant for `targets`.
 pub fn generate_variant(
-    source: &VariantSource,
+    source: &impl ShaderVariant,
     targets: &[Target],
 ) -> Result<Generated, CodegenError> {
-    let module = source.build()?;
-    generate(module, &source.variant, targets)
-}
-
-/// Finds catalogue variants by `module/variant` or `module`, as a typed error when none match.
-pub fn select_variants(
-    name: &str,
-    lib: Option<&nimbus_dsl::cloud::CloudLibrary>,
-) -> Result<Vec<VariantSource>, CodegenError> {
-    let found = nimbus_dsl::catalog::select(name, lib);
-    if found.is_empty() {
-        let mut known: Vec<String> = catalog().iter().map(VariantSource::key).collect();
-        if lib.is_some() {
-            known.push("clouds/<genus>.<quality> (see `nimbus list`)".into());
-        }
-        return Err(CodegenError::UnknownVariant {
-            given: name.to_string(),
-            known: known.join(", "),
-        });
-    }
-    Ok(found)
+    let module = source.record()?;
+    generate(module, &source.variant(), targets)
 }

@@ -15,8 +15,34 @@ pub struct ManifestBinding {
     pub binding: u32,
     /// The WGSL type.
     pub wgsl_type: String,
-    /// What to bind in the target: a GLSL block or sampler name, an HLSL register, an MSL slot.
+    /// What to bind in the target: a GLSL block name, an HLSL register, an MSL slot. Empty
+    /// for GLSL textures and samplers, which GLSL only knows combined: see `combined_samplers`.
     pub target_name: String,
+    /// Address and filter modes, for samplers.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampler: Option<ManifestSampler>,
+}
+
+/// A sampler's state as WebGPU spells it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ManifestSampler {
+    /// `repeat`, `clamp-to-edge` or `mirror-repeat`, on every axis.
+    pub address_mode: &'static str,
+    /// `nearest` or `linear`, for magnification, minification and mipmaps.
+    pub filter: &'static str,
+}
+
+/// One GLSL combined sampler (`uniform sampler2D name;`): the texture and sampler bindings it
+/// joins, and the state to create it with.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CombinedSampler {
+    /// The name in the GLSL source, as naga wrote it.
+    pub name: String,
+    /// The WGSL names of the texture and the sampler it combines.
+    pub texture: String,
+    pub sampler: String,
+    pub address_mode: &'static str,
+    pub filter: &'static str,
 }
 
 /// One member of a uniform struct, with its byte offset (from naga's layout).
@@ -53,6 +79,9 @@ pub struct BindingManifest {
     pub entry_point: String,
     pub stage: String,
     pub bindings: Vec<ManifestBinding>,
+    /// GLSL only: every combined sampler the entry point declares.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub combined_samplers: Vec<CombinedSampler>,
     pub structs: Vec<ManifestStruct>,
     pub overrides: Vec<ManifestOverride>,
 }

@@ -20,22 +20,20 @@
 extern crate self as nimbus_dsl;
 
 pub mod builtins;
-pub mod catalog;
-pub mod cloud;
 pub mod control;
 pub mod cpu;
 pub mod ir;
 pub mod layout;
-pub mod model;
 mod module;
 pub mod ops;
 pub mod record;
-pub mod stability;
 pub mod value;
+mod variant;
 
 pub use module::{DslError, GlobalRef, ModuleBuilder};
 pub use nimbus_macros::{ShaderStruct, shader_fn};
 pub use value::{Lift, ShaderType, SpecValue, Value, lift};
+pub use variant::ShaderVariant;
 
 /// The DSL value types (shader twins of `f32`, glam vectors, textures...).
 pub mod shader {

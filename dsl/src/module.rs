@@ -7,8 +7,8 @@ use std::marker::PhantomData;
 use thiserror::Error;
 
 use crate::ir::{
-    EntryPoint, ExprKind, Global, GlobalId, GlobalKind, Literal, Module, Param, SourceLoc, Stage,
-    Type,
+    EntryPoint, ExprKind, Global, GlobalId, GlobalKind, Literal, Module, Param, SamplerDesc,
+    SourceLoc, Stage, Type,
 };
 use crate::record::{self, FunctionHeader, push_expr};
 use crate::value::StorageElement;
@@ -128,11 +128,24 @@ impl ModuleBuilder {
     }
 
     fn global<T>(&mut self, name: &str, ty: Type, kind: GlobalKind, doc: &str) -> GlobalRef<T> {
+        let sampler = (ty == Type::Sampler).then_some(SamplerDesc::LINEAR_REPEAT);
+        self.global_with(name, ty, kind, doc, sampler)
+    }
+
+    fn global_with<T>(
+        &mut self,
+        name: &str,
+        ty: Type,
+        kind: GlobalKind,
+        doc: &str,
+        sampler: Option<SamplerDesc>,
+    ) -> GlobalRef<T> {
         let global = Global {
             name: record::sanitize(name),
             ty,
             kind,
             doc: doc.to_string(),
+            sampler,
         };
         let id = match record::add_global(global) {
             Ok(id) => id,
@@ -177,6 +190,25 @@ impl ModuleBuilder {
             <T::Dsl as Value>::TYPE,
             GlobalKind::Handle { group, binding },
             doc,
+        )
+    }
+
+    /// A sampler binding with its address and filter modes (a sampler declared through
+    /// [`Self::handle`] is linear and repeating).
+    pub fn sampler(
+        &mut self,
+        name: &str,
+        group: u32,
+        binding: u32,
+        desc: SamplerDesc,
+        doc: &str,
+    ) -> GlobalRef<crate::value::Sampler> {
+        self.global_with(
+            name,
+            Type::Sampler,
+            GlobalKind::Handle { group, binding },
+            doc,
+            Some(desc),
         )
     }
 

@@ -1,5 +1,7 @@
 //! Device setup and compute dispatch.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use wgpu::util::DeviceExt;
 
 use crate::error::RuntimeError;
@@ -23,11 +25,22 @@ impl std::fmt::Display for GpuInfo {
     }
 }
 
+/// How many buffers, textures and bind groups were created through a [`Gpu`]'s constructors
+/// (the renderer creates all of its resources through them, so a steady-state frame that
+/// allocates shows up here).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ResourceCounts {
+    pub buffers: u64,
+    pub textures: u64,
+    pub bind_groups: u64,
+}
+
 /// A device and queue.
 pub struct Gpu {
     device: wgpu::Device,
     queue: wgpu::Queue,
     info: GpuInfo,
+    created: [AtomicU64; 3],
 }
 
 impl Gpu {
@@ -89,7 +102,37 @@ impl Gpu {
             device,
             queue,
             info,
+            created: Default::default(),
         })
+    }
+
+    /// Resources created so far through [`Self::create_buffer`], [`Self::create_texture`] and
+    /// [`Self::create_bind_group`].
+    pub fn resource_counts(&self) -> ResourceCounts {
+        let n = |i: usize| self.created[i].load(Ordering::Relaxed);
+        ResourceCounts {
+            buffers: n(0),
+            textures: n(1),
+            bind_groups: n(2),
+        }
+    }
+
+    /// `device.create_buffer`, counted.
+    pub fn create_buffer(&self, desc: &wgpu::BufferDescriptor<'_>) -> wgpu::Buffer {
+        self.created[0].fetch_add(1, Ordering::Relaxed);
+        self.device.create_buffer(desc)
+    }
+
+    /// `device.create_texture`, counted.
+    pub fn create_texture(&self, desc: &wgpu::TextureDescriptor<'_>) -> wgpu::Texture {
+        self.created[1].fetch_add(1, Ordering::Relaxed);
+        self.device.create_texture(desc)
+    }
+
+    /// `device.create_bind_group`, counted.
+    pub fn create_bind_group(&self, desc: &wgpu::BindGroupDescriptor<'_>) -> wgpu::BindGroup {
+        self.created[2].fetch_add(1, Ordering::Relaxed);
+        self.device.create_bind_group(desc)
     }
 
     pub fn info(&self) -> &GpuInfo {

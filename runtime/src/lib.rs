@@ -3,21 +3,18 @@
 //!
 //! It opens any adapter (a GPU, or lavapipe/llvmpipe on machines without one), generates the
 //! procedural textures with compute kernels, renders cloud variants through the passes they
-//! need (shadow atlas, clouds, temporal resolve) with pipelines cached by variant key, and runs
-//! the compute kernels of the CPU/GPU parity tests.
+//! need (shadow atlas, clouds, temporal resolve) with pipelines cached by shader key, and runs
+//! compute kernels (the noise textures; the parity harness of `nimbus-testkit`).
 
 mod atomic_write;
 pub mod density_export;
 mod error;
 mod gpu;
-pub mod metrics;
-pub mod parity;
 pub mod pipelines;
 mod png;
 pub mod render;
 pub mod textures;
-pub mod tradeoff;
 pub mod user_textures;
 
 pub use error::RuntimeError;
-pub use gpu::{Gpu, GpuInfo, GpuResource};
+pub use gpu::{Gpu, GpuInfo, GpuResource, ResourceCounts};

@@ -1,139 +1,149 @@
-//! The pipeline cache: one render pipeline per pass and variant key, created from codegen's
-//! WGSL the first time it is needed and reused after. The key holds what changes the code
-//! (toggles, octaves, phase kind, layer groups), not the numbers: two genera or two presets
-//! with the same key share a pipeline, since their differences are uniforms.
+//! The pipeline cache: one render pipeline per shader key, created from codegen's WGSL the
+//! first time it is needed and reused after. The key holds what changes the code (toggles,
+//! octaves, phase kind, layer groups), not the numbers: two genera or two presets with the same
+//! key share a pipeline, since their differences are uniforms.
+//!
+//! Each pipeline has an explicit bind-group layout built from codegen's binding description
+//! (slot, kind, texture dimension, sampler, visibility): nothing is inferred from the WGSL.
 
 use std::collections::HashMap;
 
-use nimbus_codegen::{Target, generate};
-use nimbus_dsl::DslError;
-use nimbus_dsl::ir::Module;
-use nimbus_dsl::model::march::MarchKey;
+use nimbus_clouds::catalog::ShaderKey;
+use nimbus_codegen::{BindingInfo, BindingKind, Target, TextureDimension, generate};
+use nimbus_dsl::ShaderVariant;
+use nimbus_dsl::ir::Stage;
 
 use crate::error::RuntimeError;
 use crate::gpu::Gpu;
 
-/// The passes a frame can run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Pass {
-    /// Beer shadow map atlas.
-    Shadow,
-    /// The cloud march, composited over sky and ground.
-    Clouds,
-    /// Temporal upscaling / accumulation.
-    Resolve,
-}
-
-impl Pass {
-    pub fn name(self) -> &'static str {
-        match self {
-            Pass::Shadow => "shadow",
-            Pass::Clouds => "clouds",
-            Pass::Resolve => "resolve",
-        }
-    }
-
-    fn entry(self) -> &'static str {
-        match self {
-            Pass::Shadow => "fs_shadow",
-            Pass::Clouds => "fs_main",
-            Pass::Resolve => "fs_resolve",
-        }
-    }
-}
-
-/// What a pipeline is specialised for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct PipelineKey {
-    pub pass: Pass,
-    /// The march key (none for the resolve pass, which is the same for every variant).
-    pub key: Option<MarchKey>,
-}
-
-impl std::fmt::Display for PipelineKey {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.key {
-            None => write!(f, "{}", self.pass.name()),
-            Some(k) => write!(
-                f,
-                "{}[{:?} {} groups, {:?}]",
-                self.pass.name(),
-                k.phase,
-                k.groups,
-                k.features
-            ),
-        }
-    }
-}
-
-/// A pipeline and the bindings its shader declares (name, binding index).
+/// A pipeline, its layout, and the bindings its shader keeps.
 pub struct CachedPipeline {
     pub pipeline: wgpu::RenderPipeline,
-    pub bindings: Vec<(String, u32)>,
-}
-
-impl CachedPipeline {
-    pub fn binds(&self, name: &str) -> bool {
-        self.bindings.iter().any(|(n, _)| n == name)
-    }
+    pub layout: wgpu::BindGroupLayout,
+    pub bindings: Vec<BindingInfo>,
 }
 
 /// Pipelines by key, and the order they were built in.
 #[derive(Default)]
 pub struct PipelineCache {
-    map: HashMap<PipelineKey, CachedPipeline>,
-    built: Vec<PipelineKey>,
+    map: HashMap<ShaderKey, CachedPipeline>,
+    built: Vec<ShaderKey>,
 }
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
+fn stages(b: &BindingInfo) -> wgpu::ShaderStages {
+    let mut s = wgpu::ShaderStages::NONE;
+    for stage in &b.visibility {
+        s |= match stage {
+            Stage::Vertex => wgpu::ShaderStages::VERTEX,
+            Stage::Fragment => wgpu::ShaderStages::FRAGMENT,
+            Stage::Compute => wgpu::ShaderStages::COMPUTE,
+        };
+    }
+    s
+}
+
+/// The layout entry of one described binding.
+fn layout_entry(b: &BindingInfo) -> wgpu::BindGroupLayoutEntry {
+    let ty = match &b.kind {
+        BindingKind::Uniform { size, .. } => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: wgpu::BufferSize::new(u64::from(*size)),
+        },
+        BindingKind::Storage { read_write } => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage {
+                read_only: !read_write,
+            },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        BindingKind::Texture { dimension } => wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: match dimension {
+                TextureDimension::D2 => wgpu::TextureViewDimension::D2,
+                TextureDimension::D3 => wgpu::TextureViewDimension::D3,
+            },
+            multisampled: false,
+        },
+        BindingKind::Sampler(_) => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+    };
+    wgpu::BindGroupLayoutEntry {
+        binding: b.binding,
+        visibility: stages(b),
+        ty,
+        count: None,
+    }
+}
+
 impl PipelineCache {
     /// Keys built so far, in order.
-    pub fn built(&self) -> &[PipelineKey] {
+    pub fn built(&self) -> &[ShaderKey] {
         &self.built
     }
 
     /// A pipeline built earlier.
-    pub fn get(&self, key: &PipelineKey) -> Result<&CachedPipeline, RuntimeError> {
-        self.map
-            .get(key)
-            .ok_or_else(|| RuntimeError::Kernel(format!("pipeline `{key}` was not built")))
+    pub fn get(&self, key: &ShaderKey) -> Result<&CachedPipeline, RuntimeError> {
+        self.map.get(key).ok_or_else(|| {
+            RuntimeError::Kernel(format!("pipeline `{}` was not built", key.id()))
+        })
     }
 
-    /// The pipeline for `key`, recording and compiling `module` on a miss.
+    /// The pipeline for `key`, recording and compiling its module on a miss.
     pub fn get_or_build(
         &mut self,
         gpu: &Gpu,
-        key: PipelineKey,
-        module: impl FnOnce() -> Result<Module, DslError>,
+        key: ShaderKey,
     ) -> Result<&CachedPipeline, RuntimeError> {
         if let std::collections::hash_map::Entry::Vacant(slot) = self.map.entry(key) {
-            let label = key.to_string();
-            let generated = generate(module()?, &label, &[Target::Wgsl])?;
-            let bindings = generated
-                .ir
-                .globals
-                .iter()
-                .filter_map(|g| g.binding().map(|(_, b)| (g.name.clone(), b)))
-                .collect();
+            let label = key.id();
+            let generated = generate(key.record()?, &key.variant(), &[Target::Wgsl])?;
+            if generated.bindings.iter().any(|b| b.group != 0) {
+                return Err(RuntimeError::Kernel(format!(
+                    "`{label}` uses a bind group other than 0; the renderer binds group 0 only"
+                )));
+            }
+            let entry_of = |stage: Stage| {
+                generated
+                    .ir
+                    .entry_points
+                    .iter()
+                    .find(|e| e.stage == stage)
+                    .map(|e| e.function.clone())
+                    .ok_or_else(|| {
+                        RuntimeError::Kernel(format!("`{label}` has no {stage:?} entry point"))
+                    })
+            };
+            let (vs, fs) = (entry_of(Stage::Vertex)?, entry_of(Stage::Fragment)?);
             let device = gpu.device();
             let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let entries: Vec<_> = generated.bindings.iter().map(layout_entry).collect();
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&label),
+                entries: &entries,
+            });
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(&label),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
             let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&label),
-                source: wgpu::ShaderSource::Wgsl(generated.wgsl.into()),
+                source: wgpu::ShaderSource::Wgsl(generated.wgsl.as_str().into()),
             });
             let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&label),
-                layout: None,
+                layout: Some(&pipeline_layout),
                 vertex: wgpu::VertexState {
                     module: &shader,
-                    entry_point: Some("vs_main"),
+                    entry_point: Some(&vs),
                     compilation_options: Default::default(),
                     buffers: &[],
                 },
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
-                    entry_point: Some(key.pass.entry()),
+                    entry_point: Some(&fs),
                     compilation_options: Default::default(),
                     targets: &[Some(HDR_FORMAT.into())],
                 }),
@@ -149,11 +159,13 @@ impl PipelineCache {
                     reason: e.to_string(),
                 });
             }
-            slot.insert(CachedPipeline { pipeline, bindings });
+            slot.insert(CachedPipeline {
+                pipeline,
+                layout,
+                bindings: generated.bindings,
+            });
             self.built.push(key);
         }
-        self.map
-            .get(&key)
-            .ok_or_else(|| RuntimeError::Kernel("pipeline missing from the cache".into()))
+        self.get(&key)
     }
 }

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use nimbus_dsl::model::tonemap::tonemap;
+use nimbus_clouds::model::tonemap::tonemap;
 
 use crate::atomic_write::write_atomically;
 use crate::error::RuntimeError;

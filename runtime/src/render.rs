@@ -11,18 +11,23 @@
 //! Textures are made on first use, and only those the variant's shader binds: a variant
 //! without shape detail never creates the detail texture.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 use glam::{Mat4, Vec2, Vec3};
-use nimbus_dsl::cloud::{Features, Genus, Quality, ScenePreset, analyse};
-use nimbus_dsl::layout::UniformBytes;
-use nimbus_dsl::model::clouds::{CloudVariant, cloud_module, resolve_module, shadow_module};
-use nimbus_dsl::model::march::CloudUniforms;
-use nimbus_dsl::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
+use half::f16;
+use nimbus_clouds::catalog::ShaderKey;
+use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
+use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
+use nimbus_clouds::{Features, Genus, Quality, ScenePreset, analyse};
+use nimbus_codegen::{BindingInfo, BindingKind};
+use nimbus_dsl::ShaderVariant;
+use nimbus_dsl::ir::{AddressMode, FilterMode, SamplerDesc};
+use nimbus_dsl::layout::{UniformBytes, align_size};
 
 use crate::error::RuntimeError;
 use crate::gpu::Gpu;
-use crate::pipelines::{CachedPipeline, HDR_FORMAT, Pass, PipelineCache, PipelineKey};
+use crate::pipelines::{CachedPipeline, HDR_FORMAT, PipelineCache};
 use crate::textures::{GpuTexture, NoiseKind};
 
 /// Texel counts per side of the procedural textures.
@@ -122,7 +127,7 @@ impl Frame {
     }
 
     /// The frame a scene describes, with the variant the scene derives (see
-    /// [`nimbus_dsl::cloud::analyse`]): only the effects it can show.
+    /// [`nimbus_clouds::analyse`]): only the effects it can show.
     pub fn from_scene(scene: &ScenePreset, genus: &Genus, width: u32, height: u32) -> Frame {
         let mut genus = genus.clone();
         if let Some(c) = scene.coverage {
@@ -203,7 +208,7 @@ pub enum TextureSource {
     User(GpuTexture),
 }
 
-/// A render target that is also sampled (cloud output, history).
+/// A render target that is also sampled (cloud output, history, shadow atlas).
 struct Target {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
@@ -221,27 +226,43 @@ struct History {
     frames: u32,
 }
 
-/// A renderer over one GPU: textures made on first use, pipelines cached by variant key.
-pub struct Renderer<'g> {
-    gpu: &'g Gpu,
-    sizes: TextureSizes,
-    textures: BTreeMap<&'static str, GpuTexture>,
-    user: BTreeMap<&'static str, GpuTexture>,
-    shadow_atlas: Option<(u32, u32, Target)>,
-    /// What the atlas was last rendered from (variant key and uniform bytes): the atlas is
-    /// redrawn only when the sun, the layers, the weather or the variant change.
-    shadow_inputs: Option<(PipelineKey, Vec<u8>)>,
-    pipelines: PipelineCache,
-    history: Option<History>,
-    samplers: Samplers,
-    passes: Vec<&'static str>,
-    /// GPU time of the passes of the last `render` call, where the adapter has timestamps.
-    gpu_time_ms: Option<f64>,
+/// A bind group and the resource epoch it was made in: it is remade only when a resource it
+/// may reference was replaced (see [`Renderer::epoch`]) or its pipeline changed.
+struct BoundGroup {
+    group: wgpu::BindGroup,
+    key: ShaderKey,
+    epoch: u64,
 }
 
-/// Timestamp queries around every pass of one `render` call.
+/// The shadow pass: its uniform buffer, bind group and atlas, kept across frames.
+struct ShadowPass {
+    uniform: wgpu::Buffer,
+    group: Option<BoundGroup>,
+    atlas: Target,
+    /// What the atlas was last rendered from (key and uniform bytes): it is redrawn only when
+    /// the sun, the layers, the weather or the key change.
+    inputs: Option<(ShaderKey, Vec<u8>)>,
+}
+
+/// The cloud pass: its uniform buffer, bind group and low-resolution target.
+struct CloudPass {
+    uniform: wgpu::Buffer,
+    group: Option<BoundGroup>,
+    target: Target,
+}
+
+/// The resolve pass: its uniform buffer and one bind group per ping-pong direction.
+struct ResolvePass {
+    uniform: wgpu::Buffer,
+    groups: [Option<BoundGroup>; 2],
+}
+
+/// Timestamp queries around every pass of one `render` call, and the buffers they resolve
+/// into; kept while the capacity suffices.
 struct PassTimer {
     queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
     capacity: u32,
     used: u32,
 }
@@ -263,68 +284,120 @@ impl PassTimer {
     }
 }
 
-struct Samplers {
-    repeat: wgpu::Sampler,
-    nearest: wgpu::Sampler,
-    clamp: wgpu::Sampler,
+/// A renderer over one GPU. Each pass owns its uniform buffer, bind group and target and keeps
+/// them across frames; textures are made on first use and only those a pipeline binds;
+/// pipelines are cached by shader key. After the first frame of a given size and key, a
+/// frame creates no buffer, texture or bind group.
+pub struct Renderer<'g> {
+    gpu: &'g Gpu,
+    sizes: TextureSizes,
+    textures: BTreeMap<NoiseKind, GpuTexture>,
+    user: BTreeMap<NoiseKind, GpuTexture>,
+    samplers: HashMap<SamplerDesc, wgpu::Sampler>,
+    pipelines: PipelineCache,
+    shadow: Option<ShadowPass>,
+    clouds: Option<CloudPass>,
+    resolve: Option<ResolvePass>,
+    history: Option<History>,
+    timer: Option<PassTimer>,
+    readback: Option<wgpu::Buffer>,
+    /// Bumped whenever a texture a bind group may reference is replaced.
+    epoch: u64,
+    passes: Vec<&'static str>,
+    /// GPU time of the passes of the last `render` call, where the adapter has timestamps.
+    gpu_time_ms: Option<f64>,
 }
 
-fn texture_role(kind: NoiseKind) -> &'static str {
-    match kind {
-        NoiseKind::Weather => "weather_texture",
-        NoiseKind::Shape => "shape_texture",
-        NoiseKind::Detail => "detail_texture",
-        NoiseKind::Turbulence => "turbulence_texture",
+/// The procedural texture a cloud binding samples, if it is one.
+fn noise_of(b: CloudBinding) -> Option<NoiseKind> {
+    match b {
+        CloudBinding::Weather => Some(NoiseKind::Weather),
+        CloudBinding::Shape => Some(NoiseKind::Shape),
+        CloudBinding::Detail => Some(NoiseKind::Detail),
+        CloudBinding::Turbulence => Some(NoiseKind::Turbulence),
+        CloudBinding::Uniforms | CloudBinding::ShadowMap | CloudBinding::Sampler => None,
     }
 }
 
-fn f16_to_f32(h: u16) -> f32 {
-    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exp = i32::from((h >> 10) & 0x1f);
-    let mant = f32::from(h & 0x3ff);
-    match exp {
-        0 => sign * mant * 2f32.powi(-24),
-        31 => {
-            if mant == 0.0 {
-                sign * f32::INFINITY
-            } else {
-                f32::NAN
-            }
-        }
-        _ => sign * (1.0 + mant / 1024.0) * 2f32.powi(exp - 15),
+/// The cloud bindings a pipeline keeps (typed, by slot).
+fn cloud_bindings(p: &CachedPipeline) -> impl Iterator<Item = (&BindingInfo, CloudBinding)> {
+    p.bindings
+        .iter()
+        .filter_map(|b| CloudBinding::at(b.group, b.binding).map(|c| (b, c)))
+}
+
+fn wgpu_sampler(gpu: &Gpu, desc: SamplerDesc) -> wgpu::Sampler {
+    let address = match desc.address {
+        AddressMode::Repeat => wgpu::AddressMode::Repeat,
+        AddressMode::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+        AddressMode::MirrorRepeat => wgpu::AddressMode::MirrorRepeat,
+    };
+    let filter = match desc.filter {
+        FilterMode::Nearest => wgpu::FilterMode::Nearest,
+        FilterMode::Linear => wgpu::FilterMode::Linear,
+    };
+    gpu.sampler(
+        &format!("{} {}", desc.filter.name(), desc.address.name()),
+        address,
+        filter,
+    )
+}
+
+fn uniform_buffer(gpu: &Gpu, label: &str, size: usize) -> wgpu::Buffer {
+    gpu.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn target(gpu: &Gpu, label: &str, width: u32, height: u32) -> Target {
+    let texture = gpu.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: HDR_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    Target {
+        texture,
+        view,
+        width,
+        height,
     }
+}
+
+fn size_of(t: &Target) -> (u32, u32) {
+    (t.width, t.height)
 }
 
 impl<'g> Renderer<'g> {
     pub fn new(gpu: &'g Gpu, sizes: TextureSizes) -> Self {
-        let sampler = |label, address, filter| gpu.sampler(label, address, filter);
-        let samplers = Samplers {
-            repeat: sampler(
-                "linear repeat",
-                wgpu::AddressMode::Repeat,
-                wgpu::FilterMode::Linear,
-            ),
-            nearest: sampler(
-                "nearest clamp",
-                wgpu::AddressMode::ClampToEdge,
-                wgpu::FilterMode::Nearest,
-            ),
-            clamp: sampler(
-                "linear clamp",
-                wgpu::AddressMode::ClampToEdge,
-                wgpu::FilterMode::Linear,
-            ),
-        };
         Renderer {
             gpu,
             sizes,
             textures: BTreeMap::new(),
             user: BTreeMap::new(),
-            shadow_atlas: None,
-            shadow_inputs: None,
+            samplers: HashMap::new(),
             pipelines: PipelineCache::default(),
+            shadow: None,
+            clouds: None,
+            resolve: None,
             history: None,
-            samplers,
+            timer: None,
+            readback: None,
+            epoch: 0,
             passes: Vec::new(),
             gpu_time_ms: None,
         }
@@ -332,28 +405,32 @@ impl<'g> Renderer<'g> {
 
     /// Uses a user texture for `kind` instead of the procedural one.
     pub fn set_texture(&mut self, kind: NoiseKind, source: TextureSource) {
-        let role = texture_role(kind);
-        self.textures.remove(role);
+        self.textures.remove(&kind);
         match source {
             TextureSource::Procedural => {
-                self.user.remove(role);
+                self.user.remove(&kind);
             }
             TextureSource::User(t) => {
-                self.user.insert(role, t);
+                self.user.insert(kind, t);
             }
         }
+        self.epoch += 1;
     }
 
-    /// Pipelines built so far (one per pass and variant key).
+    /// Pipelines built so far (one per shader key).
     pub fn pipeline_count(&self) -> usize {
         self.pipelines.built().len()
     }
 
     pub fn stats(&self) -> RenderStats {
-        let mut textures: Vec<String> = self.textures.keys().map(|k| k.to_string()).collect();
-        textures.extend(self.user.keys().map(|k| format!("{k} (user)")));
-        if let Some((w, h, _)) = &self.shadow_atlas {
-            textures.push(format!("shadow_map ({w}x{h})"));
+        let role = |k: &NoiseKind| format!("{}_texture", k.name());
+        let mut textures: Vec<String> = self.textures.keys().map(role).collect();
+        textures.extend(self.user.keys().map(|k| format!("{} (user)", role(k))));
+        if let Some(s) = &self.shadow {
+            textures.push(format!(
+                "shadow_map ({}x{})",
+                s.atlas.width, s.atlas.height
+            ));
         }
         if let Some(h) = &self.history {
             textures.push(format!(
@@ -362,50 +439,19 @@ impl<'g> Renderer<'g> {
             ));
         }
         RenderStats {
-            pipelines: self
-                .pipelines
-                .built()
-                .iter()
-                .map(|k| k.to_string())
-                .collect(),
+            pipelines: self.pipelines.built().iter().map(|k| k.id()).collect(),
             textures,
             passes: self.passes.clone(),
         }
     }
 
     fn noise(&mut self, kind: NoiseKind) -> Result<(), RuntimeError> {
-        let role = texture_role(kind);
-        if !self.user.contains_key(role) && !self.textures.contains_key(role) {
+        if !self.user.contains_key(&kind) && !self.textures.contains_key(&kind) {
             let t = self.gpu.noise_texture(kind, self.sizes.of(kind))?;
-            self.textures.insert(role, t);
+            self.textures.insert(kind, t);
+            self.epoch += 1;
         }
         Ok(())
-    }
-
-    fn target(&self, label: &str, width: u32, height: u32) -> Target {
-        let texture = self.gpu.device().create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: HDR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let view = texture.create_view(&Default::default());
-        Target {
-            texture,
-            view,
-            width,
-            height,
-        }
     }
 
     fn check_size(&self, what: &str, width: u32, height: u32) -> Result<(), RuntimeError> {
@@ -419,83 +465,137 @@ impl<'g> Renderer<'g> {
         Ok(())
     }
 
-    fn pipeline(
-        &mut self,
-        pass: Pass,
-        variant: &CloudVariant,
-    ) -> Result<&CachedPipeline, RuntimeError> {
-        self.pipelines
-            .get_or_build(self.gpu, pipeline_key(pass, variant), || match pass {
-                Pass::Shadow => shadow_module(variant),
-                Pass::Clouds => cloud_module(variant),
-                Pass::Resolve => resolve_module(),
-            })
-    }
-
-    /// A pipeline already built by [`Self::pipeline`].
-    fn built(&self, pass: Pass, variant: &CloudVariant) -> Result<&CachedPipeline, RuntimeError> {
-        self.pipelines.get(&pipeline_key(pass, variant))
-    }
-
-    /// Binds a pass's declared bindings from what the renderer holds.
-    fn bind_group(
-        &self,
-        pipeline: &CachedPipeline,
-        uniform: &wgpu::Buffer,
-        extra: &[(&str, &wgpu::TextureView)],
-    ) -> Result<wgpu::BindGroup, RuntimeError> {
-        let mut entries = Vec::new();
-        for (name, binding) in &pipeline.bindings {
-            let texture = |role: &str| {
-                self.user
-                    .get(role)
-                    .or_else(|| self.textures.get(role))
-                    .map(|t| wgpu::BindingResource::TextureView(&t.view))
-            };
-            let resource = match name.as_str() {
-                "clouds" | "resolve" => Some(uniform.as_entire_binding()),
-                "linear_sampler" if pipeline.binds("history_texture") => {
-                    Some(wgpu::BindingResource::Sampler(&self.samplers.clamp))
-                }
-                "linear_sampler" => Some(wgpu::BindingResource::Sampler(&self.samplers.repeat)),
-                "nearest_sampler" => Some(wgpu::BindingResource::Sampler(&self.samplers.nearest)),
-                "shadow_map" => self
-                    .shadow_atlas
-                    .as_ref()
-                    .map(|(_, _, t)| wgpu::BindingResource::TextureView(&t.view)),
-                other => extra
-                    .iter()
-                    .find(|(n, _)| *n == other)
-                    .map(|(_, v)| wgpu::BindingResource::TextureView(v))
-                    .or_else(|| texture(other)),
-            };
-            let resource = resource.ok_or_else(|| {
-                RuntimeError::Kernel(format!("nothing to bind to `{name}` (binding {binding})"))
-            })?;
-            entries.push(wgpu::BindGroupEntry {
-                binding: *binding,
-                resource,
-            });
+    /// Builds the pipeline of `key`, the textures and samplers its bindings name.
+    fn prepare(&mut self, key: ShaderKey) -> Result<(), RuntimeError> {
+        let pipeline = self.pipelines.get_or_build(self.gpu, key)?;
+        let mut kinds = Vec::new();
+        let mut samplers = Vec::new();
+        for b in &pipeline.bindings {
+            if let BindingKind::Sampler(desc) = b.kind {
+                samplers.push(desc);
+            }
         }
-        Ok(self
-            .gpu
-            .device()
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: None,
-                layout: &pipeline.pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            }))
+        for (_, c) in cloud_bindings(pipeline) {
+            kinds.extend(noise_of(c));
+        }
+        for k in kinds {
+            self.noise(k)?;
+        }
+        for desc in samplers {
+            if !self.samplers.contains_key(&desc) {
+                let s = wgpu_sampler(self.gpu, desc);
+                self.samplers.insert(desc, s);
+            }
+        }
+        Ok(())
     }
 
-    fn uniform_buffer(&self, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-        let buffer = self.gpu.device().create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: bytes.len() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        self.gpu.queue().write_buffer(&buffer, 0, bytes);
-        buffer
+    fn sampler(&self, b: &BindingInfo) -> Option<wgpu::BindingResource<'_>> {
+        match b.kind {
+            BindingKind::Sampler(desc) => self.samplers.get(&desc).map(wgpu::BindingResource::Sampler),
+            _ => None,
+        }
+    }
+
+    /// A bind group for a cloud-binding pipeline (clouds or shadow pass).
+    fn cloud_group(
+        &self,
+        key: ShaderKey,
+        uniform: &wgpu::Buffer,
+    ) -> Result<wgpu::BindGroup, RuntimeError> {
+        let pipeline = self.pipelines.get(&key)?;
+        let mut entries = Vec::new();
+        for (b, c) in cloud_bindings(pipeline) {
+            let resource = match c {
+                CloudBinding::Uniforms => Some(uniform.as_entire_binding()),
+                CloudBinding::ShadowMap => self
+                    .shadow
+                    .as_ref()
+                    .map(|s| wgpu::BindingResource::TextureView(&s.atlas.view)),
+                CloudBinding::Sampler => self.sampler(b),
+                CloudBinding::Weather
+                | CloudBinding::Shape
+                | CloudBinding::Detail
+                | CloudBinding::Turbulence => noise_of(c)
+                    .and_then(|k| self.user.get(&k).or_else(|| self.textures.get(&k)))
+                    .map(|t| wgpu::BindingResource::TextureView(&t.view)),
+            };
+            entries.push(self.entry(b, resource)?);
+        }
+        self.check_all_bound(&key, pipeline, entries.len())?;
+        Ok(self.gpu.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&key.id()),
+            layout: &pipeline.layout,
+            entries: &entries,
+        }))
+    }
+
+    fn entry<'a>(
+        &self,
+        b: &BindingInfo,
+        resource: Option<wgpu::BindingResource<'a>>,
+    ) -> Result<wgpu::BindGroupEntry<'a>, RuntimeError> {
+        let resource = resource.ok_or_else(|| {
+            RuntimeError::Kernel(format!(
+                "nothing to bind to `{}` (group {}, binding {})",
+                b.name, b.group, b.binding
+            ))
+        })?;
+        Ok(wgpu::BindGroupEntry {
+            binding: b.binding,
+            resource,
+        })
+    }
+
+    fn check_all_bound(
+        &self,
+        key: &ShaderKey,
+        pipeline: &CachedPipeline,
+        bound: usize,
+    ) -> Result<(), RuntimeError> {
+        if bound != pipeline.bindings.len() {
+            return Err(RuntimeError::Kernel(format!(
+                "`{}` declares {} bindings the renderer does not know",
+                key.id(),
+                pipeline.bindings.len() - bound
+            )));
+        }
+        Ok(())
+    }
+
+    /// The resolve pass's bind group reading `history[read]`.
+    fn resolve_group(&self, read: usize) -> Result<wgpu::BindGroup, RuntimeError> {
+        let key = ShaderKey::Resolve;
+        let pipeline = self.pipelines.get(&key)?;
+        let (Some(pass), Some(clouds), Some(history)) = (&self.resolve, &self.clouds, &self.history)
+        else {
+            return Err(RuntimeError::Kernel(
+                "the resolve pass runs without its resources".into(),
+            ));
+        };
+        let mut entries = Vec::new();
+        for b in &pipeline.bindings {
+            let Some(r) = ResolveBinding::at(b.group, b.binding) else {
+                continue;
+            };
+            let resource = match r {
+                ResolveBinding::Params => Some(pass.uniform.as_entire_binding()),
+                ResolveBinding::Current => {
+                    Some(wgpu::BindingResource::TextureView(&clouds.target.view))
+                }
+                ResolveBinding::History => Some(wgpu::BindingResource::TextureView(
+                    &history.targets[read].view,
+                )),
+                ResolveBinding::Nearest | ResolveBinding::Linear => self.sampler(b),
+            };
+            entries.push(self.entry(b, resource)?);
+        }
+        self.check_all_bound(&key, pipeline, entries.len())?;
+        Ok(self.gpu.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("resolve"),
+            layout: &pipeline.layout,
+            entries: &entries,
+        }))
     }
 
     /// The uniforms of `frame` at frame index 0.
@@ -514,6 +614,44 @@ impl<'g> Renderer<'g> {
         u
     }
 
+    /// Query set and buffers for `capacity` timestamps, kept while large enough.
+    fn timer(&mut self, frames: u32) -> Option<PassTimer> {
+        let device = self.gpu.device();
+        if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return None;
+        }
+        // Shadow, then clouds and resolve per frame: two timestamps each.
+        let capacity = (2 * (1 + 2 * frames)).min(4096);
+        if let Some(mut t) = self.timer.take()
+            && t.capacity >= capacity
+        {
+            t.used = 0;
+            return Some(t);
+        }
+        let size = u64::from(capacity) * 8;
+        Some(PassTimer {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: capacity,
+            }),
+            resolve: self.gpu.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: self.gpu.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            capacity,
+            used: 0,
+        })
+    }
+
     /// Renders `frame` (all its accumulation frames); `progress` hears of each frame done.
     pub fn render_with_progress(
         &mut self,
@@ -523,116 +661,181 @@ impl<'g> Renderer<'g> {
         self.check_size("the image", frame.width, frame.height)?;
         let frames = frame.frames.max(1);
         let variant = frame.variant();
+        let clouds_key = ShaderKey::Clouds(variant.key);
+        let shadow_key = variant.key.shadow_key().map(ShaderKey::Shadow);
         self.passes.clear();
         self.gpu_time_ms = None;
-        let device = self.gpu.device();
-        let mut timer = device
-            .features()
-            .contains(wgpu::Features::TIMESTAMP_QUERY)
-            .then(|| {
-                // Shadow, then clouds and resolve per frame: two timestamps each.
-                let capacity = (2 * (1 + 2 * frames)).min(4096);
-                PassTimer {
-                    queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                        label: Some("pass timestamps"),
-                        ty: wgpu::QueryType::Timestamp,
-                        count: capacity,
-                    }),
-                    capacity,
-                    used: 0,
-                }
-            });
+        let mut timer = self.timer(frames);
         let mut u = Self::uniforms(frame);
+        let uniform_size = u.to_uniform_bytes().len();
 
-        // Pipelines first: their bindings decide which textures exist.
-        let clouds_bindings = self.pipeline(Pass::Clouds, &variant)?.bindings.clone();
-        let mut needed: Vec<NoiseKind> = NoiseKind::ALL
-            .into_iter()
-            .filter(|k| clouds_bindings.iter().any(|(n, _)| n == texture_role(*k)))
-            .collect();
-        let shadowed = variant.key.uses_shadow_map();
-        if shadowed {
-            let b = self.pipeline(Pass::Shadow, &variant)?.bindings.clone();
-            for k in NoiseKind::ALL {
-                if b.iter().any(|(n, _)| n == texture_role(k)) && !needed.contains(&k) {
-                    needed.push(k);
-                }
-            }
-        }
-        for k in needed {
-            self.noise(k)?;
+        // Pipelines first: their bindings decide which textures and samplers exist.
+        self.prepare(clouds_key)?;
+        if let Some(k) = shadow_key {
+            self.prepare(k)?;
         }
         let resolve = frame.upscale || frames > 1;
         if resolve {
-            self.pipeline(Pass::Resolve, &variant)?;
+            self.prepare(ShaderKey::Resolve)?;
         }
 
-        let uniform = self.uniform_buffer("cloud uniforms", &u.to_uniform_bytes());
+        // Shadow atlas: kept while its size holds, redrawn only when its inputs change.
         let mut encoder = self
             .gpu
             .device()
             .create_command_encoder(&Default::default());
-        if shadowed {
+        if let Some(key) = shadow_key {
             let s = u.shadow;
             let (w, h) = (s.map_size as u32 * s.cascade_count, s.map_size as u32);
             self.check_size("the shadow atlas (cascades side by side)", w, h)?;
-            if !matches!(&self.shadow_atlas, Some((aw, ah, _)) if (*aw, *ah) == (w, h)) {
-                self.shadow_atlas = Some((w, h, self.target("shadow atlas", w, h)));
-                self.shadow_inputs = None;
+            if !matches!(&self.shadow, Some(p) if size_of(&p.atlas) == (w, h)) {
+                let uniform = match self.shadow.take() {
+                    Some(p) => p.uniform,
+                    None => uniform_buffer(self.gpu, "shadow uniforms", uniform_size),
+                };
+                self.shadow = Some(ShadowPass {
+                    uniform,
+                    group: None,
+                    atlas: target(self.gpu, "shadow atlas", w, h),
+                    inputs: None,
+                });
+                self.epoch += 1;
             }
             // The camera's orientation and the image size do not enter the atlas.
             let mut inputs = u;
             inputs.inverse_view_projection = Mat4::IDENTITY;
             inputs.resolution = Vec2::ZERO;
-            let inputs = (
-                pipeline_key(Pass::Shadow, &variant),
-                inputs.to_uniform_bytes(),
-            );
-            if self.shadow_inputs.as_ref() != Some(&inputs) {
-                let pipeline = self.built(Pass::Shadow, &variant)?;
-                let group = self.bind_group(pipeline, &uniform, &[])?;
-                let (_, _, atlas) = self.shadow_atlas.as_ref().ok_or_else(|| {
-                    RuntimeError::Kernel("shadow atlas missing after creation".into())
-                })?;
+            let inputs = (key, inputs.to_uniform_bytes());
+            let stale = self.shadow.as_ref().is_some_and(|p| p.inputs.as_ref() != Some(&inputs));
+            if stale {
+                let rebuild = !matches!(&self.shadow, Some(ShadowPass { group: Some(g), .. })
+                    if g.key == key && g.epoch == self.epoch);
+                if rebuild {
+                    let group = {
+                        let p = self.shadow.as_ref().ok_or_else(missing)?;
+                        self.cloud_group(key, &p.uniform)?
+                    };
+                    let epoch = self.epoch;
+                    if let Some(p) = &mut self.shadow {
+                        p.group = Some(BoundGroup { group, key, epoch });
+                    }
+                }
+                let pipeline = self.pipelines.get(&key)?;
+                let p = self.shadow.as_ref().ok_or_else(missing)?;
+                let group = p.group.as_ref().ok_or_else(missing)?;
+                self.gpu
+                    .queue()
+                    .write_buffer(&p.uniform, 0, &u.to_uniform_bytes());
                 draw(
                     &mut encoder,
                     "shadow",
-                    &atlas.view,
+                    &p.atlas.view,
                     &pipeline.pipeline,
-                    &group,
+                    &group.group,
                     PassTimer::next(&mut timer),
                 );
-                self.passes.push(Pass::Shadow.name());
-                self.shadow_inputs = Some(inputs);
+                self.passes.push("shadow");
+                if let Some(p) = &mut self.shadow {
+                    p.inputs = Some(inputs);
+                }
             }
-        } else {
-            // No shadows in this variant: the atlas of an earlier one is not kept.
-            self.shadow_atlas = None;
-            self.shadow_inputs = None;
+        } else if self.shadow.take().is_some() {
+            // No shadows in this key: the atlas of an earlier one is not kept.
+            self.epoch += 1;
         }
         self.gpu.queue().submit([encoder.finish()]);
 
+        // The cloud pass's target, kept while its size holds.
         let scale = if frame.upscale { 4 } else { 1 };
         let (lw, lh) = (frame.width.div_ceil(scale), frame.height.div_ceil(scale));
-        let current = self.target("clouds", lw, lh);
-        let view_projection = frame.view_projection();
-        let keep = frame.continue_history
-            && matches!(&self.history, Some(h) if h.upscale == frame.upscale
-                && h.targets[0].width == frame.width && h.targets[0].height == frame.height);
-        if resolve && !keep {
-            self.history = Some(History {
-                targets: [
-                    self.target("history A", frame.width, frame.height),
-                    self.target("history B", frame.width, frame.height),
-                ],
-                latest: 0,
-                upscale: frame.upscale,
-                view_projection,
-                frames: 0,
+        if !matches!(&self.clouds, Some(p) if size_of(&p.target) == (lw, lh)) {
+            let uniform = match self.clouds.take() {
+                Some(p) => p.uniform,
+                None => uniform_buffer(self.gpu, "cloud uniforms", uniform_size),
+            };
+            self.clouds = Some(CloudPass {
+                uniform,
+                group: None,
+                target: target(self.gpu, "clouds", lw, lh),
             });
-        } else if !resolve {
-            self.history = None;
+            self.epoch += 1;
         }
+
+        // History: kept across calls of the same size and mode; restarted unless continued.
+        let view_projection = frame.view_projection();
+        let same = matches!(&self.history, Some(h) if h.upscale == frame.upscale
+            && size_of(&h.targets[0]) == (frame.width, frame.height));
+        if resolve {
+            if !same {
+                self.history = Some(History {
+                    targets: [
+                        target(self.gpu, "history A", frame.width, frame.height),
+                        target(self.gpu, "history B", frame.width, frame.height),
+                    ],
+                    latest: 0,
+                    upscale: frame.upscale,
+                    view_projection,
+                    frames: 0,
+                });
+                self.epoch += 1;
+            } else if !frame.continue_history
+                && let Some(h) = &mut self.history
+            {
+                // A fresh start on the kept targets: frame 0 ignores the history.
+                h.frames = 0;
+                h.view_projection = view_projection;
+            }
+            if self.resolve.is_none() {
+                self.resolve = Some(ResolvePass {
+                    uniform: uniform_buffer(
+                        self.gpu,
+                        "resolve uniforms",
+                        align_size(ResolveParams::shader_type()).1 as usize,
+                    ),
+                    groups: [None, None],
+                });
+            }
+        } else if self.history.take().is_some() {
+            self.epoch += 1;
+        }
+
+        // Bind groups, remade only when a resource or the key changed.
+        let stale = |g: &Option<BoundGroup>, key: ShaderKey, epoch: u64| {
+            !matches!(g, Some(b) if b.key == key && b.epoch == epoch)
+        };
+        let epoch = self.epoch;
+        if self.clouds.as_ref().is_some_and(|p| stale(&p.group, clouds_key, epoch)) {
+            let group = {
+                let p = self.clouds.as_ref().ok_or_else(missing)?;
+                self.cloud_group(clouds_key, &p.uniform)?
+            };
+            if let Some(p) = &mut self.clouds {
+                p.group = Some(BoundGroup {
+                    group,
+                    key: clouds_key,
+                    epoch,
+                });
+            }
+        }
+        if resolve {
+            for read in 0..2 {
+                let rebuild = self
+                    .resolve
+                    .as_ref()
+                    .is_some_and(|p| stale(&p.groups[read], ShaderKey::Resolve, epoch));
+                if rebuild {
+                    let group = self.resolve_group(read)?;
+                    if let Some(p) = &mut self.resolve {
+                        p.groups[read] = Some(BoundGroup {
+                            group,
+                            key: ShaderKey::Resolve,
+                            epoch,
+                        });
+                    }
+                }
+            }
+        }
+
         for f in 0..frames {
             let previous_frames = self.history.as_ref().map_or(0, |h| h.frames);
             let index = previous_frames + f;
@@ -646,25 +849,26 @@ impl<'g> Renderer<'g> {
             u.jitter = (index as f32 * 0.618_034 + frame.seed as f32 * 0.754_877_7).fract();
             u.pixel_scale = scale as f32;
             u.pixel_offset = Vec2::new(offset[0] as f32, offset[1] as f32);
+            let clouds = self.clouds.as_ref().ok_or_else(missing)?;
             self.gpu
                 .queue()
-                .write_buffer(&uniform, 0, &u.to_uniform_bytes());
+                .write_buffer(&clouds.uniform, 0, &u.to_uniform_bytes());
             let mut encoder = self
                 .gpu
                 .device()
                 .create_command_encoder(&Default::default());
-            let pipeline = self.built(Pass::Clouds, &variant)?;
-            let group = self.bind_group(pipeline, &uniform, &[])?;
+            let pipeline = self.pipelines.get(&clouds_key)?;
+            let group = clouds.group.as_ref().ok_or_else(missing)?;
             draw(
                 &mut encoder,
                 "clouds",
-                &current.view,
+                &clouds.target.view,
                 &pipeline.pipeline,
-                &group,
+                &group.group,
                 PassTimer::next(&mut timer),
             );
-            self.passes.push(Pass::Clouds.name());
-            if let Some(h) = &self.history {
+            self.passes.push("clouds");
+            if let (Some(h), Some(pass)) = (&self.history, &self.resolve) {
                 // Upscaled, a pixel is refreshed once per 16 frames: average those visits.
                 let visits = if frame.upscale { index / 16 } else { index };
                 let params = ResolveParams {
@@ -678,26 +882,20 @@ impl<'g> Renderer<'g> {
                     history_valid: if index == 0 { 0.0 } else { 1.0 },
                 };
                 let (read, write) = (h.latest, 1 - h.latest);
-                let resolve_uniform =
-                    self.uniform_buffer("resolve uniforms", &params.to_uniform_bytes());
-                let pipeline = self.built(Pass::Resolve, &variant)?;
-                let group = self.bind_group(
-                    pipeline,
-                    &resolve_uniform,
-                    &[
-                        ("current_texture", &current.view),
-                        ("history_texture", &h.targets[read].view),
-                    ],
-                )?;
+                self.gpu
+                    .queue()
+                    .write_buffer(&pass.uniform, 0, &params.to_uniform_bytes());
+                let pipeline = self.pipelines.get(&ShaderKey::Resolve)?;
+                let group = pass.groups[read].as_ref().ok_or_else(missing)?;
                 draw(
                     &mut encoder,
                     "resolve",
                     &h.targets[write].view,
                     &pipeline.pipeline,
-                    &group,
+                    &group.group,
                     PassTimer::next(&mut timer),
                 );
-                self.passes.push(Pass::Resolve.name());
+                self.passes.push("resolve");
             }
             self.gpu.queue().submit([encoder.finish()]);
             if let Some(h) = &mut self.history {
@@ -712,11 +910,13 @@ impl<'g> Renderer<'g> {
         if let Some(t) = &timer {
             self.gpu_time_ms = Some(self.read_timestamps(t)?);
         }
-        let out = match &self.history {
-            Some(h) => &h.targets[h.latest],
-            None => &current,
+        self.timer = timer;
+        let image = match (&self.history, &self.clouds) {
+            (Some(h), _) => self.read_back(&h.targets[h.latest])?,
+            (None, Some(c)) => self.read_back(&c.target)?,
+            (None, None) => return Err(missing()),
         };
-        self.read_back(out)
+        Ok(image)
     }
 
     /// GPU time of the passes of the last `render` call (ms), from timestamp queries; `None`
@@ -730,26 +930,16 @@ impl<'g> Renderer<'g> {
         if timer.used == 0 {
             return Ok(0.0);
         }
-        let device = self.gpu.device();
         let size = u64::from(timer.used) * 8;
-        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps"),
-            size,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.resolve_query_set(&timer.queries, 0..timer.used, &resolve, 0);
-        encoder.copy_buffer_to_buffer(&resolve, 0, &readback, 0, size);
+        let mut encoder = self
+            .gpu
+            .device()
+            .create_command_encoder(&Default::default());
+        encoder.resolve_query_set(&timer.queries, 0..timer.used, &timer.resolve, 0);
+        encoder.copy_buffer_to_buffer(&timer.resolve, 0, &timer.readback, 0, size);
         self.gpu.queue().submit([encoder.finish()]);
-        let bytes = self.gpu.map_read(&readback)?;
-        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+        let bytes = self.gpu.map_read(&timer.readback)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&bytes[..size as usize]);
         let period_ns = f64::from(self.gpu.queue().get_timestamp_period());
         let total: u64 = ticks
             .chunks_exact(2)
@@ -759,34 +949,70 @@ impl<'g> Renderer<'g> {
     }
 
     /// The shadow atlas of the last frame (front depth, mean extinction, max optical depth,
-    /// tail per texel), if the last variant had one.
-    pub fn shadow_atlas(&self) -> Result<Option<Image>, RuntimeError> {
-        match &self.shadow_atlas {
-            Some((_, _, t)) => Ok(Some(self.read_back(t)?)),
+    /// tail per texel), if the last key had one.
+    pub fn shadow_atlas(&mut self) -> Result<Option<Image>, RuntimeError> {
+        match &self.shadow {
+            Some(p) => {
+                let (w, h) = size_of(&p.atlas);
+                self.ensure_readback(w, h);
+                let p = self.shadow.as_ref().ok_or_else(missing)?;
+                Ok(Some(self.read_back(&p.atlas)?))
+            }
             None => Ok(None),
         }
     }
 
     /// Renders `frame`.
     pub fn render(&mut self, frame: &Frame) -> Result<Image, RuntimeError> {
+        let (w, h) = (frame.width, frame.height);
+        self.check_size("the image", w, h)?;
+        self.ensure_readback(w, h);
         self.render_with_progress(frame, &mut |_, _| {})
+    }
+
+    fn row_bytes(width: u32) -> u32 {
+        (width * 8).div_ceil(256) * 256
+    }
+
+    /// A readback buffer large enough for a `width`×`height` HDR target, kept while it is.
+    fn ensure_readback(&mut self, width: u32, height: u32) {
+        let size = u64::from(Self::row_bytes(width)) * u64::from(height);
+        if self.readback.as_ref().is_some_and(|b| b.size() >= size) {
+            return;
+        }
+        self.readback = Some(self.gpu.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }));
     }
 
     fn read_back(&self, target: &Target) -> Result<Image, RuntimeError> {
         let (width, height) = (target.width, target.height);
-        let row_bytes = (width * 8).div_ceil(256) * 256;
-        let device = self.gpu.device();
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame readback"),
-            size: u64::from(row_bytes) * u64::from(height),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&Default::default());
+        let row_bytes = Self::row_bytes(width);
+        let size = u64::from(row_bytes) * u64::from(height);
+        let owned;
+        let readback = match &self.readback {
+            Some(b) if b.size() >= size => b,
+            _ => {
+                owned = self.gpu.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("frame readback"),
+                    size,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                &owned
+            }
+        };
+        let mut encoder = self
+            .gpu
+            .device()
+            .create_command_encoder(&Default::default());
         encoder.copy_texture_to_buffer(
             target.texture.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
-                buffer: &readback,
+                buffer: readback,
                 layout: wgpu::TexelCopyBufferLayout {
                     offset: 0,
                     bytes_per_row: Some(row_bytes),
@@ -800,18 +1026,13 @@ impl<'g> Renderer<'g> {
             },
         );
         self.gpu.queue().submit([encoder.finish()]);
-        let data = self.gpu.map_read(&readback)?;
+        let data = self.gpu.map_read(readback)?;
         let mut pixels = Vec::with_capacity((width * height) as usize);
         for y in 0..height as usize {
             let row = &data[y * row_bytes as usize..];
             let halves: &[u16] = bytemuck::cast_slice(&row[..width as usize * 8]);
             for px in halves.chunks_exact(4) {
-                pixels.push([
-                    f16_to_f32(px[0]),
-                    f16_to_f32(px[1]),
-                    f16_to_f32(px[2]),
-                    f16_to_f32(px[3]),
-                ]);
+                pixels.push(px_f32([px[0], px[1], px[2], px[3]]));
             }
         }
         Ok(Image {
@@ -822,17 +1043,13 @@ impl<'g> Renderer<'g> {
     }
 }
 
-fn pipeline_key(pass: Pass, variant: &CloudVariant) -> PipelineKey {
-    // The shadow pass depends on the density alone: variants that differ in lighting (or in
-    // the sample counter) share its pipeline and atlas.
-    let key = match pass {
-        Pass::Shadow => variant.key.shadow_key(),
-        _ => variant.key,
-    };
-    PipelineKey {
-        pass,
-        key: (pass != Pass::Resolve).then_some(key),
-    }
+/// One RGBA16F texel as f32 (IEEE half floats, by `half`).
+fn px_f32(texel: [u16; 4]) -> [f32; 4] {
+    texel.map(|b| f16::from_bits(b).to_f32())
+}
+
+fn missing() -> RuntimeError {
+    RuntimeError::Kernel("a pass's resources are missing after creation".into())
 }
 
 /// One full-screen draw into `view`, cleared first.

@@ -3,7 +3,7 @@
 //! with rows padded to 256 bytes, which is then copied into the texture.
 
 use nimbus_codegen::{Target, generate};
-use nimbus_dsl::model::noise::{curl_noise, detail_noise, shape_noise, weather_noise};
+use nimbus_clouds::model::noise::{curl_noise, detail_noise, shape_noise, weather_noise};
 use nimbus_dsl::shader::{self, F32, I32, U32};
 use nimbus_dsl::{ModuleBuilder, loc};
 use wgpu::util::DeviceExt;
@@ -12,7 +12,7 @@ use crate::error::RuntimeError;
 use crate::gpu::Gpu;
 
 /// Which noise a texture holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum NoiseKind {
     /// 2D RGBA coverage (low, mid, high, extra).
     Weather,
@@ -39,7 +39,8 @@ impl NoiseKind {
         }
     }
 
-    fn name(self) -> &'static str {
+    /// `weather`, `shape`, `detail`, `turbulence`.
+    pub fn name(self) -> &'static str {
         match self {
             NoiseKind::Weather => "weather",
             NoiseKind::Shape => "shape",
@@ -123,7 +124,7 @@ impl Gpu {
         let wgsl = noise_kernel_wgsl(kind, size)?;
         let groups = count.div_ceil(64);
         let buffer = self.compute_to_buffer(&wgsl, "fill", words, groups)?;
-        let texture = self.device().create_texture(&wgpu::TextureDescriptor {
+        let texture = self.create_texture(&wgpu::TextureDescriptor {
             label: Some(kind.name()),
             size: wgpu::Extent3d {
                 width: size,

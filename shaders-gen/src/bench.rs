@@ -4,7 +4,11 @@ use std::time::{Duration, Instant};
 
 use std::path::Path;
 
-use nimbus_codegen::{CodegenError, Target, catalog, cloud_catalog, generate_variant};
+use nimbus_clouds::catalog::{catalog, cloud_catalog};
+use nimbus_codegen::{Target, generate_variant};
+
+use crate::error::CliError;
+use nimbus_dsl::ShaderVariant;
 
 use crate::data::load;
 
@@ -15,8 +19,8 @@ fn median(mut v: Vec<Duration>) -> Duration {
 
 fn time<T>(
     iterations: u32,
-    mut f: impl FnMut() -> Result<T, CodegenError>,
-) -> Result<Duration, CodegenError> {
+    mut f: impl FnMut() -> Result<T, CliError>,
+) -> Result<Duration, CliError> {
     // One untimed run warms caches and surfaces errors.
     f()?;
     let mut samples = Vec::with_capacity(iterations as usize);
@@ -32,16 +36,16 @@ fn ms(d: Duration) -> String {
     format!("{:.3}", d.as_secs_f64() * 1e3)
 }
 
-pub(crate) fn run(data: Option<&Path>, iterations: u32) -> Result<(), CodegenError> {
+pub(crate) fn run(data: Option<&Path>, iterations: u32) -> Result<(), CliError> {
     let lib = load(data)?;
     let clouds = cloud_catalog(&lib);
-    // Per-target rows for the preview and one genus at each quality; the whole matrix is timed
-    // once at the end.
+    // Per-target rows for the previews and the shaders cumulus runs at each quality; every
+    // distinct shader is timed once at the end.
     let mut rows = catalog();
     rows.extend(
         clouds
             .iter()
-            .filter(|v| v.variant.starts_with("cumulus."))
+            .filter(|v| v.users.iter().any(|u| u.starts_with("cumulus.")))
             .cloned(),
     );
     let profile = if cfg!(debug_assertions) {
@@ -59,12 +63,12 @@ pub(crate) fn run(data: Option<&Path>, iterations: u32) -> Result<(), CodegenErr
     println!("|{}|", ["---"; 8].join("|"));
     let _ = &lib;
     for source in &rows {
-        let mut row = format!("| {:<20} |", source.key());
+        let mut row = format!("| {:<20} |", source.id());
         for t in Target::ALL {
-            let d = time(iterations, || generate_variant(source, &[t]))?;
+            let d = time(iterations, || Ok(generate_variant(source, &[t])?))?;
             row.push_str(&format!(" {:>10} |", ms(d)));
         }
-        let d = time(iterations, || generate_variant(source, &Target::ALL))?;
+        let d = time(iterations, || Ok(generate_variant(source, &Target::ALL)?))?;
         row.push_str(&format!(" {:>10} |", ms(d)));
         println!("{row}");
     }
@@ -77,7 +81,7 @@ pub(crate) fn run(data: Option<&Path>, iterations: u32) -> Result<(), CodegenErr
         Ok(())
     })?;
     println!(
-        "whole matrix ({} variants x 6 targets, naga validation, no external tools): {} ms",
+        "every distinct shader ({} x 6 targets, naga validation, no external tools): {} ms",
         all.len(),
         ms(whole)
     );

@@ -9,7 +9,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use nimbus_dsl::cloud::Quality;
+use nimbus_clouds::Quality;
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 

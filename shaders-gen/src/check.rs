@@ -1,11 +1,15 @@
-//! `nimbus check`.
+//! `nimbus check`: every selected shader generated and validated for every target, the number of
+//! distinct shaders per module and the genus × preset pairs that share each. Two keys that
+//! print the same text would mean a key holds a setting that changes no code: that fails too.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{Target, generate_variant};
+use nimbus_dsl::ShaderVariant;
 
-use crate::data::{Selection, load, resolve};
+use crate::data::{Selection, load, print_sharing, resolve};
 
 #[derive(Debug, thiserror::Error)]
 #[error("{failures} check(s) failed")]
@@ -19,19 +23,35 @@ pub(crate) fn run(
     external: bool,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let lib = load(data)?;
-    let sources = resolve(sel, &lib)?;
+    let resolved = resolve(sel, &lib)?;
+    let sources = &resolved.entries;
     let mut failures = 0usize;
     let mut files = 0usize;
     let mut missing = std::collections::BTreeSet::new();
     let mut external_passed = 0usize;
-    for source in &sources {
+    // WGSL text without its comments → the first shader that printed it, per module.
+    let mut texts: BTreeMap<(String, String), String> = BTreeMap::new();
+    for source in sources {
         match generate_variant(source, &Target::ALL) {
             Err(e) => {
                 failures += 1;
-                eprintln!("FAIL {}: {e}", source.key());
+                eprintln!("FAIL {}: {e}", source.id());
             }
             Ok(g) => {
                 files += g.files.len();
+                let code: String = g
+                    .wgsl
+                    .lines()
+                    .filter(|l| !l.trim_start().starts_with("//"))
+                    .collect::<Vec<_>>()
+                    .join("\n");
+                if let Some(first) = texts.insert((g.module_name.clone(), code), g.id()) {
+                    failures += 1;
+                    eprintln!(
+                        "FAIL {} prints the same code as {first}: its key holds a setting that changes nothing",
+                        g.id()
+                    );
+                }
                 if external {
                     for f in &g.files {
                         match check_file(f) {
@@ -47,15 +67,22 @@ pub(crate) fn run(
                         }
                     }
                 }
-                println!("ok   {}", g.stats.manifest_line(&g.key()));
+                println!("ok   {}", g.stats.manifest_line(&g.id()));
             }
         }
     }
     for tool in &missing {
         println!("skipped external validation with {tool}: not installed");
     }
+    println!();
     println!(
-        "{} variant(s), {files} file(s) validated by naga, {external_passed} also by external tools; {failures} failure(s)",
+        "distinct shaders ({} genus × preset pair(s)):",
+        resolved.table.len()
+    );
+    print_sharing(sources);
+    println!();
+    println!(
+        "{} shader(s), {files} file(s) validated by naga, {external_passed} also by external tools; {failures} failure(s)",
         sources.len()
     );
     if failures > 0 {

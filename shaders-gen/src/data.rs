@@ -2,10 +2,10 @@
 
 use std::path::{Path, PathBuf};
 
-use nimbus_codegen::{
-    CodegenError, VariantSource, catalog, cloud_catalog, cloud_variant, select_variants,
-};
-use nimbus_dsl::cloud::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, load_scene};
+use nimbus_clouds::catalog::{Assignment, CatalogEntry, assign, catalog, distinct, select};
+use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, load_scene};
+use crate::error::CliError;
+use nimbus_dsl::ShaderVariant;
 
 /// The data folder: `--data`, else `NIMBUS_DATA`, else this repository's `examples/`.
 pub(crate) fn data_dir(flag: Option<&Path>) -> PathBuf {
@@ -14,7 +14,7 @@ pub(crate) fn data_dir(flag: Option<&Path>) -> PathBuf {
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples"))
 }
 
-pub(crate) fn load(flag: Option<&Path>) -> Result<CloudLibrary, CodegenError> {
+pub(crate) fn load(flag: Option<&Path>) -> Result<CloudLibrary, CliError> {
     Ok(CloudLibrary::load(&data_dir(flag))?)
 }
 
@@ -34,7 +34,7 @@ pub(crate) fn scene_with_genus<'a>(
     Ok((scene, genus))
 }
 
-pub(crate) fn parse_toggles(list: &[String]) -> Result<Vec<Toggle>, CodegenError> {
+pub(crate) fn parse_toggles(list: &[String]) -> Result<Vec<Toggle>, CliError> {
     let mut out = Vec::new();
     for item in list
         .iter()
@@ -42,10 +42,14 @@ pub(crate) fn parse_toggles(list: &[String]) -> Result<Vec<Toggle>, CodegenError
         .map(str::trim)
         .filter(|s| !s.is_empty())
     {
-        let t = Toggle::parse(item).ok_or_else(|| CodegenError::Unknown {
+        let t = Toggle::parse(item).ok_or_else(|| CliError::Unknown {
             kind: "toggle",
             given: item.to_string(),
-            known: Toggle::ALL.map(Toggle::name).join(", "),
+            known: Toggle::ALL
+                .iter()
+                .map(|t| t.name())
+                .collect::<Vec<_>>()
+                .join(", "),
         })?;
         out.push(t);
     }
@@ -62,12 +66,16 @@ pub(crate) struct Selection<'a> {
     pub octaves: Option<u32>,
 }
 
-pub(crate) fn resolve(
-    sel: &Selection<'_>,
-    lib: &CloudLibrary,
-) -> Result<Vec<VariantSource>, CodegenError> {
+/// The shaders a selection names, and the genus × preset pairs it covers (the table that
+/// says which key each pair runs).
+pub(crate) struct Resolved {
+    pub entries: Vec<CatalogEntry>,
+    pub table: Vec<Assignment>,
+}
+
+pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolved, CliError> {
     let quality = match sel.quality {
-        Some(q) => Some(Quality::parse(q).ok_or_else(|| CodegenError::Unknown {
+        Some(q) => Some(Quality::parse(q).ok_or_else(|| CliError::Unknown {
             kind: "quality preset",
             given: q.to_string(),
             known: Quality::ALL.map(Quality::name).join(", "),
@@ -79,49 +87,113 @@ pub(crate) fn resolve(
     if let Some(o) = sel.octaves
         && !(1..=12).contains(&o)
     {
-        return Err(CodegenError::Unknown {
+        return Err(CliError::Unknown {
             kind: "octave count",
             given: o.to_string(),
             known: "1..=12".into(),
         });
     }
     if let Some(genus) = sel.genus {
+        let g = lib.genus(genus).ok_or_else(|| CliError::Unknown {
+            kind: "genus",
+            given: genus.to_string(),
+            known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
+        })?;
         let qualities = quality.map_or_else(|| Quality::ALL.to_vec(), |q| vec![q]);
-        let mut out = Vec::new();
-        for q in qualities {
-            let v = cloud_variant(lib, genus, q, |f| {
+        let table: Vec<Assignment> = qualities
+            .into_iter()
+            .map(|q| {
+                let mut f = q.features();
                 for t in &enable {
-                    t.set(f, true);
+                    t.set(&mut f, true);
                 }
                 for t in &disable {
-                    t.set(f, false);
+                    t.set(&mut f, false);
                 }
                 if let Some(o) = sel.octaves {
                     f.octaves = o;
                 }
+                assign(g, q, f)
             })
-            .ok_or_else(|| CodegenError::Unknown {
-                kind: "genus",
-                given: genus.to_string(),
-                known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
-            })?;
-            out.push(v);
-        }
-        return Ok(out);
+            .collect();
+        return Ok(Resolved {
+            entries: distinct(&table),
+            table,
+        });
     }
     if !enable.is_empty() || !disable.is_empty() || quality.is_some() || sel.octaves.is_some() {
-        return Err(CodegenError::Unknown {
+        return Err(CliError::Unknown {
             kind: "combination",
             given: "--quality/--enable/--disable/--octaves without --genus".into(),
             known: "pass --genus NAME with them".into(),
         });
     }
-    match sel.name {
-        Some(n) => select_variants(n, Some(lib)),
+    let table = nimbus_clouds::catalog::assignments(lib);
+    let entries = match sel.name {
+        Some(n) => {
+            let found = select(n, Some(lib));
+            if found.is_empty() {
+                let mut known: Vec<String> = catalog().iter().map(|e| e.id()).collect();
+                known.extend(["clouds".into(), "shadow".into(), "preview".into()]);
+                known.push("clouds-<key> (see `nimbus list`)".into());
+                return Err(CliError::Unknown {
+                    kind: "shader",
+                    given: n.to_string(),
+                    known: known.join(", "),
+                });
+            }
+            found
+        }
         None => {
             let mut all = catalog();
-            all.extend(cloud_catalog(lib));
-            Ok(all)
+            all.extend(distinct(&table));
+            all
+        }
+    };
+    // The table rows whose keys were selected.
+    let ids: Vec<String> = entries.iter().map(|e| e.id()).collect();
+    let table = table
+        .into_iter()
+        .filter(|a| a.keys().iter().any(|k| ids.contains(&k.id())))
+        .collect();
+    Ok(Resolved { entries, table })
+}
+
+/// The genus × preset → key table, as manifest text: one line per pair.
+pub(crate) fn table_text(table: &[Assignment]) -> String {
+    let mut s = String::new();
+    if table.is_empty() {
+        return s;
+    }
+    s.push_str("\n# Genus × quality preset → shaders (the rest is uniform values):\n");
+    for a in table {
+        s.push_str(&format!("{:<28} {}", a.name(), a.keys()[0].id()));
+        if let Some(k) = a.shadow {
+            s.push_str(&format!(" {}", nimbus_clouds::catalog::ShaderKey::Shadow(k).id()));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Distinct shaders per module, each with the pairs that share it, for `list` and `check`.
+pub(crate) fn print_sharing(entries: &[CatalogEntry]) {
+    let mut modules: Vec<&str> = entries.iter().map(|e| e.module()).collect();
+    modules.dedup();
+    for m in modules {
+        let of: Vec<&CatalogEntry> = entries.iter().filter(|e| e.module() == m).collect();
+        println!("  {m}: {} distinct shader(s)", of.len());
+        for e in of {
+            if e.users.is_empty() {
+                println!("    {}", e.id());
+            } else {
+                println!(
+                    "    {} ← {} pair(s): {}",
+                    e.id(),
+                    e.users.len(),
+                    e.users.join(", ")
+                );
+            }
         }
     }
 }

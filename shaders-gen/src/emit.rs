@@ -1,10 +1,11 @@
-//! `nimbus emit`: the selected variants, or the one a scene derives.
+//! `nimbus emit`: the selected shaders (one per key), or those a scene derives, with the genus ×
+//! preset → key table in the manifest.
 
 use std::path::Path;
 
-use nimbus_codegen::{Target, emit, generate_variant};
+use nimbus_codegen::{EmitExtras, Target, emit, generate_variant};
 
-use crate::data::{Selection, load, resolve};
+use crate::data::{Resolved, Selection, load, resolve, table_text};
 
 pub(crate) fn run(
     data: Option<&Path>,
@@ -14,22 +15,27 @@ pub(crate) fn run(
     out: &Path,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let targets = Target::parse_list(targets)?;
-    let sources = match scene {
-        Some(file) => crate::explain::variant_source(data, file)?,
+    let Resolved { entries, table } = match scene {
+        Some(file) => crate::explain::resolved(data, file)?,
         None => resolve(sel, &load(data)?)?,
     };
     let mut generated = Vec::new();
-    for s in &sources {
+    for s in &entries {
         generated.push(generate_variant(s, &targets)?);
     }
-    let report = emit(&generated, out)?;
+    let extras = EmitExtras {
+        manifest_appendix: table_text(&table),
+        files: Vec::new(),
+    };
+    let report = emit(&generated, &extras, out)?;
     for g in &generated {
-        println!("{}", g.stats.manifest_line(&g.key()));
+        println!("{}", g.stats.manifest_line(&g.id()));
     }
     println!(
-        "wrote {} files for {} variant(s) to {}",
+        "wrote {} files for {} shader(s) ({} genus × preset pair(s)) to {}",
         report.files.len(),
         generated.len(),
+        table.len(),
         report.dir.display()
     );
     Ok(())

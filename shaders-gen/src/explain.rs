@@ -2,9 +2,11 @@
 
 use std::path::Path;
 
-use nimbus_codegen::VariantSource;
-use nimbus_dsl::cloud::{Analysis, CloudLibrary, ScenePreset, analyse, load_scene};
-use nimbus_dsl::model::clouds::CloudVariant;
+use nimbus_clouds::catalog::{Assignment, assign, distinct};
+use nimbus_clouds::{Analysis, CloudLibrary, ScenePreset, analyse, load_scene};
+use nimbus_clouds::model::clouds::CloudVariant;
+
+use nimbus_dsl::ShaderVariant;
 
 use crate::render::{genus_of, library_for};
 
@@ -24,15 +26,23 @@ pub(crate) fn derive(
     Ok((scene, variant, analysis))
 }
 
-/// The derived variant as a catalogue entry, for `emit --scene`.
-pub(crate) fn variant_source(
+/// The shaders of the scene's derived key, for `emit --scene`.
+pub(crate) fn resolved(
     data: Option<&Path>,
     scene_file: &Path,
-) -> Result<Vec<VariantSource>, Box<dyn std::error::Error>> {
-    let (scene, variant, _) = derive(data, scene_file)?;
-    let mut out: Vec<VariantSource> = VariantSource::shadow(&variant).into_iter().collect();
-    out.push(VariantSource::clouds(variant, &scene.description));
-    Ok(out)
+) -> Result<crate::data::Resolved, Box<dyn std::error::Error>> {
+    let lib: CloudLibrary = library_for(data, Some(scene_file))?;
+    let scene = load_scene(scene_file)?;
+    let mut genus = genus_of(&lib, &scene.genus)?;
+    if let Some(c) = scene.coverage {
+        genus.coverage = c;
+    }
+    let features = analyse(&scene, &genus).features;
+    let table: Vec<Assignment> = vec![assign(&genus, scene.quality, features)];
+    Ok(crate::data::Resolved {
+        entries: distinct(&table),
+        table,
+    })
 }
 
 pub(crate) fn run(
@@ -91,11 +101,14 @@ pub(crate) fn run(
     println!();
     println!("variant: {}", variant.name());
     println!(
-        "key: phase {:?}, {} layer group(s), octaves {}, features {}",
-        variant.key.phase,
-        variant.key.groups,
-        variant.key.features.octaves,
-        variant.key.features.key()
+        "shader: {}",
+        nimbus_clouds::catalog::ShaderKey::Clouds(variant.key).id()
     );
+    if let Some(k) = variant.key.shadow_key() {
+        println!(
+            "shadow pass: {}",
+            nimbus_clouds::catalog::ShaderKey::Shadow(k).id()
+        );
+    }
     Ok(())
 }

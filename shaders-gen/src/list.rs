@@ -2,12 +2,15 @@
 
 use std::path::Path;
 
-use nimbus_codegen::{CodegenError, Target, catalog};
-use nimbus_dsl::cloud::{Quality, Toggle};
+use nimbus_clouds::catalog::{catalog, cloud_catalog};
+use nimbus_clouds::{Quality, Toggle};
+use nimbus_codegen::Target;
+
+use crate::error::CliError;
 
 use crate::data::{data_dir, load};
 
-pub(crate) fn run(data: Option<&Path>) -> Result<(), CodegenError> {
+pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
     let lib = load(data)?;
     println!("genera ({}):", data_dir(data).join("genera").display());
     for (name, (_, g)) in &lib.genera {
@@ -33,6 +36,7 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CodegenError> {
         let st = q.settings();
         let off: Vec<&str> = Toggle::ALL
             .iter()
+            .copied()
             .filter(|t| !t.get(&q.features()))
             .map(|t| t.name())
             .collect();
@@ -51,18 +55,20 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CodegenError> {
             }
         );
     }
-    println!("toggles (--enable / --disable):");
+    println!("toggles (--enable / --disable; tag in shader keys):");
     for t in Toggle::ALL {
-        println!("  {}", t.name());
+        println!("  {:<26} {:<8} {}", t.name(), t.tag(), t.doc());
     }
-    println!("modules/variants:");
-    for v in catalog() {
-        println!("  {:<24} {}", v.key(), v.description);
-    }
+    let mut entries = catalog();
+    let clouds = cloud_catalog(&lib);
+    entries.extend(clouds);
     println!(
-        "  clouds/<genus>.<quality>  every genus at every quality preset ({} variants)",
+        "shaders, one per key ({} genera × {} presets = {} pairs):",
+        lib.genera.len(),
+        Quality::ALL.len(),
         lib.genera.len() * Quality::ALL.len()
     );
+    crate::data::print_sharing(&entries);
     println!("targets:");
     for t in Target::ALL {
         let what = match t {

@@ -5,6 +5,7 @@ mod bench_frames;
 mod check;
 mod data;
 mod emit;
+mod error;
 mod explain;
 mod export_density;
 mod list;

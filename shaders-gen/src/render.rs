@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use nimbus_codegen::CodegenError;
-use nimbus_dsl::cloud::{
+use crate::error::CliError;
+use nimbus_clouds::{
     CloudLibrary, Features, Genus, Quality, ScenePreset, analyse, load_genus, load_scene,
 };
 use nimbus_runtime::Gpu;
@@ -96,7 +96,7 @@ pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
 pub(crate) fn library_for(
     data: Option<&Path>,
     scene: Option<&Path>,
-) -> Result<CloudLibrary, CodegenError> {
+) -> Result<CloudLibrary, CliError> {
     if data.is_none() && std::env::var_os("NIMBUS_DATA").is_none() {
         let beside = scene
             .and_then(Path::parent)
@@ -109,13 +109,13 @@ pub(crate) fn library_for(
     data::load(data)
 }
 
-pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CodegenError> {
+pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CliError> {
     if name.ends_with(".toml") || name.contains('/') {
         return Ok(load_genus(Path::new(name))?);
     }
     lib.genus(name)
         .cloned()
-        .ok_or_else(|| CodegenError::Unknown {
+        .ok_or_else(|| CliError::Unknown {
             kind: "genus",
             given: name.to_string(),
             known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
@@ -170,7 +170,7 @@ pub(crate) fn frame(
         genus.coverage = c;
     }
     let quality = match &a.quality {
-        Some(q) => Quality::parse(q).ok_or_else(|| CodegenError::Unknown {
+        Some(q) => Quality::parse(q).ok_or_else(|| CliError::Unknown {
             kind: "quality preset",
             given: q.clone(),
             known: Quality::ALL.map(Quality::name).join(", "),

@@ -8,11 +8,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use nimbus_dsl::cloud::Quality;
+use nimbus_clouds::Quality;
 use nimbus_runtime::Gpu;
-use nimbus_runtime::metrics::ImageError;
+use nimbus_testkit::metrics::ImageError;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
-use nimbus_runtime::tradeoff::{
+use nimbus_testkit::tradeoff::{
     Clock, Measurement, StudyOptions, dominators, measure, pareto_front, reference, rows,
 };
 

@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 
 use nimbus_dsl::ir::{ExprId, Type};
 use nimbus_runtime::Gpu;
-use nimbus_runtime::parity::{KernelFn, run_on_gpu};
+use nimbus_testkit::parity::{KernelFn, run_on_gpu};
 
 /// The GPU for parity tests, or `None` with the reason printed. With `NIMBUS_REQUIRE_GPU=1`
 /// (set by .ci/run, which installs lavapipe) a missing adapter is a failure, not a skip.

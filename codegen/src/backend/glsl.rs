@@ -13,7 +13,7 @@ pub(super) fn write(
     target: Target,
     stage: Stage,
     entry: &str,
-) -> Result<(Contents, TargetNames), String> {
+) -> Result<(Contents, TargetNames, Vec<(String, String, String)>), String> {
     let version = match target {
         Target::GlslEs300 => Version::Embedded {
             version: 300,
@@ -67,14 +67,24 @@ pub(super) fn write(
             names.push((n.clone(), block.clone()));
         }
     }
-    for (combined, mapping) in &reflection.texture_mapping {
-        if let Some(n) = &baked.module.global_variables[mapping.texture].name {
-            names.push((n.clone(), combined.clone()));
+    // GLSL has no separate textures and samplers: naga writes one combined sampler per
+    // (texture, sampler) pair the entry point uses, and a sampler may appear in several.
+    let mut combined = Vec::new();
+    for (name, mapping) in &reflection.texture_mapping {
+        let texture = baked.module.global_variables[mapping.texture].name.clone();
+        let sampler = mapping
+            .sampler
+            .and_then(|s| baked.module.global_variables[s].name.clone());
+        if let (Some(t), Some(s)) = (texture, sampler) {
+            combined.push((name.clone(), t, s));
         }
-        if let Some(s) = mapping.sampler
-            && let Some(n) = &baked.module.global_variables[s].name
-        {
-            names.push((n.clone(), combined.clone()));
+    }
+    combined.sort();
+    // A texture's target name is its combined sampler(s); a sampler has none of its own.
+    for (name, texture, _) in &combined {
+        match names.iter_mut().find(|(n, _)| n == texture) {
+            Some(entry) => entry.1 = format!("{}, {name}", entry.1),
+            None => names.push((texture.clone(), name.clone())),
         }
     }
     if !binding_map.is_empty() {
@@ -90,7 +100,7 @@ pub(super) fn write(
         }
     }
     names.sort();
-    Ok((Contents::Text(strip_trailing_ws(&text)), names))
+    Ok((Contents::Text(strip_trailing_ws(&text)), names, combined))
 }
 
 pub(super) fn strip_trailing_ws(s: &str) -> String {

@@ -11,10 +11,11 @@ mod spirv;
 
 use naga::back::PipelineConstants;
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
-use nimbus_dsl::ir::{GlobalKind, Module as DslModule, Stage};
+use nimbus_dsl::ir::{GlobalKind, Module as DslModule, SamplerDesc, Stage};
 
 use crate::manifest::{
-    BindingManifest, ManifestBinding, ManifestField, ManifestOverride, ManifestStruct,
+    BindingManifest, CombinedSampler, ManifestBinding, ManifestField, ManifestOverride,
+    ManifestSampler, ManifestStruct,
 };
 use crate::target::Target;
 use crate::validate::Validated;
@@ -111,9 +112,14 @@ pub(crate) fn translate(
     stage: Stage,
     entry: &str,
 ) -> Result<(Contents, Option<BindingManifest>), String> {
+    let mut combined = Vec::new();
     let (contents, names) = match target {
         Target::Wgsl => return Err("WGSL is printed, not translated".into()),
-        Target::GlslEs300 | Target::Glsl450 => glsl::write(baked, target, stage, entry)?,
+        Target::GlslEs300 | Target::Glsl450 => {
+            let (contents, names, pairs) = glsl::write(baked, target, stage, entry)?;
+            combined = pairs;
+            (contents, names)
+        }
         Target::Hlsl => hlsl::write(baked, stage, entry)?,
         Target::Msl => msl::write(baked, dsl, stage, entry)?,
         Target::SpirV => (spirv::write(baked, stage, entry)?, Vec::new()),
@@ -121,7 +127,25 @@ pub(crate) fn translate(
     if !target.has_binding_manifest() {
         return Ok((contents, None));
     }
-    let manifest = manifest_for(baked, dsl, variant, target, stage, entry, constants, &names);
+    let mut manifest = manifest_for(baked, dsl, variant, target, stage, entry, constants, &names);
+    manifest.combined_samplers = combined
+        .into_iter()
+        .map(|(name, texture, sampler)| {
+            let desc = dsl
+                .globals
+                .iter()
+                .find(|g| g.name == sampler)
+                .and_then(|g| g.sampler)
+                .unwrap_or(SamplerDesc::LINEAR_REPEAT);
+            CombinedSampler {
+                name,
+                texture,
+                sampler,
+                address_mode: desc.address.name(),
+                filter: desc.filter.name(),
+            }
+        })
+        .collect();
     Ok((contents, Some(manifest)))
 }
 
@@ -178,6 +202,10 @@ fn manifest_for(
             binding: rb.binding,
             wgsl_type: src.ty.wgsl(),
             target_name,
+            sampler: src.sampler.map(|d| ManifestSampler {
+                address_mode: d.address.name(),
+                filter: d.filter.name(),
+            }),
         });
     }
     bindings.sort_by_key(|a| (a.group, a.binding));
@@ -219,6 +247,7 @@ fn manifest_for(
         entry_point: entry.to_string(),
         stage: stage.wgsl().to_string(),
         bindings,
+        combined_samplers: Vec::new(),
         structs,
         overrides,
     }

@@ -161,7 +161,7 @@ pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenS
             shader_params.push(quote! { #n: #ty });
             spec_suffixes.push(quote! { ::nimbus_dsl::SpecValue::suffix(&#n) });
             spec_notes.push(quote! {
-                ::std::format!("{} = {:?}", #n_str, #n)
+                ::std::format!("{} = {}", #n_str, ::nimbus_dsl::SpecValue::label(&#n))
             });
         } else {
             let d = dsl_ty(ty);

@@ -4,6 +4,7 @@
 mod expr;
 mod function;
 mod module;
+mod sampler;
 mod source;
 mod stmt;
 mod types;
@@ -13,6 +14,7 @@ pub use expr::{
 };
 pub use function::{Function, Local, Param};
 pub use module::{EntryPoint, Global, GlobalKind, Module, Stage};
+pub use sampler::{AddressMode, FilterMode, SamplerDesc};
 pub use source::SourceLoc;
 pub use stmt::{Block, Stmt};
 pub use types::{FieldDef, Scalar, StructDef, Type};

@@ -36,6 +36,8 @@ pub struct Global {
     pub ty: Type,
     pub kind: GlobalKind,
     pub doc: String,
+    /// For sampler bindings: the state every consumer creates the sampler with.
+    pub sampler: Option<super::SamplerDesc>,
 }
 
 impl Global {

@@ -39,11 +39,19 @@ pub trait SpecValue: Copy + std::fmt::Debug {
     /// empty suffix keeps the name as is; the recorder then refuses a second, different value
     /// in the same module rather than silently reusing the first copy.
     fn suffix(&self) -> String;
+
+    /// How the value reads in the generated code's comments (`specialised for key = …`): a
+    /// short name a reviewer can scan, never a `Debug` dump.
+    fn label(&self) -> String;
 }
 
 impl SpecValue for bool {
     fn suffix(&self) -> String {
         if *self { "on".into() } else { "off".into() }
+    }
+
+    fn label(&self) -> String {
+        self.to_string()
     }
 }
 
@@ -51,6 +59,10 @@ macro_rules! spec_int {
     ($($t:ty),*) => {$(
         impl SpecValue for $t {
             fn suffix(&self) -> String {
+                self.to_string()
+            }
+
+            fn label(&self) -> String {
                 self.to_string()
             }
         }

@@ -1,0 +1,275 @@
+//! Which effects a scene can show: the minimal variant derived from a scene's content.
+//!
+//! Each rule is a small function of the scene that says whether an effect can make a visible
+//! difference, and why. An effect is simulated only when the quality preset asks for it and
+//! its rule allows it; the scene's `[features]` table then forces effects on or off over
+//! both. Rules that are exact (the effect would contribute nothing) and rules that are
+//! judgements (ground bounce seen from far above) are marked as such.
+
+use super::features::{Features, Toggle};
+use super::genus::Genus;
+use super::scene::ScenePreset;
+
+/// Camera this far above the highest layer top sees no cloud base lit by the ground (m).
+pub const GROUND_BOUNCE_VISIBLE_ABOVE: f32 = 1000.0;
+
+/// What a scene contains, as far as the rules care.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneContent<'a> {
+    pub genus: &'a Genus,
+    pub coverage: f32,
+    pub sun_elevation_deg: f32,
+    pub camera_altitude: f32,
+    pub haze_density: f32,
+    pub turbulence_displacement: f32,
+}
+
+impl<'a> SceneContent<'a> {
+    pub fn of(scene: &ScenePreset, genus: &'a Genus) -> Self {
+        SceneContent {
+            genus,
+            coverage: scene.coverage.unwrap_or(genus.coverage),
+            sun_elevation_deg: scene.sun_elevation_deg,
+            camera_altitude: scene.camera_altitude,
+            haze_density: scene.haze_density,
+            turbulence_displacement: scene.turbulence_displacement,
+        }
+    }
+}
+
+/// A rule's verdict: can the effect be seen, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Verdict {
+    pub visible: bool,
+    pub reason: String,
+}
+
+fn verdict(visible: bool, reason: impl Into<String>) -> Verdict {
+    Verdict {
+        visible,
+        reason: reason.into(),
+    }
+}
+
+/// Any cloud at all: coverage above 0 and an enabled layer with density.
+pub fn clouds_present(c: &SceneContent) -> Verdict {
+    let dense = c
+        .genus
+        .layers
+        .iter()
+        .filter(|l| l.is_enabled() && l.density_scale > 0.0)
+        .count();
+    if c.coverage <= 0.0 {
+        return verdict(false, "coverage is 0: no clouds");
+    }
+    if dense == 0 {
+        return verdict(false, "no layer has density");
+    }
+    verdict(true, format!("{dense} layer(s) with density"))
+}
+
+/// The sun gives direct light (its centre above the horizon).
+pub fn sun_up(c: &SceneContent) -> Verdict {
+    if c.sun_elevation_deg > 0.0 {
+        verdict(true, format!("sun {}° up", c.sun_elevation_deg))
+    } else {
+        verdict(
+            false,
+            format!("sun {}° (below the horizon)", c.sun_elevation_deg),
+        )
+    }
+}
+
+fn shadow_top(c: &SceneContent) -> Option<f32> {
+    c.genus
+        .layers
+        .iter()
+        .filter(|l| l.is_enabled() && l.shadow && l.density_scale > 0.0)
+        .map(|l| l.altitude + l.height)
+        .reduce(f32::max)
+}
+
+/// Cloud shadows (beer shadow map): a shadow-casting layer, and a sun to cast them. Exact: with
+/// neither, the shadow map holds no optical depth.
+pub fn shadows(c: &SceneContent) -> Verdict {
+    let clouds = clouds_present(c);
+    if !clouds.visible {
+        return clouds;
+    }
+    let sun = sun_up(c);
+    if !sun.visible {
+        return verdict(false, format!("{}: nothing to shadow", sun.reason));
+    }
+    match shadow_top(c) {
+        Some(_) => verdict(true, "a layer casts shadows and the sun is up"),
+        None => verdict(false, "no layer casts shadows"),
+    }
+}
+
+/// Haze: a haze density above 0. Exact.
+pub fn haze(c: &SceneContent) -> Verdict {
+    if c.haze_density > 0.0 {
+        verdict(true, format!("haze density {:e}", c.haze_density))
+    } else {
+        verdict(false, "haze density is 0")
+    }
+}
+
+/// Light shafts (cloud shadows in the haze): haze to see them in, a sun, and a shadow-casting
+/// layer between the sun and the camera (not all below it).
+pub fn light_shafts(c: &SceneContent) -> Verdict {
+    let h = haze(c);
+    if !h.visible {
+        return verdict(false, format!("{}: no air to show shafts in", h.reason));
+    }
+    let s = shadows(c);
+    if !s.visible {
+        return s;
+    }
+    match shadow_top(c) {
+        Some(top) if c.camera_altitude > top => verdict(
+            false,
+            format!(
+                "camera at {} m is above every shadow-casting layer (top {top} m)",
+                c.camera_altitude
+            ),
+        ),
+        _ => verdict(true, "shadow-casting clouds between the sun and the camera"),
+    }
+}
+
+/// Shape detail: some layer erodes with the detail texture. Exact: an amount of 0 leaves the
+/// density as it is.
+pub fn shape_detail(c: &SceneContent) -> Verdict {
+    let clouds = clouds_present(c);
+    if !clouds.visible {
+        return clouds;
+    }
+    let n = c
+        .genus
+        .layers
+        .iter()
+        .filter(|l| l.is_enabled() && l.shape_detail_amount > 0.0)
+        .count();
+    if n == 0 {
+        verdict(false, "every layer's shape-detail amount is 0")
+    } else {
+        verdict(true, format!("{n} layer(s) with shape detail"))
+    }
+}
+
+/// Turbulence: a displacement above 0. Exact.
+pub fn turbulence(c: &SceneContent) -> Verdict {
+    let clouds = clouds_present(c);
+    if !clouds.visible {
+        return clouds;
+    }
+    if c.turbulence_displacement > 0.0 {
+        verdict(
+            true,
+            format!("turbulent displacement {} m", c.turbulence_displacement),
+        )
+    } else {
+        verdict(false, "turbulent displacement is 0")
+    }
+}
+
+/// Ground bounce: light from the ground reaches cloud bases the camera can see. A judgement,
+/// not exact: seen from far above, the bases it brightens are hidden by the clouds.
+pub fn ground_bounce(c: &SceneContent) -> Verdict {
+    let clouds = clouds_present(c);
+    if !clouds.visible {
+        return clouds;
+    }
+    let top = c
+        .genus
+        .layers
+        .iter()
+        .filter(|l| l.is_enabled())
+        .map(|l| l.altitude + l.height)
+        .fold(0.0f32, f32::max);
+    if c.camera_altitude > top + GROUND_BOUNCE_VISIBLE_ABOVE {
+        verdict(
+            false,
+            format!(
+                "camera at {} m, far above every layer (top {top} m): bases out of sight",
+                c.camera_altitude
+            ),
+        )
+    } else {
+        verdict(true, "cloud bases can be seen")
+    }
+}
+
+/// The rule of a toggle, or `None` when only the quality preset decides it (the effect
+/// table's `rule` column).
+pub fn rule(t: Toggle) -> Option<fn(&SceneContent) -> Verdict> {
+    t.rule()
+}
+
+/// One effect's decision.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Decision {
+    pub toggle: Toggle,
+    pub included: bool,
+    pub reason: String,
+}
+
+/// The derived variant of a scene and the reasons.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Analysis {
+    pub features: Features,
+    pub decisions: Vec<Decision>,
+    /// Layers in use, and the lane groups they need (1 group = up to 4 layers).
+    pub layers: usize,
+    pub layer_groups: usize,
+}
+
+/// Derives the minimal features for `scene` seen with `genus`.
+pub fn analyse(scene: &ScenePreset, genus: &Genus) -> Analysis {
+    let content = SceneContent::of(scene, genus);
+    let preset = scene.quality.features();
+    let mut features = preset;
+    let mut decisions = Vec::new();
+    for &t in Toggle::ALL {
+        let forced = scene.features.get(t);
+        let (included, reason) = match (forced, t.get(&preset), rule(t)) {
+            (Some(on), _, _) => (on, format!("forced {} by the scene", on_off(on))),
+            (None, false, _) => (
+                false,
+                format!("off in the `{}` preset", scene.quality.name()),
+            ),
+            (None, true, None) => (
+                true,
+                format!(
+                    "on in the `{}` preset (no scene rule)",
+                    scene.quality.name()
+                ),
+            ),
+            (None, true, Some(r)) => {
+                let v = r(&content);
+                (v.visible, v.reason)
+            }
+        };
+        t.set(&mut features, included);
+        decisions.push(Decision {
+            toggle: t,
+            included,
+            reason,
+        });
+    }
+    if let Some(o) = scene.features.octaves {
+        features.octaves = o;
+    }
+    let layers = genus.layers.iter().filter(|l| l.is_enabled()).count();
+    Analysis {
+        features,
+        decisions,
+        layers,
+        layer_groups: genus.layer_groups(),
+    }
+}
+
+fn on_off(on: bool) -> &'static str {
+    if on { "on" } else { "off" }
+}

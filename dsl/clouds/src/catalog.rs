@@ -1,0 +1,209 @@
+//! The catalogue: which shaders exist, named by key. Every genus at every real-time quality
+//! preset resolves to a cloud key (and, when it samples a shadow map, a shadow key) plus
+//! uniform values; the catalogue holds each distinct key once, with the genus × preset pairs
+//! that share it. That is what `nimbus list` shows, `check` validates, `emit` writes and the
+//! snapshots pin.
+
+use std::collections::BTreeMap;
+
+use nimbus_dsl::ir::Module;
+use nimbus_dsl::{DslError, ShaderVariant, SpecValue};
+
+use crate::key::{CloudKey, ShadowKey};
+use crate::model::clouds::{CloudVariant, cloud_module, resolve_module, shadow_module};
+use crate::model::preview::{PhaseModel, preview_module};
+use crate::{CloudLibrary, Features, Genus, Quality};
+
+/// A shader's identity: its module and the key that fixes its code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShaderKey {
+    /// The false-colour preview of a phase function and density profile.
+    Preview(PhaseModel),
+    /// The cloud march composited over sky and ground.
+    Clouds(CloudKey),
+    /// The beer shadow map atlas.
+    Shadow(ShadowKey),
+    /// Temporal upscaling and accumulation (one for every key).
+    Resolve,
+}
+
+impl ShaderKey {
+    /// The key's part of the shader's name (`detail-turb-…-g1`).
+    pub fn key_name(&self) -> String {
+        match self {
+            ShaderKey::Preview(m) => m.suffix(),
+            ShaderKey::Clouds(k) => k.name(),
+            ShaderKey::Shadow(k) => k.name(),
+            ShaderKey::Resolve => "temporal".into(),
+        }
+    }
+
+    /// Order in listings: previews, clouds, shadows, resolve; by name within a module.
+    fn rank(&self) -> (u8, String) {
+        let m = match self {
+            ShaderKey::Preview(_) => 0,
+            ShaderKey::Clouds(_) => 1,
+            ShaderKey::Shadow(_) => 2,
+            ShaderKey::Resolve => 3,
+        };
+        (m, self.key_name())
+    }
+}
+
+impl ShaderVariant for ShaderKey {
+    fn module(&self) -> &str {
+        match self {
+            ShaderKey::Preview(_) => "preview",
+            ShaderKey::Clouds(_) => "clouds",
+            ShaderKey::Shadow(_) => "shadow",
+            ShaderKey::Resolve => "resolve",
+        }
+    }
+
+    fn variant(&self) -> String {
+        self.key_name()
+    }
+
+    fn record(&self) -> Result<Module, DslError> {
+        match self {
+            ShaderKey::Preview(m) => preview_module(*m),
+            ShaderKey::Clouds(k) => cloud_module(k),
+            ShaderKey::Shadow(k) => shadow_module(k),
+            ShaderKey::Resolve => resolve_module(),
+        }
+    }
+}
+
+/// One genus at one quality preset: the keys it resolves to. The rest is uniform values.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Assignment {
+    pub genus: String,
+    pub quality: Quality,
+    pub clouds: CloudKey,
+    pub shadow: Option<ShadowKey>,
+}
+
+impl Assignment {
+    /// `cumulus.high`.
+    pub fn name(&self) -> String {
+        format!("{}.{}", self.genus, self.quality.name())
+    }
+
+    /// The keys of the shaders this pair runs.
+    pub fn keys(&self) -> Vec<ShaderKey> {
+        let mut keys = vec![ShaderKey::Clouds(self.clouds)];
+        keys.extend(self.shadow.map(ShaderKey::Shadow));
+        keys
+    }
+}
+
+/// A catalogue entry: one distinct shader and the genus × preset pairs that run it.
+#[derive(Clone, Debug)]
+pub struct CatalogEntry {
+    pub key: ShaderKey,
+    pub description: String,
+    /// `cumulus.high`, ... (empty for shaders no genus selects: previews, resolve).
+    pub users: Vec<String>,
+}
+
+impl ShaderVariant for CatalogEntry {
+    fn module(&self) -> &str {
+        self.key.module()
+    }
+
+    fn variant(&self) -> String {
+        self.key.variant()
+    }
+
+    fn record(&self) -> Result<Module, DslError> {
+        self.key.record()
+    }
+}
+
+fn describe(key: &ShaderKey) -> String {
+    match key {
+        ShaderKey::Preview(_) => "false-colour density profile and phase function preview".into(),
+        ShaderKey::Clouds(_) => "cloud march over sky and ground".into(),
+        ShaderKey::Shadow(_) => "beer shadow map atlas".into(),
+        ShaderKey::Resolve => {
+            "temporal upscaling and accumulation, reprojection, history clipping".into()
+        }
+    }
+}
+
+/// The shaders no genus selects: the previews and the temporal resolve.
+pub fn catalog() -> Vec<CatalogEntry> {
+    PhaseModel::ALL
+        .iter()
+        .map(|m| ShaderKey::Preview(*m))
+        .chain([ShaderKey::Resolve])
+        .map(|key| CatalogEntry {
+            description: describe(&key),
+            key,
+            users: Vec::new(),
+        })
+        .collect()
+}
+
+/// The keys of `genus` at `quality` with `features`.
+pub fn assign(genus: &Genus, quality: Quality, features: Features) -> Assignment {
+    let v = CloudVariant::new(genus, quality, features);
+    Assignment {
+        genus: genus.name.clone(),
+        quality,
+        clouds: v.key,
+        shadow: v.key.shadow_key(),
+    }
+}
+
+/// Every genus at every real-time quality preset with the preset's features: the genus ×
+/// preset → key table.
+pub fn assignments(lib: &CloudLibrary) -> Vec<Assignment> {
+    lib.genera
+        .values()
+        .flat_map(|(_, genus)| {
+            Quality::ALL
+                .iter()
+                .map(|&q| assign(genus, q, q.features()))
+        })
+        .collect()
+}
+
+/// The distinct shaders of `pairs`, each once with the pairs that share it, in listing order.
+pub fn distinct(pairs: &[Assignment]) -> Vec<CatalogEntry> {
+    let mut users: BTreeMap<(u8, String), (ShaderKey, Vec<String>)> = BTreeMap::new();
+    for a in pairs {
+        for key in a.keys() {
+            users
+                .entry(key.rank())
+                .or_insert_with(|| (key, Vec::new()))
+                .1
+                .push(a.name());
+        }
+    }
+    users
+        .into_values()
+        .map(|(key, users)| CatalogEntry {
+            description: describe(&key),
+            key,
+            users,
+        })
+        .collect()
+}
+
+/// Every distinct cloud and shadow shader the library's genera need at the real-time presets.
+pub fn cloud_catalog(lib: &CloudLibrary) -> Vec<CatalogEntry> {
+    distinct(&assignments(lib))
+}
+
+/// Shaders by id (`clouds-…`, `preview-hg`) or every shader of a module (`clouds`).
+pub fn select(name: &str, lib: Option<&CloudLibrary>) -> Vec<CatalogEntry> {
+    let mut all = catalog();
+    if let Some(lib) = lib {
+        all.extend(cloud_catalog(lib));
+    }
+    let name = name.trim();
+    all.into_iter()
+        .filter(|e| e.id() == name || e.module() == name)
+        .collect()
+}

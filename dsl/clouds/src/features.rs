@@ -1,0 +1,178 @@
+//! The effect table: every toggle declared once, in one row of [`effects!`]. A row gives the
+//! toggle's field, its name on the command line and in scene files, its short tag in shader key
+//! names, the quality presets that include it, the scene rule that can drop it, and its doc.
+//! `Features`, `Toggle` (with its clap `ValueEnum`), the scene's `FeatureOverrides`, each
+//! preset's features and the analysis' rule lookup are all derived from that table.
+//!
+//! Each toggle is a generation-time choice: a toggle that is off leaves no code, binding or
+//! texture in the shader.
+
+use serde::{Deserialize, Serialize};
+
+use crate::analysis::{self, SceneContent, Verdict};
+use crate::quality::Quality;
+
+/// A scene rule: can the scene show this effect, and why.
+pub type Rule = fn(&SceneContent) -> Verdict;
+
+macro_rules! effects {
+    ($(
+        $(#[doc = $doc:literal])+
+        $variant:ident, $field:ident, $name:literal, tag $tag:literal,
+        presets [$($q:ident),*], rule $rule:expr;
+    )+) => {
+        /// Which effects a shader simulates.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields, default)]
+        pub struct Features {
+            $($(#[doc = $doc])+ pub $field: bool,)+
+            /// Multiple-scattering octaves (1..=12).
+            pub octaves: u32,
+        }
+
+        impl Default for Features {
+            /// The `high` preset's features.
+            fn default() -> Self {
+                Quality::High.features()
+            }
+        }
+
+        /// A named on/off effect, as spelled on the command line and in scene files.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Toggle {
+            $($(#[doc = $doc])+ $variant,)+
+        }
+
+        impl Toggle {
+            /// Every toggle, in table order (the order of key names and `explain`).
+            pub const ALL: &[Toggle] = &[$(Toggle::$variant),+];
+
+            /// The command-line and scene-file name (`shape-detail`).
+            pub fn name(self) -> &'static str {
+                match self { $(Toggle::$variant => $name,)+ }
+            }
+
+            /// The short tag in shader key names (`detail`).
+            pub fn tag(self) -> &'static str {
+                match self { $(Toggle::$variant => $tag,)+ }
+            }
+
+            /// The first line of the toggle's doc.
+            pub fn doc(self) -> &'static str {
+                match self { $(Toggle::$variant => first_line(&[$($doc),+]),)+ }
+            }
+
+            /// Whether the quality preset `q` includes the effect.
+            pub fn in_preset(self, q: Quality) -> bool {
+                match self { $(Toggle::$variant => [$(Quality::$q),*].contains(&q),)+ }
+            }
+
+            /// The scene rule that may leave the effect out, or `None` when only the quality
+            /// preset decides.
+            pub fn rule(self) -> Option<Rule> {
+                match self { $(Toggle::$variant => $rule,)+ }
+            }
+
+            pub fn get(self, f: &Features) -> bool {
+                match self { $(Toggle::$variant => f.$field,)+ }
+            }
+
+            pub fn set(self, f: &mut Features, on: bool) {
+                match self { $(Toggle::$variant => f.$field = on,)+ }
+            }
+
+            fn forced(self, o: &FeatureOverrides) -> Option<bool> {
+                match self { $(Toggle::$variant => o.$field,)+ }
+            }
+        }
+
+        /// A scene's `[features]` table: effects forced on or off over the preset and the rules.
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct FeatureOverrides {
+            $(pub $field: Option<bool>,)+
+            pub octaves: Option<u32>,
+        }
+
+        /// The features of a quality preset, from the table's `presets` column.
+        pub(crate) fn preset_features(q: Quality) -> Features {
+            Features {
+                $($field: Toggle::$variant.in_preset(q),)+
+                octaves: if q == Quality::Reference { 12 } else { 8 },
+            }
+        }
+    };
+}
+
+effects! {
+    /// Detail erosion by the 32³ Worley texture.
+    ShapeDetail, shape_detail, "shape-detail", tag "detail",
+        presets [Medium, High, Ultra, Reference], rule Some(analysis::shape_detail);
+    /// Domain distortion of the shape by the curl-noise texture near cloud bases.
+    Turbulence, turbulence, "turbulence", tag "turb",
+        presets [High, Ultra, Reference], rule Some(analysis::turbulence);
+    /// Crepuscular rays: the shadow-length march through the beer shadow map (in the haze).
+    LightShafts, light_shafts, "light-shafts", tag "shafts",
+        presets [High, Ultra, Reference], rule Some(analysis::light_shafts);
+    /// Analytic exponential haze.
+    Haze, haze, "haze", tag "haze",
+        presets [Low, Medium, High, Ultra, Reference], rule Some(analysis::haze);
+    /// Beer shadow map: optical depth towards the sun beyond the secondary march.
+    Shadows, shadows, "shadows", tag "shadows",
+        presets [Low, Medium, High, Ultra, Reference], rule Some(analysis::shadows);
+    /// Light bounced from the ground below the clouds.
+    GroundBounce, ground_bounce, "ground-bounce", tag "bounce",
+        presets [Low, Medium, High, Ultra, Reference], rule Some(analysis::ground_bounce);
+    /// The "powder" darkening of thin cloud edges facing the sun.
+    Powder, powder, "powder", tag "powder",
+        presets [Low, Medium, High, Ultra, Reference], rule None;
+    /// Sun and sky irradiance evaluated per sample rather than interpolated between the shells.
+    AccurateSunSkyLight, accurate_sun_sky_light, "accurate-sun-sky-light", tag "sunsky",
+        presets [High, Ultra, Reference], rule None;
+    /// Approximate Mie (Jendersie & d'Eon 2023) instead of the genus' phase function.
+    AccuratePhaseFunction, accurate_phase_function, "accurate-phase-function", tag "mie",
+        presets [], rule None;
+}
+
+fn first_line(doc: &[&'static str]) -> &'static str {
+    doc.first().map_or("", |l| l.trim())
+}
+
+impl Toggle {
+    /// A toggle by name (`shape-detail`, also `shape_detail`, any case).
+    pub fn parse(s: &str) -> Option<Toggle> {
+        let s = s.trim().to_ascii_lowercase().replace('_', "-");
+        Toggle::ALL.iter().copied().find(|t| t.name() == s)
+    }
+}
+
+#[cfg(feature = "clap")]
+impl clap::ValueEnum for Toggle {
+    fn value_variants<'a>() -> &'a [Self] {
+        Toggle::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(clap::builder::PossibleValue::new(self.name()).help(self.doc()))
+    }
+}
+
+impl FeatureOverrides {
+    /// The forced state of `t`, if the scene forces it.
+    pub fn get(&self, t: Toggle) -> Option<bool> {
+        t.forced(self)
+    }
+
+    /// `f` with the forced toggles and octaves applied.
+    pub fn apply(&self, mut f: Features) -> Features {
+        for &t in Toggle::ALL {
+            if let Some(on) = t.forced(self) {
+                t.set(&mut f, on);
+            }
+        }
+        if let Some(o) = self.octaves {
+            f.octaves = o;
+        }
+        f
+    }
+}

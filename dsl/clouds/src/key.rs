@@ -1,0 +1,191 @@
+//! Shader keys: everything a cloud shader fixes at generation time, and nothing else. A key is
+//! a shader's identity: two genus × preset pairs with the same key run the very same code and
+//! differ only in uniform values, so emit, check, the snapshots, the manifest and the runtime's
+//! pipeline cache all count, name and cache shaders by key.
+//!
+//! Keys are canonical: settings that cannot change the code given the others are cleared when
+//! the key is made (light shafts live in the haze, so they are off without it; the accurate
+//! phase function is the `mie` phase kind), so distinct keys are distinct shaders.
+
+use nimbus_dsl::SpecValue;
+
+use crate::features::{Features, Toggle};
+use crate::genus::PhaseSpec;
+use crate::model::density::DensityFeatures;
+
+/// Phase function of a shader (the genus decides it, `accurate-phase-function` forces Mie).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PhaseKind {
+    HenyeyGreenstein,
+    DualLobe,
+    ApproximateMie,
+    Isotropic,
+}
+
+impl PhaseKind {
+    pub fn of(spec: &PhaseSpec, features: &Features) -> PhaseKind {
+        if features.accurate_phase_function {
+            return PhaseKind::ApproximateMie;
+        }
+        match spec {
+            PhaseSpec::HenyeyGreenstein { .. } => PhaseKind::HenyeyGreenstein,
+            PhaseSpec::DualLobe { .. } => PhaseKind::DualLobe,
+            PhaseSpec::ApproximateMie { .. } => PhaseKind::ApproximateMie,
+            PhaseSpec::Isotropic => PhaseKind::Isotropic,
+        }
+    }
+
+    /// The tag in key names.
+    pub fn tag(self) -> &'static str {
+        match self {
+            PhaseKind::HenyeyGreenstein => "hg",
+            PhaseKind::DualLobe => "dual",
+            PhaseKind::ApproximateMie => "mie",
+            PhaseKind::Isotropic => "iso",
+        }
+    }
+}
+
+impl SpecValue for PhaseKind {
+    fn suffix(&self) -> String {
+        match self {
+            PhaseKind::HenyeyGreenstein => "hg".into(),
+            PhaseKind::DualLobe => "dual_lobe".into(),
+            PhaseKind::ApproximateMie => "mie".into(),
+            PhaseKind::Isotropic => "isotropic".into(),
+        }
+    }
+
+    fn label(&self) -> String {
+        self.tag().into()
+    }
+}
+
+/// What the cloud pass fixes at generation time. One per module, so the model's functions keep
+/// their plain names (the recorder refuses two different keys in one module).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CloudKey {
+    /// Canonical: `light_shafts` only with `haze`, `accurate_phase_function` always off (it is
+    /// in `phase`).
+    pub features: Features,
+    pub phase: PhaseKind,
+    /// Layer lane groups (1 = up to four layers, 2 = up to eight).
+    pub groups: u32,
+    /// The instrumented shader: the pixel's alpha carries the number of density samples its
+    /// march took instead of the cloud opacity (for `nimbus tradeoff`).
+    pub count_samples: bool,
+}
+
+impl CloudKey {
+    /// The canonical key of a shader with `features` for a genus of `phase` and `groups` lane
+    /// groups.
+    pub fn new(features: Features, phase: &PhaseSpec, groups: u32) -> CloudKey {
+        let mut features = features;
+        let phase = PhaseKind::of(phase, &features);
+        features.accurate_phase_function = false;
+        // The shaft march only scales the haze's sunlight: without haze it has no output.
+        features.light_shafts &= features.haze;
+        CloudKey {
+            features,
+            phase,
+            groups: groups.clamp(1, 2),
+            count_samples: false,
+        }
+    }
+
+    /// `detail-turb-shafts-haze-shadows-bounce-powder-sunsky-o8-dual-g1`: the tags of the
+    /// toggles that are on (table order), the octaves, the phase kind, the lane groups, and
+    /// `count` for the instrumented shader.
+    pub fn name(&self) -> String {
+        let mut parts: Vec<String> = Toggle::ALL
+            .iter()
+            .filter(|t| t.get(&self.features))
+            .map(|t| t.tag().to_string())
+            .collect();
+        parts.push(format!("o{}", self.features.octaves));
+        parts.push(self.phase.tag().to_string());
+        parts.push(format!("g{}", self.groups));
+        if self.count_samples {
+            parts.push("count".into());
+        }
+        parts.join("-")
+    }
+
+    /// Whether the shader samples the beer shadow map: for cloud shadows, or for light shafts
+    /// (which live in the haze).
+    pub fn uses_shadow_map(&self) -> bool {
+        let f = self.features;
+        f.shadows || (f.haze && f.light_shafts)
+    }
+
+    /// The key of this shader's shadow pass, when it samples a shadow map.
+    pub fn shadow_key(&self) -> Option<ShadowKey> {
+        self.uses_shadow_map().then(|| ShadowKey {
+            shape_detail: self.features.shape_detail,
+            turbulence: self.features.turbulence,
+            groups: self.groups,
+        })
+    }
+
+    /// The erosion stages the density sample runs.
+    pub fn density_features(&self) -> DensityFeatures {
+        DensityFeatures {
+            shape_detail: self.features.shape_detail,
+            turbulence: self.features.turbulence,
+        }
+    }
+}
+
+impl SpecValue for CloudKey {
+    fn suffix(&self) -> String {
+        String::new()
+    }
+
+    fn label(&self) -> String {
+        self.name()
+    }
+}
+
+/// What the shadow pass fixes: only what the density depends on, so shaders that differ in
+/// lighting share one shadow pipeline and one atlas.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ShadowKey {
+    pub shape_detail: bool,
+    pub turbulence: bool,
+    pub groups: u32,
+}
+
+impl ShadowKey {
+    /// `detail-turb-g1`.
+    pub fn name(&self) -> String {
+        let mut parts = Vec::new();
+        if self.shape_detail {
+            parts.push(Toggle::ShapeDetail.tag().to_string());
+        }
+        if self.turbulence {
+            parts.push(Toggle::Turbulence.tag().to_string());
+        }
+        parts.push(format!("g{}", self.groups));
+        parts.join("-")
+    }
+
+    /// The cloud key the density functions are specialised with: this key's erosion stages and
+    /// groups, with every lighting toggle off (the shadow pass reads none of them).
+    pub fn march_key(&self) -> CloudKey {
+        let mut features = Features {
+            octaves: 1,
+            ..Features::default()
+        };
+        for &t in Toggle::ALL {
+            t.set(&mut features, false);
+        }
+        features.shape_detail = self.shape_detail;
+        features.turbulence = self.turbulence;
+        CloudKey {
+            features,
+            phase: PhaseKind::Isotropic,
+            groups: self.groups,
+            count_samples: false,
+        }
+    }
+}

@@ -1,0 +1,28 @@
+//! nimbus-clouds: volumetric clouds written in the Nimbus DSL.
+//!
+//! This crate sits on `nimbus-dsl` as any user's crate would: the model is `#[shader_fn]`s
+//! ([`model`]), genera, layers, scenes and quality presets are plain serde data, the effect
+//! table ([`Toggle`]) declares each toggle once, [`analysis`] derives the effects a scene can
+//! show, and [`catalog`] turns genus × quality pairs into the distinct shader keys they need.
+
+pub mod analysis;
+pub mod catalog;
+mod error;
+mod features;
+mod genus;
+pub mod key;
+mod layer;
+mod load;
+pub mod model;
+mod quality;
+mod scene;
+
+pub use analysis::{Analysis, analyse};
+pub use error::DataError;
+pub use features::{FeatureOverrides, Features, Toggle};
+pub use genus::{Genus, MAX_LAYERS, Medium, PhaseSpec};
+pub use key::{CloudKey, PhaseKind, ShadowKey};
+pub use layer::{Channel, CloudLayer, DensityProfileParams, MAX_PROFILE_EXPONENT};
+pub use load::{CloudLibrary, load_genus, load_scene, parse_genus, parse_scene};
+pub use quality::{MarchSettings, Quality};
+pub use scene::ScenePreset;

@@ -1,0 +1,467 @@
+//! The cloud module: one variant per genus, quality preset and set of toggles, each recorded
+//! with exactly the code, bindings and textures its features use.
+
+use crate::{Features, Genus, Quality};
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use nimbus_dsl::ir::{Module, SamplerDesc};
+use nimbus_dsl::{DslError, GlobalRef, ModuleBuilder, ShaderType, loc};
+
+use super::march::{CloudUniforms, cloud_fragment};
+use crate::key::{CloudKey, ShadowKey};
+use super::preview::fullscreen_position;
+use super::resolve::{ResolveParams, resolve_fragment};
+use super::shadow::shadow_fragment;
+
+/// A genus at a quality preset with a set of features: it resolves to a shader key (the
+/// code) and uniform values ([`CloudUniforms::for_genus`]).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct CloudVariant {
+    pub genus: String,
+    pub quality: Quality,
+    pub key: CloudKey,
+}
+
+impl CloudVariant {
+    /// The variant of `genus` at `quality` with `features` (the preset's unless overridden).
+    pub fn new(genus: &Genus, quality: Quality, features: Features) -> Self {
+        CloudVariant {
+            genus: genus.name.clone(),
+            quality,
+            key: CloudKey::new(features, &genus.phase, genus.layer_groups() as u32),
+        }
+    }
+
+    /// `cumulus.high`, plus `+toggle`/`-toggle` where the key's features differ from the
+    /// preset's (as far as the key can tell: canonical keys drop toggles with no effect).
+    pub fn name(&self) -> String {
+        let mut s = format!("{}.{}", self.genus, self.quality.name());
+        let preset = self.quality.features();
+        for &t in crate::Toggle::ALL {
+            let (want, base) = (t.get(&self.key.features), t.get(&preset));
+            if want != base {
+                s.push(if want { '+' } else { '-' });
+                s.push_str(t.name());
+            }
+        }
+        if self.key.features.octaves != preset.octaves {
+            s.push_str(&format!("+octaves{}", self.key.features.octaves));
+        }
+        if self.key.count_samples {
+            s.push_str("+count-samples");
+        }
+        s
+    }
+}
+
+/// The bindings of the cloud passes (clouds and shadow), declared once: slot, name, doc and
+/// sampler state. Both passes number them alike; codegen drops those a pass does not read, and
+/// the runtime binds by this enum, looked up by slot in codegen's binding description.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum CloudBinding {
+    /// Layers, media, march, shadow map, light, sky and camera.
+    Uniforms,
+    /// Local weather: coverage per channel.
+    Weather,
+    /// Perlin–Worley shape noise (128³, tileable).
+    Shape,
+    /// Worley detail noise (32³, tileable).
+    Detail,
+    /// Curl noise for turbulent displacement.
+    Turbulence,
+    /// Beer shadow map atlas: front depth, mean extinction, max and tail optical depth.
+    ShadowMap,
+    /// Trilinear, repeat.
+    Sampler,
+}
+
+impl CloudBinding {
+    pub const GROUP: u32 = 0;
+    pub const ALL: [CloudBinding; 7] = [
+        CloudBinding::Uniforms,
+        CloudBinding::Weather,
+        CloudBinding::Shape,
+        CloudBinding::Detail,
+        CloudBinding::Turbulence,
+        CloudBinding::ShadowMap,
+        CloudBinding::Sampler,
+    ];
+
+    /// The binding index in [`Self::GROUP`].
+    pub fn binding(self) -> u32 {
+        self as u32
+    }
+
+    /// The binding at `(group, binding)`.
+    pub fn at(group: u32, binding: u32) -> Option<CloudBinding> {
+        (group == Self::GROUP)
+            .then(|| Self::ALL.get(binding as usize).copied())
+            .flatten()
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            CloudBinding::Uniforms => "clouds",
+            CloudBinding::Weather => "weather_texture",
+            CloudBinding::Shape => "shape_texture",
+            CloudBinding::Detail => "detail_texture",
+            CloudBinding::Turbulence => "turbulence_texture",
+            CloudBinding::ShadowMap => "shadow_map",
+            CloudBinding::Sampler => "linear_sampler",
+        }
+    }
+
+    fn doc(self) -> &'static str {
+        match self {
+            CloudBinding::Uniforms => "Layers, media, march, shadow map, light, sky and camera.",
+            CloudBinding::Weather => "Local weather: coverage per channel.",
+            CloudBinding::Shape => "Perlin–Worley shape noise (128³, tileable).",
+            CloudBinding::Detail => "Worley detail noise (32³, tileable).",
+            CloudBinding::Turbulence => "Curl noise for turbulent displacement.",
+            CloudBinding::ShadowMap => {
+                "Beer shadow map atlas: front depth, mean extinction, max and tail optical depth."
+            }
+            CloudBinding::Sampler => "Trilinear, repeat.",
+        }
+    }
+}
+
+type Handle<T> = GlobalRef<<T as ShaderType>::Dsl>;
+
+/// The declared handles of [`CloudBinding`].
+struct CloudBindings {
+    clouds: Handle<CloudUniforms>,
+    weather: Handle<Texture2d>,
+    shape: Handle<Texture3d>,
+    detail: Handle<Texture3d>,
+    turbulence: Handle<Texture2d>,
+    shadow: Handle<Texture2d>,
+    sampler: Handle<Sampler>,
+}
+
+impl CloudBindings {
+    fn declare(m: &mut ModuleBuilder) -> CloudBindings {
+        use CloudBinding as B;
+        let g = B::GROUP;
+        CloudBindings {
+            clouds: m.uniform::<CloudUniforms>(B::Uniforms.name(), g, B::Uniforms.binding(), B::Uniforms.doc()),
+            weather: m.handle::<Texture2d>(B::Weather.name(), g, B::Weather.binding(), B::Weather.doc()),
+            shape: m.handle::<Texture3d>(B::Shape.name(), g, B::Shape.binding(), B::Shape.doc()),
+            detail: m.handle::<Texture3d>(B::Detail.name(), g, B::Detail.binding(), B::Detail.doc()),
+            turbulence: m.handle::<Texture2d>(B::Turbulence.name(), g, B::Turbulence.binding(), B::Turbulence.doc()),
+            shadow: m.handle::<Texture2d>(B::ShadowMap.name(), g, B::ShadowMap.binding(), B::ShadowMap.doc()),
+            sampler: m.sampler(
+                B::Sampler.name(),
+                g,
+                B::Sampler.binding(),
+                SamplerDesc::LINEAR_REPEAT,
+                B::Sampler.doc(),
+            ),
+        }
+    }
+}
+
+/// The bindings of the temporal resolve pass, declared once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ResolveBinding {
+    /// Offsets, weights, reprojection.
+    Params,
+    /// This frame's clouds.
+    Current,
+    /// Last resolved frame.
+    History,
+    /// Nearest, clamp.
+    Nearest,
+    /// Bilinear, clamp.
+    Linear,
+}
+
+impl ResolveBinding {
+    pub const GROUP: u32 = 0;
+    pub const ALL: [ResolveBinding; 5] = [
+        ResolveBinding::Params,
+        ResolveBinding::Current,
+        ResolveBinding::History,
+        ResolveBinding::Nearest,
+        ResolveBinding::Linear,
+    ];
+
+    /// The binding at `(group, binding)`.
+    pub fn at(group: u32, binding: u32) -> Option<ResolveBinding> {
+        (group == Self::GROUP)
+            .then(|| Self::ALL.get(binding as usize).copied())
+            .flatten()
+    }
+}
+
+/// Records the cloud module of `key`.
+pub fn cloud_module(key: &CloudKey) -> Result<Module, DslError> {
+    let key = *key;
+    ModuleBuilder::build(
+        "clouds",
+        &format!(
+            "Volumetric clouds, key `{}`. Genus and quality preset are uniform values.",
+            key.name()
+        ),
+        loc!(),
+        |m| {
+            let b = CloudBindings::declare(m);
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment(
+                "fs_main",
+                "Clouds, sky and haze for one pixel.",
+                loc!(),
+                |frag_coord| {
+                    cloud_fragment::shader(
+                        frag_coord,
+                        b.clouds.get(),
+                        b.weather.get(),
+                        b.shape.get(),
+                        b.detail.get(),
+                        b.turbulence.get(),
+                        b.shadow.get(),
+                        b.sampler.get(),
+                        key,
+                    )
+                },
+            );
+        },
+    )
+}
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use super::density::MediaParams;
+use super::layers::LayerGroup;
+use super::march::{HazeParams, LightParams, MarchParams};
+use super::shadow::{ShadowParams, shadow_matrices};
+use super::shell::EARTH_RADIUS;
+use super::sky::{AtmosphereParams, sky_irradiance_at, sun_irradiance_at};
+use crate::MarchSettings;
+
+impl CloudUniforms {
+    /// Uniforms for `genus` at `quality`, lit by a sun in `sun_direction` (local frame, y up),
+    /// seen from `camera_altitude`; the remaining parameters take the reference library's
+    /// defaults.
+    pub fn for_genus(
+        genus: &Genus,
+        quality: Quality,
+        sun_direction: Vec3,
+        camera_altitude: f32,
+    ) -> Self {
+        let st = quality.settings();
+        let [group0, group1] = LayerGroup::from_genus(genus);
+        let enabled = genus.layers.iter().filter(|l| l.is_enabled());
+        let (mut min_h, mut max_h, mut shadow_top) = (f32::MAX, 0.0f32, 0.0f32);
+        for l in enabled {
+            min_h = min_h.min(l.altitude);
+            max_h = max_h.max(l.altitude + l.height);
+            if l.shadow {
+                shadow_top = shadow_top.max(l.altitude + l.height);
+            }
+        }
+        let (g1, g2, lobe_weight, droplet) = match genus.phase {
+            crate::PhaseSpec::HenyeyGreenstein { g } => (g, 0.0, 0.0, 10.0),
+            crate::PhaseSpec::DualLobe { g1, g2, weight } => (g1, g2, weight, 10.0),
+            crate::PhaseSpec::ApproximateMie {
+                droplet_diameter_um,
+            } => (0.7, -0.2, 0.5, droplet_diameter_um),
+            crate::PhaseSpec::Isotropic => (0.0, 0.0, 0.0, 10.0),
+        };
+        let sky = AtmosphereParams::default();
+        let sun_direction = sun_direction.normalize_or(Vec3::Y);
+        let shadow = ShadowParams::for_quality(
+            &st,
+            sun_direction,
+            camera_altitude,
+            shadow_top,
+            0.5 * (min_h.min(max_h) + max_h),
+        );
+        CloudUniforms {
+            group0,
+            group1,
+            media: MediaParams {
+                coverage: genus.coverage,
+                ..MediaParams::default()
+            },
+            march: MarchParams {
+                max_iterations: st.max_iteration_count,
+                sun_steps: st.max_iteration_count_to_sun,
+                ground_steps: st.max_iteration_count_to_ground,
+                min_step: st.min_step_size,
+                max_step: st.max_step_size,
+                max_ray_distance: st.max_ray_distance,
+                perspective_step_scale: st.perspective_step_scale,
+                min_density: st.min_density,
+                min_extinction: st.min_extinction,
+                min_transmittance: st.min_transmittance,
+                min_secondary_step: st.min_secondary_step_size,
+                secondary_step_scale: st.secondary_step_scale,
+                min_height: if min_h == f32::MAX { 0.0 } else { min_h },
+                max_height: max_h,
+                shadow_top_height: shadow_top,
+                radius: EARTH_RADIUS,
+            },
+            light: LightParams {
+                sun_direction,
+                // Lit by the same atmosphere the sky is drawn with.
+                sun_irradiance: sun_irradiance_at(
+                    camera_altitude,
+                    sun_direction,
+                    &sky,
+                    EARTH_RADIUS,
+                ),
+                sky_irradiance: sky_irradiance_at(
+                    camera_altitude,
+                    sun_direction,
+                    &sky,
+                    EARTH_RADIUS,
+                ),
+                scattering_coefficient: genus.medium.scattering_coefficient,
+                absorption_coefficient: genus.medium.absorption_coefficient,
+                sky_light_scale: 1.0,
+                ground_bounce_scale: 1.0,
+                ground_albedo: 0.3,
+                powder_scale: 0.8,
+                powder_exponent: 150.0,
+                g1,
+                g2,
+                lobe_weight,
+                droplet_diameter: droplet,
+            },
+            haze: HazeParams {
+                density: 3e-5,
+                exponent: 1e-3,
+                scattering_coefficient: 0.9,
+                absorption_coefficient: 0.5,
+            },
+            camera_altitude,
+            camera_offset: Vec3::ZERO,
+            inverse_view_projection: Mat4::IDENTITY,
+            shadow,
+            sky,
+            resolution: Vec2::new(640.0, 360.0),
+            pixel_offset: Vec2::ZERO,
+            pixel_scale: 1.0,
+            frame: 0,
+            jitter: 0.0,
+        }
+    }
+}
+
+impl ShadowParams {
+    /// Cascades for the quality preset's shadow settings: the largest covers the preset's
+    /// maximum ray distance on a side, each finer one a quarter of the previous.
+    pub fn for_quality(
+        st: &MarchSettings,
+        sun_direction: Vec3,
+        camera_altitude: f32,
+        top_altitude: f32,
+        mid_altitude: f32,
+    ) -> Self {
+        let count = st.shadow_cascade_count.clamp(1, 4);
+        let finest = st.max_ray_distance / 4f32.powi(count as i32 - 1);
+        let (matrix, inverse_matrix) = shadow_matrices(
+            sun_direction,
+            camera_altitude,
+            top_altitude,
+            mid_altitude,
+            finest,
+        );
+        ShadowParams {
+            matrix,
+            inverse_matrix,
+            cascade_scales: Vec4::new(1.0, 4.0, 16.0, 64.0),
+            cascade_count: count,
+            map_size: st.shadow_map_size as f32,
+            max_iterations: st.shadow_max_iteration_count,
+            min_step: st.shadow_min_step_size,
+            max_step: st.shadow_max_step_size,
+            min_extinction: st.shadow_min_extinction,
+            min_transmittance: st.shadow_min_transmittance,
+            tail_scale: 2.0,
+        }
+    }
+}
+
+/// Records the beer-shadow-map module of `key`: the atlas fragment with the density stages
+/// of the key, and nothing of the lighting.
+pub fn shadow_module(key: &ShadowKey) -> Result<Module, DslError> {
+    let name = key.name();
+    let key = key.march_key();
+    ModuleBuilder::build(
+        "shadow",
+        &format!("Beer shadow map atlas, key `{name}`."),
+        loc!(),
+        |m| {
+            // The shadow map binding is declared too, and dropped: nothing here reads it.
+            let b = CloudBindings::declare(m);
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment(
+                "fs_shadow",
+                "One texel of the shadow atlas.",
+                loc!(),
+                |frag_coord| {
+                    shadow_fragment::shader(
+                        frag_coord,
+                        b.clouds.get(),
+                        b.weather.get(),
+                        b.shape.get(),
+                        b.detail.get(),
+                        b.turbulence.get(),
+                        b.sampler.get(),
+                        key,
+                    )
+                },
+            );
+        },
+    )
+}
+
+/// Records the temporal resolve module (the same for every variant).
+pub fn resolve_module() -> Result<Module, DslError> {
+    ModuleBuilder::build(
+        "resolve",
+        "Temporal resolve: upscaling and accumulation with reprojection and history clipping.",
+        loc!(),
+        |m| {
+            use ResolveBinding as B;
+            let g = B::GROUP;
+            let r = m.uniform::<ResolveParams>("resolve", g, B::Params as u32, "Offsets, weights, reprojection.");
+            let current =
+                m.handle::<Texture2d>("current_texture", g, B::Current as u32, "This frame's clouds.");
+            let history =
+                m.handle::<Texture2d>("history_texture", g, B::History as u32, "Last resolved frame.");
+            let nearest = m.sampler(
+                "nearest_sampler",
+                g,
+                B::Nearest as u32,
+                SamplerDesc::NEAREST_CLAMP,
+                "Nearest, clamp.",
+            );
+            let linear = m.sampler(
+                "linear_sampler",
+                g,
+                B::Linear as u32,
+                SamplerDesc::LINEAR_CLAMP,
+                "Bilinear, clamp.",
+            );
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment("fs_resolve", "One resolved pixel.", loc!(), |frag_coord| {
+                resolve_fragment::shader(
+                    frag_coord,
+                    r.get(),
+                    current.get(),
+                    history.get(),
+                    nearest.get(),
+                    linear.get(),
+                )
+            });
+        },
+    )
+}

@@ -1,0 +1,201 @@
+//! Cloud density at a point, for four layers at once: height fraction, the shape-altering
+//! (rounding) function, coverage remap against the weather signal, shape and detail erosion,
+//! turbulent displacement and the vertical density profile. Formulas follow
+//! @takram/three-clouds (`clouds.glsl`), with its divisions by zero guarded.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use nimbus_dsl::SpecValue;
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use nimbus_dsl::prelude::*;
+
+use super::layers::LayerGroup;
+
+/// Which erosion stages a density sample runs; decided per variant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct DensityFeatures {
+    pub shape_detail: bool,
+    pub turbulence: bool,
+}
+
+impl SpecValue for DensityFeatures {
+    fn suffix(&self) -> String {
+        match (self.shape_detail, self.turbulence) {
+            (true, true) => "detail_turbulence".into(),
+            (true, false) => "detail".into(),
+            (false, true) => "turbulence".into(),
+            (false, false) => "base".into(),
+        }
+    }
+
+    fn label(&self) -> String {
+        self.suffix()
+    }
+}
+
+/// Sampling frequencies and offsets of the textures, and the coverage.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct MediaParams {
+    /// Fraction of the sky covered, 0..1.
+    pub coverage: f32,
+    /// Turbulent displacement at cloud bases (m).
+    pub turbulence_displacement: f32,
+    /// Weather texture repeats per metre (x, z) and offset (tiles).
+    pub weather_repeat: Vec2,
+    pub weather_offset: Vec2,
+    /// Turbulence texture repeats per weather tile.
+    pub turbulence_repeat: Vec2,
+    /// Shape (Perlin–Worley) texture repeats per metre and offset (tiles).
+    pub shape_repeat: Vec3,
+    pub shape_offset: Vec3,
+    /// Detail (Worley) texture repeats per metre and offset (tiles).
+    pub detail_repeat: Vec3,
+    pub detail_offset: Vec3,
+}
+
+impl Default for MediaParams {
+    fn default() -> Self {
+        Self {
+            coverage: 0.3,
+            turbulence_displacement: 350.0,
+            weather_repeat: Vec2::splat(1.0 / 100_000.0),
+            weather_offset: Vec2::ZERO,
+            turbulence_repeat: Vec2::splat(20.0),
+            shape_repeat: Vec3::splat(1.5e-4),
+            shape_offset: Vec3::ZERO,
+            detail_repeat: Vec3::splat(6e-3),
+            detail_offset: Vec3::ZERO,
+        }
+    }
+}
+
+/// Component-wise `v^e` (each lane its own exponent).
+#[shader_fn]
+pub fn pow4(v: Vec4, e: Vec4) -> Vec4 {
+    vec4(v.x.powf(e.x), v.y.powf(e.y), v.z.powf(e.z), v.w.powf(e.w))
+}
+
+/// Height fraction η ∈ [0, 1] of `altitude` in each layer. A zero-height (absent) layer gives
+/// 0 or 1, never 0/0.
+#[shader_fn]
+pub fn height_fraction(altitude: f32, layers: LayerGroup) -> Vec4 {
+    let thickness = (layers.max_height - layers.min_height).max(Vec4::splat(1e-3));
+    ((Vec4::splat(altitude) - layers.min_height) / thickness).saturate()
+}
+
+/// Rounds clouds towards their tops: `1 − x²` with `x = clamp(2η^bias − 1, −1, 1)`; 0 at both
+/// ends of the layer, peak at η = 0.5^(1/bias).
+#[shader_fn]
+pub fn shape_altering(eta: Vec4, bias: Vec4) -> Vec4 {
+    let x = (pow4(eta, bias) * 2.0 - Vec4::ONE).clamp(Vec4::splat(-1.0), Vec4::ONE);
+    Vec4::ONE - x * x
+}
+
+/// Coverage remap (after Skybolt): the weather signal must exceed `1 − coverage·S`, with a soft
+/// edge of width `filter_width` (validated > 0).
+#[shader_fn]
+pub fn coverage_remap(weather: Vec4, coverage: f32, shape: Vec4, filter_width: Vec4) -> Vec4 {
+    let threshold = Vec4::ONE - shape * coverage;
+    let softened = weather + (Vec4::ONE - weather) * filter_width;
+    ((softened - threshold) / filter_width).saturate()
+}
+
+/// Erodes density by the shape noise `s` (0..1) with strength `amount`.
+#[shader_fn]
+pub fn shape_erosion(density: Vec4, s: f32, amount: Vec4) -> Vec4 {
+    let cut = amount * (1.0 - s);
+    // (ρ − cut) / (1 − cut), with the denominator kept off 0 when the noise is 0 at full amount.
+    ((density - cut) / (Vec4::ONE - cut).max(Vec4::splat(1e-5))).saturate()
+}
+
+/// Erodes density by the detail noise `d` (0..1): wispy `d⁶` at the bottom, billowy `1 − d`
+/// towards the top.
+///
+/// The reference computes `(2ρ − m/2) / (1 − m/2)`, whose gain of 2 applies even at amount 0,
+/// so "detail on, amount 0" would be twice as dense as "detail off". Here the gain is
+/// `1 + amount`: amount 1 is the reference, amount 0 leaves the density exactly as it is, so a
+/// variant without the stage is exact for layers that do not use it.
+#[shader_fn]
+pub fn detail_erosion(density: Vec4, d: f32, eta: Vec4, amount: Vec4) -> Vec4 {
+    let wispy = d * d * d * d * d * d;
+    let billowy = 1.0 - d;
+    let t = ((eta - Vec4::splat(0.2)) / 0.2).saturate();
+    let m = (Vec4::splat(wispy) + (Vec4::splat(billowy) - Vec4::splat(wispy)) * t) * amount;
+    ((density * (Vec4::ONE + amount) - m * 0.5) / (Vec4::ONE - m * 0.5)).saturate()
+}
+
+/// The vertical profile `a·e^(b·η) + c·η + d` per lane (|b| ≤ 80 is validated, so the
+/// exponential is finite and `0·e^(bη)` is 0).
+#[shader_fn]
+pub fn profile4(eta: Vec4, layers: LayerGroup) -> Vec4 {
+    let e = vec4(
+        (layers.profile_b.x * eta.x).exp(),
+        (layers.profile_b.y * eta.y).exp(),
+        (layers.profile_b.z * eta.z).exp(),
+        (layers.profile_b.w * eta.w).exp(),
+    );
+    layers.profile_a * e + layers.profile_c * eta + layers.profile_d
+}
+
+/// Coverage-stage density of each layer at a point: what the weather allows before erosion.
+#[shader_fn]
+pub fn weather_density(
+    position: Vec3,
+    altitude: f32,
+    layers: LayerGroup,
+    media: MediaParams,
+    weather_tex: &Texture2d,
+    smp: &Sampler,
+) -> Vec4 {
+    let uv = vec2(position.x, position.z) * media.weather_repeat + media.weather_offset;
+    let rgba = weather_tex.sample_level(smp, uv, 0.0);
+    let weather = pow4(
+        (layers.channel_matrix * rgba).saturate(),
+        layers.weather_exponent,
+    );
+    let eta = height_fraction(altitude, layers);
+    let shape = shape_altering(eta, layers.shape_altering_bias);
+    coverage_remap(weather, media.coverage, shape, layers.coverage_filter_width)
+}
+
+/// Density of each layer at `position` (camera-relative metres in the local tangent frame,
+/// y up) and `altitude` (m above the ground), with the erosion stages of `features`.
+#[shader_fn]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "WGSL cannot put textures in a struct; each texture is its own parameter"
+)]
+pub fn layer_density(
+    position: Vec3,
+    altitude: f32,
+    layers: LayerGroup,
+    media: MediaParams,
+    weather_tex: &Texture2d,
+    shape_tex: &Texture3d,
+    detail_tex: &Texture3d,
+    turbulence_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] features: DensityFeatures,
+) -> Vec4 {
+    let coverage = weather_density(position, altitude, layers, media, weather_tex, smp);
+    let eta = height_fraction(altitude, layers);
+    let mut p = position;
+    if features.turbulence {
+        let uv = vec2(position.x, position.z) * media.weather_repeat * media.turbulence_repeat;
+        let curl = turbulence_tex.sample_level(smp, uv, 0.0).xyz() * 2.0 - Vec3::ONE;
+        // Strongest at the base, gone by η = 0.3, weighted by how much cloud is there.
+        let fade = ((Vec4::splat(0.3) - eta) / 0.3).saturate();
+        p += curl * (media.turbulence_displacement * coverage.dot(fade));
+    }
+    let s = shape_tex
+        .sample_level(smp, p * media.shape_repeat + media.shape_offset, 0.0)
+        .x;
+    let mut density = shape_erosion(coverage, s, layers.shape_amount);
+    if features.shape_detail {
+        let d = detail_tex
+            .sample_level(smp, p * media.detail_repeat + media.detail_offset, 0.0)
+            .x;
+        density = detail_erosion(density, d, eta, layers.shape_detail_amount);
+    }
+    (density * layers.density_scale * profile4(eta, layers)).saturate()
+}

@@ -1,0 +1,751 @@
+//! The primary ray march through the cloud layers, with its lighting: secondary rays towards
+//! the sun and the ground, multiple-scattering octaves, powder, sky light, ground bounce, beer
+//! shadow map lookup, and energy-conserving integration over each step (Hillaire 2016).
+//!
+//! Geometry is camera-relative in a local tangent frame (y up): the CPU passes the camera's
+//! altitude, and every altitude along a ray is computed from it and the ray's elevation
+//! without forming planet-sized squares (see [`super::shell`]).
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use crate::key::{CloudKey, PhaseKind};
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use nimbus_dsl::prelude::*;
+
+use super::density::{MediaParams, layer_density, weather_density};
+use super::layers::LayerGroup;
+use super::noise::interleaved_gradient_noise;
+use super::phase::{approximate_mie, henyey_greenstein, isotropic_phase};
+use super::shadow::{ShadowParams, shadow_texel};
+use super::shell::{ground_hit, ray_shell};
+use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
+
+/// March settings for one quality preset (uniforms: changing them needs no new pipeline).
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct MarchParams {
+    pub max_iterations: u32,
+    pub sun_steps: u32,
+    pub ground_steps: u32,
+    pub min_step: f32,
+    pub max_step: f32,
+    pub max_ray_distance: f32,
+    pub perspective_step_scale: f32,
+    pub min_density: f32,
+    pub min_extinction: f32,
+    pub min_transmittance: f32,
+    pub min_secondary_step: f32,
+    pub secondary_step_scale: f32,
+    /// Lowest layer bottom and highest layer top over all layers (m).
+    pub min_height: f32,
+    pub max_height: f32,
+    /// Top of the shadow-casting layers (m).
+    pub shadow_top_height: f32,
+    /// Planet radius (m).
+    pub radius: f32,
+}
+
+/// Light and medium.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct LightParams {
+    /// Unit vector towards the sun, local frame (y up).
+    pub sun_direction: Vec3,
+    /// Sun irradiance reaching the clouds (W/m² per channel, any consistent unit).
+    pub sun_irradiance: Vec3,
+    /// Sky irradiance (same unit).
+    pub sky_irradiance: Vec3,
+    pub scattering_coefficient: f32,
+    pub absorption_coefficient: f32,
+    pub sky_light_scale: f32,
+    pub ground_bounce_scale: f32,
+    pub ground_albedo: f32,
+    pub powder_scale: f32,
+    pub powder_exponent: f32,
+    pub g1: f32,
+    pub g2: f32,
+    pub lobe_weight: f32,
+    /// Droplet diameter for the approximate Mie phase function (µm).
+    pub droplet_diameter: f32,
+}
+
+/// Analytic exponential haze (after iquilezles' "fog" and @takram/three-clouds `approximateHaze`).
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct HazeParams {
+    /// Extinction at the ground (1/m).
+    pub density: f32,
+    /// Inverse scale height (1/m).
+    pub exponent: f32,
+    pub scattering_coefficient: f32,
+    pub absorption_coefficient: f32,
+}
+
+/// All uniforms of the cloud pass.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct CloudUniforms {
+    pub group0: LayerGroup,
+    pub group1: LayerGroup,
+    pub media: MediaParams,
+    pub march: MarchParams,
+    pub light: LightParams,
+    pub haze: HazeParams,
+    /// Camera altitude above the ground (m), computed in f64 on the CPU.
+    pub camera_altitude: f32,
+    /// Camera's horizontal position folded into the texture tiles (m), for noise lookups.
+    pub camera_offset: Vec3,
+    /// Clip space to local-frame direction (inverse view-projection without translation).
+    pub inverse_view_projection: Mat4,
+    /// Beer shadow map cascades and their march.
+    pub shadow: ShadowParams,
+    /// The atmosphere behind and in front of the clouds.
+    pub sky: AtmosphereParams,
+    /// Full output size in pixels.
+    pub resolution: Vec2,
+    /// Pixel of the full image a fragment shades: `floor(frag) · pixel_scale + pixel_offset`
+    /// (scale 4 and a Bayer offset per frame when temporally upscaled; 1 and 0 otherwise).
+    pub pixel_offset: Vec2,
+    pub pixel_scale: f32,
+    /// Frame index, which varies the per-pixel jitter of the first sample.
+    pub frame: u32,
+    /// Per-frame jitter phase in [0, 1), added to the per-pixel jitter.
+    pub jitter: f32,
+}
+
+/// Result of a march.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct MarchResult {
+    /// In-scattered radiance.
+    pub radiance: Vec3,
+    /// Transmittance of the whole path, in [0, 1].
+    pub transmittance: f32,
+    /// Transmittance-weighted mean distance of the scattering (m); -1 if none.
+    pub front_depth: f32,
+    /// Full density evaluations the march made (primary and secondary rays).
+    pub samples: f32,
+}
+
+/// Altitude above the ground at distance `t` along a ray leaving `camera_altitude` with
+/// up-cosine `mu`, without forming planet-sized squares:
+/// `h = (h_c(2R + h_c) + 2(R + h_c)μt + t²) / (r + R)`, `r = R + h`.
+#[shader_fn]
+pub fn altitude_along(camera_altitude: f32, mu: f32, t: f32, radius: f32) -> f32 {
+    let num = camera_altitude * (2.0 * radius + camera_altitude)
+        + 2.0 * (radius + camera_altitude) * mu * t
+        + t * t;
+    let r = (radius * radius + num).max(0.0).sqrt();
+    num / (r + radius)
+}
+
+/// Phase function with the anisotropy scaled by `g_scale` (the octave attenuation `cᵏ`).
+#[shader_fn]
+pub fn cloud_phase(
+    cos_theta: f32,
+    light: LightParams,
+    g_scale: f32,
+    #[spec] kind: PhaseKind,
+) -> f32 {
+    match kind {
+        PhaseKind::HenyeyGreenstein => henyey_greenstein(cos_theta, light.g1 * g_scale),
+        PhaseKind::DualLobe => mix(
+            henyey_greenstein(cos_theta, light.g1 * g_scale),
+            henyey_greenstein(cos_theta, light.g2 * g_scale),
+            light.lobe_weight,
+        ),
+        // The Mie fit has no single anisotropy to attenuate; later octaves blend it towards
+        // isotropic by the same factor.
+        PhaseKind::ApproximateMie => mix(
+            isotropic_phase(cos_theta),
+            approximate_mie(cos_theta, light.droplet_diameter),
+            g_scale,
+        ),
+        PhaseKind::Isotropic => isotropic_phase(cos_theta),
+    }
+}
+
+/// Multiple scattering by octaves (Wrenninge et al. 2013, "Oz"): `Σ aᵏ e^(−τbᵏ) p(μ; cᵏg)` with
+/// a = b = c = 1/2.
+#[shader_fn]
+pub fn multiple_scattering(
+    optical_depth: f32,
+    cos_theta: f32,
+    light: LightParams,
+    #[spec] kind: PhaseKind,
+    #[spec] octaves: u32,
+) -> f32 {
+    let mut sum = 0.0f32;
+    let mut weight = 1.0f32;
+    let mut depth_scale = 1.0f32;
+    let mut g_scale = 1.0f32;
+    for _octave in 0u32..octaves {
+        sum += weight
+            * (-optical_depth * depth_scale).exp()
+            * cloud_phase(cos_theta, light, g_scale, kind);
+        weight *= 0.5;
+        depth_scale *= 0.5;
+        g_scale *= 0.5;
+    }
+    sum
+}
+
+/// Density (summed over every layer group) at a camera-relative position.
+#[shader_fn]
+#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
+pub fn total_density(
+    position: Vec3,
+    altitude: f32,
+    u: CloudUniforms,
+    weather_tex: &Texture2d,
+    shape_tex: &Texture3d,
+    detail_tex: &Texture3d,
+    turbulence_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let p = position + u.camera_offset;
+    let mut sum = layer_density(
+        p,
+        altitude,
+        u.group0,
+        u.media,
+        weather_tex,
+        shape_tex,
+        detail_tex,
+        turbulence_tex,
+        smp,
+        key.density_features(),
+    )
+    .dot(Vec4::ONE);
+    if key.groups > 1u32 {
+        sum += layer_density(
+            p,
+            altitude,
+            u.group1,
+            u.media,
+            weather_tex,
+            shape_tex,
+            detail_tex,
+            turbulence_tex,
+            smp,
+            key.density_features(),
+        )
+        .dot(Vec4::ONE);
+    }
+    sum
+}
+
+/// Optical depth along `direction` from a sample, by `steps` geometrically growing steps
+/// (first `min_step / steps`, then ×`step_scale`). With 0 steps it is 0: no fudge constant.
+#[shader_fn]
+#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
+pub fn secondary_optical_depth(
+    position: Vec3,
+    altitude: f32,
+    direction: Vec3,
+    steps: u32,
+    u: CloudUniforms,
+    weather_tex: &Texture2d,
+    shape_tex: &Texture3d,
+    detail_tex: &Texture3d,
+    turbulence_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let mut tau = 0.0f32;
+    let mut step = u.march.min_secondary_step / (steps.max(1u32) as f32);
+    let mut t = 0.5 * step;
+    for _i in 0u32..steps {
+        let h = altitude_along(altitude, direction.y, t, u.march.radius);
+        let rho = total_density(
+            position + direction * t,
+            h,
+            u,
+            weather_tex,
+            shape_tex,
+            detail_tex,
+            turbulence_tex,
+            smp,
+            key,
+        );
+        let sigma_t = rho * (u.light.scattering_coefficient + u.light.absorption_coefficient);
+        tau += sigma_t * step;
+        t += step;
+        step *= u.march.secondary_step_scale;
+    }
+    tau
+}
+
+/// Optical depth towards the sun from a beer shadow map texel (Hillaire 2020):
+/// R = front depth, G = mean extinction, B = max optical depth, A = tail; `distance` is the
+/// sample's distance below the top of the shadow-casting layers along the sun, `offset` the
+/// part already covered by the secondary march.
+#[shader_fn]
+pub fn shadow_optical_depth(texel: Vec4, distance: f32, offset: f32) -> f32 {
+    let inside = (distance - offset - texel.x).max(0.0);
+    (texel.z + texel.w).min(texel.y * inside).max(0.0)
+}
+
+/// Near and far distances of the cloud slab along a ray from the camera; far < near when the
+/// ray sees no clouds (it hits the ground first, or points away).
+///
+/// The far end is where the ray leaves the slab for good: the ground, or its last crossing of
+/// the top shell. A ray that dips below the slab's bottom and comes back up (a downward ray
+/// near the horizon, seen from inside or above the slab) re-enters it far away; the march skips
+/// the gap ([`next_boundary`]) rather than stopping at the first exit, so the result does not
+/// jump when the ray, or the camera, crosses a shell.
+#[shader_fn]
+pub fn cloud_range(camera_altitude: f32, mu: f32, march: MarchParams) -> Vec2 {
+    let bottom = ray_shell(camera_altitude, mu, march.min_height, march.radius);
+    let top = ray_shell(camera_altitude, mu, march.max_height, march.radius);
+    let ground = ground_hit(camera_altitude, mu, march.radius);
+    let hits_ground = ground >= 0.0;
+    let exit = select(top.y, ground, hits_ground);
+    let mut near = 0.0f32;
+    let mut far = -1.0f32;
+    if camera_altitude < march.min_height {
+        if !hits_ground {
+            near = bottom.y;
+            far = exit;
+        }
+    } else if camera_altitude <= march.max_height {
+        far = exit;
+    } else if top.x > 0.0 {
+        near = top.x;
+        far = exit;
+    }
+    vec2(near, far.min(near + march.max_ray_distance))
+}
+
+/// How far along its ray a secondary march of `steps` steps reaches: the first step is
+/// `min_step / steps` and each next one `scale` times longer. The beer shadow map takes over
+/// from there, so the two neither overlap nor leave a gap.
+#[shader_fn]
+pub fn secondary_reach(steps: u32, min_step: f32, scale: f32) -> f32 {
+    let n = steps.max(1u32) as f32;
+    let growth = select(
+        n,
+        (scale.powf(n) - 1.0) / (scale - 1.0),
+        (scale - 1.0).abs() > 1e-4,
+    );
+    select(0.0, min_step / n * growth, steps > 0u32)
+}
+
+/// `(1 − e^(−x)) / x` for optical depth `x ≥ 0`. Below 0.1 the direct form loses digits to
+/// cancellation (all of them as x → 0, where it is 0/0); the series `1 − x/2 + x²/6 − x³/24`
+/// is good to x⁴/120 < 1e-6 there.
+#[shader_fn]
+pub fn one_minus_exp_over(x: f32) -> f32 {
+    let series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0));
+    select((1.0 - (-x).exp()) / x.max(1e-30), series, x < 0.1)
+}
+
+/// Relative change of the sun's atmospheric transmittance between the camera's altitude and
+/// `altitude` (Kasten–Young air mass, one exponential atmosphere of 8 km scale height and
+/// zenith optical depth 0.1). The camera-level irradiance is what the CPU supplies; this
+/// corrects it per sample. Bruneton's precomputed tables replace it in the runtime.
+#[shader_fn]
+pub fn sun_attenuation(altitude: f32, camera_altitude: f32, sun_cos: f32) -> f32 {
+    let c = sun_cos.clamp(0.0, 1.0);
+    let zenith_deg = c.acos() * 57.295_78;
+    let air_mass = 1.0 / (c + 0.505_72 * (96.079_95 - zenith_deg).max(0.1).powf(-1.636_4));
+    let density_difference = (-camera_altitude / 8000.0).exp() - (-altitude / 8000.0).exp();
+    (0.1 * air_mass * density_difference).min(20.0).exp()
+}
+
+/// Opacity of the haze over `distance` along a ray with up-cosine `mu` from `camera_altitude`:
+/// `1 − e^(−τ)`, `τ = ρ₀ e^(−k h_c) (1 − e^(−kμL)) / (kμ)`, with μ kept off 0 so horizontal rays
+/// stay finite (the limit is `ρ₀ e^(−k h_c) L`).
+#[shader_fn]
+pub fn haze_opacity(camera_altitude: f32, mu: f32, distance: f32, haze: HazeParams) -> f32 {
+    let rho0 = haze.density * (-haze.exponent * camera_altitude).exp();
+    let k_mu = haze.exponent * select(mu.max(1e-5), mu.min(-1e-5), mu < 0.0);
+    let tau = rho0 * (1.0 - (-k_mu * distance).exp()) / k_mu;
+    1.0 - (-tau.max(0.0)).exp()
+}
+
+/// Length of the view ray's path that lies in cloud shadow (m), by marching the beer shadow
+/// map: each step adds its shadowed fraction `1 − e^(−τ_BSM)`.
+#[shader_fn]
+pub fn shadow_length(
+    direction: Vec3,
+    distance: f32,
+    jitter: f32,
+    u: CloudUniforms,
+    shadow_tex: &Texture2d,
+    smp: &Sampler,
+) -> f32 {
+    let m = u.march;
+    let mut length = 0.0f32;
+    let mut step = m.min_step;
+    let mut t = step * jitter;
+    for _i in 0u32..m.max_iterations {
+        if t > distance {
+            break;
+        }
+        let p = direction * t;
+        let h = altitude_along(u.camera_altitude, direction.y, t, m.radius);
+        let texel = shadow_texel(p, u.shadow, shadow_tex, smp);
+        let to_top = (m.shadow_top_height - h).max(0.0) / u.light.sun_direction.y.max(0.01);
+        length += (1.0 - (-shadow_optical_depth(texel, to_top, 0.0)).exp()) * step;
+        // Steps grow with distance (coarser where a pixel covers more), up to the maximum step.
+        step = (step * m.perspective_step_scale).min(m.max_step);
+        t += step;
+    }
+    length
+}
+
+const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
+const INV_FOUR_PI: f32 = 0.079_577_47;
+
+/// How many of a group's layers contain `altitude`, give or take 1 cm: a sample placed on a
+/// boundary must not read as outside because its altitude rounded the wrong way (the march
+/// would then jump past the layer). A zero-height layer contains nothing.
+#[shader_fn]
+pub fn layers_containing(altitude: f32, group: LayerGroup) -> f32 {
+    let h = Vec4::splat(altitude);
+    let tolerance = Vec4::splat(1e-2);
+    let inside = step(group.min_height - tolerance, h)
+        * step(h, group.max_height + tolerance)
+        * step(Vec4::splat(1e-3), group.max_height - group.min_height);
+    inside.dot(Vec4::ONE)
+}
+
+/// Length of the primary step at distance `t`: the minimum step, growing with distance (a
+/// pixel covers more there) up to the maximum. A function of distance alone, so a march that
+/// jumps a gap between layers resumes with the step it would have had, and a camera either
+/// side of a shell samples the layer beyond alike.
+#[shader_fn]
+pub fn march_step(t: f32, march: MarchParams) -> f32 {
+    (march.min_step + (march.perspective_step_scale - 1.0) * t.max(0.0)).min(march.max_step)
+}
+
+/// The earlier of `best` and each root of `roots` that lies beyond `t`.
+#[shader_fn]
+pub fn earliest_after(t: f32, roots: Vec2, best: f32) -> f32 {
+    let a = select(best, best.min(roots.x), roots.x > t);
+    select(a, a.min(roots.y), roots.y > t)
+}
+
+/// Distance to the next crossing of any layer boundary of `group` beyond `t` (or `best`).
+#[shader_fn]
+pub fn next_boundary(
+    camera_altitude: f32,
+    mu: f32,
+    t: f32,
+    group: LayerGroup,
+    radius: f32,
+    best: f32,
+) -> f32 {
+    let lo = group.min_height;
+    let hi = group.max_height;
+    let mut b = best;
+    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.x, radius), b);
+    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.y, radius), b);
+    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.z, radius), b);
+    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.w, radius), b);
+    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.x, radius), b);
+    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.y, radius), b);
+    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.z, radius), b);
+    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.w, radius), b);
+    b
+}
+
+/// Step over a sample whose weather allows no cloud. Near the camera it is the ordinary step:
+/// a long stride there jumps over the clouds beside a gap and shows false holes (the
+/// accuracy study found stratocumulus decks seen from above full of them). It lengthens to
+/// the maximum step by 100 km, where a pixel covers that much anyway (as @takram/three-clouds'
+/// weather-mip ramp `mix(step, maxStepSize, min(1, mip))`, with `mip = log2(1 + t·1e-5)`).
+#[shader_fn]
+pub fn empty_step(t: f32, step: f32, march: MarchParams) -> f32 {
+    let far = (1.0 + t.max(0.0) * 1e-5).log2().min(1.0);
+    mix(step, march.max_step.max(step), far)
+}
+
+/// Marches one view ray (unit `direction`, local frame) through the clouds.
+#[shader_fn]
+#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
+pub fn march_clouds(
+    direction: Vec3,
+    jitter: f32,
+    u: CloudUniforms,
+    weather_tex: &Texture2d,
+    shape_tex: &Texture3d,
+    detail_tex: &Texture3d,
+    turbulence_tex: &Texture2d,
+    shadow_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] key: CloudKey,
+) -> MarchResult {
+    let m = u.march;
+    let l = u.light;
+    let mu = direction.y;
+    let range = cloud_range(u.camera_altitude, mu, m);
+    let cos_theta = direction.dot(l.sun_direction);
+    let sigma_ratio = l.scattering_coefficient + l.absorption_coefficient;
+    let mut radiance = Vec3::ZERO;
+    let mut transmittance = 1.0f32;
+    let mut depth_sum = 0.0f32;
+    let mut weight_sum = 0.0f32;
+    let mut samples = 0.0f32;
+    let mut step = march_step(range.x, m);
+    let mut t = range.x.max(0.0) + step * jitter;
+    for _i in 0u32..m.max_iterations {
+        if t > range.y {
+            break;
+        }
+        let h = altitude_along(u.camera_altitude, mu, t, m.radius);
+        // Between layers: jump to the next layer boundary instead of stepping through the gap.
+        let mut inside = layers_containing(h, u.group0);
+        if key.groups > 1u32 {
+            inside += layers_containing(h, u.group1);
+        }
+        if inside < 0.5 {
+            let mut next = next_boundary(u.camera_altitude, mu, t, u.group0, m.radius, 1e30);
+            if key.groups > 1u32 {
+                next = next_boundary(u.camera_altitude, mu, t, u.group1, m.radius, next);
+            }
+            if next > 1e29 {
+                break;
+            }
+            // Resume inside the next layer as a march starting there would: same step, same
+            // jitter.
+            step = march_step(next, m);
+            t = next + step * jitter;
+            continue;
+        }
+        let p = direction * t;
+        // Cheap coverage test before the full density: no weather here, take a long step.
+        let mut coverage =
+            weather_density(p + u.camera_offset, h, u.group0, u.media, weather_tex, smp)
+                .dot(Vec4::ONE);
+        if key.groups > 1u32 {
+            coverage +=
+                weather_density(p + u.camera_offset, h, u.group1, u.media, weather_tex, smp)
+                    .dot(Vec4::ONE);
+        }
+        if coverage <= m.min_density {
+            t += empty_step(t, step, m);
+            step = march_step(t, m);
+            continue;
+        }
+        let rho = total_density(
+            p,
+            h,
+            u,
+            weather_tex,
+            shape_tex,
+            detail_tex,
+            turbulence_tex,
+            smp,
+            key,
+        );
+        samples += 1.0;
+        let sigma_s = rho * l.scattering_coefficient;
+        let sigma_t = rho * sigma_ratio;
+        if sigma_t > m.min_extinction {
+            samples += m.sun_steps as f32;
+            let mut tau_sun = secondary_optical_depth(
+                p,
+                h,
+                l.sun_direction,
+                m.sun_steps,
+                u,
+                weather_tex,
+                shape_tex,
+                detail_tex,
+                turbulence_tex,
+                smp,
+                key,
+            );
+            if key.features.shadows {
+                let texel = shadow_texel(p, u.shadow, shadow_tex, smp);
+                let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
+                let reach =
+                    secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale);
+                tau_sun += shadow_optical_depth(texel, to_top, reach);
+            }
+            let mut sun = l.sun_irradiance;
+            if key.features.accurate_sun_sky_light {
+                sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
+            }
+            let mut light =
+                sun * multiple_scattering(tau_sun, cos_theta, l, key.phase, key.features.octaves);
+            if key.features.ground_bounce {
+                samples += m.ground_steps as f32;
+                let tau_ground = secondary_optical_depth(
+                    p,
+                    h,
+                    vec3(0.0, -1.0, 0.0),
+                    m.ground_steps,
+                    u,
+                    weather_tex,
+                    shape_tex,
+                    detail_tex,
+                    turbulence_tex,
+                    smp,
+                    key,
+                );
+                let ground_irradiance = l.sky_irradiance
+                    + l.sun_irradiance * ((1.0 - u.media.coverage) * l.sun_direction.y.max(0.0));
+                let bounce = l.ground_albedo
+                    * INV_PI
+                    * (-tau_ground).exp()
+                    * INV_FOUR_PI
+                    * l.ground_bounce_scale;
+                light += ground_irradiance * bounce;
+            }
+            // Crude sky gradient: half the sky light at a layer's base, all of it at the top.
+            let height_fraction =
+                ((h - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
+            light += l.sky_irradiance
+                * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
+            let mut source = light * sigma_s;
+            if key.features.powder {
+                source *= 1.0 - l.powder_scale * (-sigma_t * l.powder_exponent).exp();
+            }
+            // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
+            // S·(1 − e^(−σt·Δ))/σt, written as S·Δ·f(σt·Δ) so thin media stay exact.
+            let step_transmittance = (-sigma_t * step).exp();
+            let integral = source * (step * one_minus_exp_over(sigma_t * step));
+            radiance += integral * transmittance;
+            depth_sum += t * transmittance;
+            weight_sum += transmittance;
+            transmittance *= step_transmittance;
+            if transmittance <= m.min_transmittance {
+                break;
+            }
+        }
+        t += step;
+        step = march_step(t, m);
+    }
+    MarchResult {
+        radiance,
+        transmittance,
+        front_depth: select(-1.0, depth_sum / weight_sum.max(1e-20), weight_sum > 0.0),
+        samples,
+    }
+}
+
+/// Colour of one pixel: its ray marched through the clouds, then composited
+/// ([`composite`]). The instrumented variant puts the march's density samples in alpha.
+#[shader_fn]
+#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
+pub fn cloud_fragment(
+    frag_coord: Vec4,
+    u: CloudUniforms,
+    weather_tex: &Texture2d,
+    shape_tex: &Texture3d,
+    detail_tex: &Texture3d,
+    turbulence_tex: &Texture2d,
+    shadow_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] key: CloudKey,
+) -> Vec4 {
+    let pixel = vec2(frag_coord.x, frag_coord.y).floor() * u.pixel_scale
+        + u.pixel_offset
+        + Vec2::splat(0.5);
+    let ndc = vec2(
+        pixel.x / u.resolution.x * 2.0 - 1.0,
+        1.0 - pixel.y / u.resolution.y * 2.0,
+    );
+    let clip = u.inverse_view_projection * vec4(ndc.x, ndc.y, 1.0, 1.0);
+    let direction = (clip.xyz() / clip.w).normalize();
+    let jitter = (interleaved_gradient_noise(pixel, u.frame) + u.jitter).fract_gl();
+    let clouds = march_clouds(
+        direction,
+        jitter,
+        u,
+        weather_tex,
+        shape_tex,
+        detail_tex,
+        turbulence_tex,
+        shadow_tex,
+        smp,
+        key,
+    );
+    let color = composite(direction, jitter, clouds, u, shadow_tex, smp, key);
+    if key.count_samples {
+        return color.xyz().extend(clouds.samples);
+    }
+    color
+}
+
+/// What a view ray shows around the clouds' march result: the clouds over a physically based
+/// sky, or over the ground lit by the sun through the clouds' shadows; the air between the
+/// camera and the clouds in front; then haze, lit by the sun only where the light-shaft march
+/// finds no cloud shadow. Alpha is the clouds' opacity.
+#[shader_fn]
+pub fn composite(
+    direction: Vec3,
+    jitter: f32,
+    clouds: MarchResult,
+    u: CloudUniforms,
+    shadow_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] key: CloudKey,
+) -> Vec4 {
+    let sun = u.light.sun_direction;
+    let radius = u.march.radius;
+    let cos_theta = direction.dot(sun);
+    // Behind the clouds: the ground (negative distance) or the top of the atmosphere.
+    let behind = sky_distance(u.camera_altitude, direction.y, u.sky.top_height, radius);
+    let air = air_light(
+        u.camera_altitude,
+        direction,
+        sun,
+        behind.abs(),
+        u.sky,
+        radius,
+    );
+    let mut background = air.inscatter;
+    if behind < 0.0 {
+        let mut sunlit = 1.0f32;
+        if key.features.shadows {
+            let ground = direction * -behind;
+            let to_top = u.march.shadow_top_height / sun.y.max(0.01);
+            let texel = shadow_texel(ground, u.shadow, shadow_tex, smp);
+            sunlit = (-shadow_optical_depth(texel, to_top, 0.0)).exp();
+        }
+        background += air.transmittance
+            * ground_radiance(
+                u.light.sun_irradiance * sunlit,
+                sun.y,
+                u.light.sky_irradiance,
+                u.sky.ground_albedo,
+            );
+    } else {
+        background += sun_disc(cos_theta, air.transmittance, u.sky);
+    }
+    let mut color = background * clouds.transmittance;
+    if clouds.front_depth > 0.0 {
+        // Aerial perspective: the air in front of the clouds dims them and adds its own light.
+        let near = air_light(
+            u.camera_altitude,
+            direction,
+            sun,
+            clouds.front_depth,
+            u.sky,
+            radius,
+        );
+        color +=
+            near.inscatter * (1.0 - clouds.transmittance) + clouds.radiance * near.transmittance;
+    }
+    if key.features.haze {
+        // Haze and shafts end at the clouds' front, the ground, or the march's reach.
+        let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
+        let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
+        let opacity = haze_opacity(u.camera_altitude, direction.y, distance, u.haze);
+        let mut sunlit = 1.0f32;
+        if key.features.light_shafts {
+            sunlit = 1.0
+                - (shadow_length(direction, distance, jitter, u, shadow_tex, smp)
+                    / distance.max(1.0))
+                .saturate();
+        }
+        let albedo = u.haze.scattering_coefficient
+            / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
+        let haze_light = (u.light.sun_irradiance
+            * (cloud_phase(cos_theta, u.light, 1.0, key.phase) * sunlit)
+            + u.light.sky_irradiance * INV_FOUR_PI)
+            * albedo;
+        color = color + (haze_light - color) * opacity;
+    }
+    color.extend(1.0 - clouds.transmittance)
+}

@@ -1,0 +1,74 @@
+//! Phase functions: the angular distribution of light scattered by cloud droplets.
+//!
+//! All are normalised so that their integral over the sphere is 1 (units: 1/sr), and take
+//! `cos_theta`, the cosine of the angle between the light's travel direction and the view ray's
+//! reversed direction (1 = forward scattering).
+
+use nimbus_dsl::prelude::*;
+
+/// 1 / (4π).
+const INV_FOUR_PI: f32 = 0.079_577_47;
+
+/// Henyey–Greenstein (1941): `(1 − g²) / (4π (1 + g² − 2gμ)^{3/2})`.
+///
+/// The denominator is evaluated as `(1 − |g|)² + 2|g|(1 − μ')` with μ' = sign(g)·μ (the
+/// symmetry p(μ; g) = p(−μ; −g)): both terms are non-negative, so nothing cancels. The
+/// textbook `1 + g² − 2gμ` is 10 % wrong at the peak for g = 0.999 in f32.
+#[shader_fn]
+pub fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
+    let k = g.abs();
+    let mu = select(cos_theta, -cos_theta, g < 0.0);
+    let one_minus_k = 1.0 - k;
+    let denom = one_minus_k * one_minus_k + 2.0 * k * (1.0 - mu);
+    let numerator = one_minus_k * (1.0 + k);
+    INV_FOUR_PI * numerator / (denom * denom.sqrt())
+}
+
+/// Two Henyey–Greenstein lobes mixed by `weight`: `(1 − w)·HG(μ, g1) + w·HG(μ, g2)`.
+///
+/// A forward lobe (g1 ≈ 0.7) gives the silver lining, a backward one (g2 ≈ −0.2) the glow seen
+/// with the sun behind the viewer. Normalised for any weight in [0, 1].
+#[shader_fn]
+pub fn dual_lobe_hg(cos_theta: f32, g1: f32, g2: f32, weight: f32) -> f32 {
+    let forward = henyey_greenstein(cos_theta, g1);
+    let backward = henyey_greenstein(cos_theta, g2);
+    mix(forward, backward, weight)
+}
+
+/// Isotropic scattering, 1 / (4π).
+#[shader_fn]
+pub fn isotropic_phase(cos_theta: f32) -> f32 {
+    // Reads the cosine so every phase function keeps the same signature in the WGSL (codegen
+    // drops parameters a function never reads).
+    INV_FOUR_PI + 0.0 * cos_theta
+}
+
+/// Rayleigh scattering by molecules: `3 (1 + μ²) / (16π)`, for haze and sky.
+#[shader_fn]
+pub fn rayleigh_phase(cos_theta: f32) -> f32 {
+    0.059_683_1 * (1.0 + cos_theta * cos_theta)
+}
+
+/// Draine (2003): Henyey–Greenstein reshaped by `(1 + αμ²) / (1 + α(1 + 2g²)/3)`; α = 0 is HG,
+/// α = 1 Cornette–Shanks.
+#[shader_fn]
+pub fn draine_phase(cos_theta: f32, g: f32, alpha: f32) -> f32 {
+    let shape = (1.0 + alpha * cos_theta * cos_theta) / (1.0 + alpha * (1.0 + 2.0 * g * g) / 3.0);
+    henyey_greenstein(cos_theta, g) * shape
+}
+
+/// Approximate Mie phase function for water droplets of diameter `d` µm (valid 5..50):
+/// Jendersie & d'Eon 2023, "An Approximate Mie Scattering Function for Fog and Cloud
+/// Rendering" — a blend of Henyey–Greenstein and Draine with fitted parameters.
+#[shader_fn]
+pub fn approximate_mie(cos_theta: f32, d: f32) -> f32 {
+    let g_hg = (-0.099_056_7 / (d - 1.671_54)).exp();
+    let g_d = (-2.206_79 / (d + 3.910_29) - 0.428_934).exp();
+    let alpha = (3.624_89 - 8.292_88 / (d + 5.528_25)).exp();
+    let w_d = (-0.599_085 / (d - 0.641_583) - 0.665_888).exp();
+    mix(
+        henyey_greenstein(cos_theta, g_hg),
+        draine_phase(cos_theta, g_d, alpha),
+        w_d,
+    )
+}

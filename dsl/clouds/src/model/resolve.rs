@@ -1,0 +1,116 @@
+//! Temporal resolve: turns the cloud pass's output into the full image, frame after frame.
+//!
+//! Upscaled, the cloud pass shades one pixel of every 4×4 block per frame (a Bayer order of
+//! offsets, so 16 frames visit every pixel); the other fifteen come from the history,
+//! reprojected and clipped to the box of the current neighbourhood (mean ± γσ, Salvi 2016) so
+//! stale colours cannot linger. At full resolution every pixel is current and the history is
+//! an accumulation of jittered frames.
+//!
+//! Reprojection treats what a pixel sees as distant (the previous view-projection of the
+//! ray's direction): exact for a turning camera, and off by the parallax of kilometres-away
+//! clouds for a moving one, which the clipping absorbs.
+
+use glam::{Mat4, Vec2, Vec4};
+
+use nimbus_dsl::cpu::{Sampler, Texture2d};
+use nimbus_dsl::prelude::*;
+
+/// Uniforms of the resolve pass.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct ResolveParams {
+    /// Current clip-space position to the previous frame's clip space (directions only).
+    pub reprojection: Mat4,
+    /// Full output size, and the size of the cloud pass's target.
+    pub resolution: Vec2,
+    pub low_resolution: Vec2,
+    /// Pixel of each block shaded this frame, and the block side (4 upscaled, 1 otherwise).
+    pub pixel_offset: Vec2,
+    pub pixel_scale: f32,
+    /// Weight of the current sample where there is one (1 replaces the history).
+    pub current_weight: f32,
+    /// Width of the clipping box in standard deviations.
+    pub variance_gamma: f32,
+    /// 0 on the first frame: there is no history to read.
+    pub history_valid: f32,
+}
+
+/// The 4×4 Bayer order: frame `i`'s pixel within each block, so that consecutive frames are
+/// spread over the block.
+pub const BAYER_OFFSETS: [[u32; 2]; 16] = [
+    [0, 0],
+    [2, 2],
+    [2, 0],
+    [0, 2],
+    [1, 1],
+    [3, 3],
+    [3, 1],
+    [1, 3],
+    [1, 0],
+    [3, 2],
+    [3, 0],
+    [1, 2],
+    [0, 1],
+    [2, 3],
+    [2, 1],
+    [0, 3],
+];
+
+/// One pixel of the resolved image.
+#[shader_fn]
+pub fn resolve_fragment(
+    frag_coord: Vec4,
+    r: ResolveParams,
+    current_tex: &Texture2d,
+    history_tex: &Texture2d,
+    nearest: &Sampler,
+    linear: &Sampler,
+) -> Vec4 {
+    let pixel = vec2(frag_coord.x, frag_coord.y).floor();
+    let block = (pixel / r.pixel_scale).floor();
+    let texel = Vec2::ONE / r.low_resolution;
+    let current = current_tex.sample_level(nearest, (block + Vec2::splat(0.5)) * texel, 0.0);
+    // Mean and spread of the current samples around this block.
+    let mut sum = Vec4::ZERO;
+    let mut sum_sq = Vec4::ZERO;
+    for dy in -1i32..2i32 {
+        for dx in -1i32..2i32 {
+            let uv = (block + vec2(dx as f32, dy as f32) + Vec2::splat(0.5)) * texel;
+            let c = current_tex.sample_level(nearest, uv, 0.0);
+            sum += c;
+            sum_sq += c * c;
+        }
+    }
+    let mean = sum / 9.0;
+    let sigma = (sum_sq / 9.0 - mean * mean).max(Vec4::ZERO).powf(0.5);
+    let within = pixel - block * r.pixel_scale - r.pixel_offset;
+    let is_current = within.x.abs() + within.y.abs() < 0.5;
+    if r.history_valid < 0.5 {
+        return current;
+    }
+    let ndc = vec2(
+        (pixel.x + 0.5) / r.resolution.x * 2.0 - 1.0,
+        1.0 - (pixel.y + 0.5) / r.resolution.y * 2.0,
+    );
+    let previous = r.reprojection * vec4(ndc.x, ndc.y, 1.0, 1.0);
+    let previous_ndc = vec2(previous.x, previous.y) / previous.w;
+    let uv = vec2(previous_ndc.x * 0.5 + 0.5, 0.5 - previous_ndc.y * 0.5);
+    let on_screen = previous.w > 0.0 && uv.x >= 0.0 && uv.x <= 1.0 && uv.y >= 0.0 && uv.y <= 1.0;
+    if !on_screen {
+        return current;
+    }
+    let history = history_tex.sample_level(linear, uv, 0.0);
+    let clipped = history.clamp(
+        mean - sigma * r.variance_gamma,
+        mean + sigma * r.variance_gamma,
+    );
+    if is_current {
+        return clipped + (current - clipped) * r.current_weight;
+    }
+    clipped
+}
+
+/// Reprojection matrix from the current frame's inverse view-projection to the previous
+/// frame's view-projection, both without translation.
+pub fn reprojection(previous_view_projection: Mat4, inverse_view_projection: Mat4) -> Mat4 {
+    previous_view_projection * inverse_view_projection
+}

@@ -1,0 +1,199 @@
+//! Beer shadow map (Hillaire 2020) with cascades, packed side by side in one atlas texture.
+//!
+//! Each texel marches the clouds once along the sun and stores front depth, mean extinction,
+//! maximum optical depth and a tail for early termination; a shading point then gets its
+//! optical depth to the sun in O(1) ([`super::march::shadow_optical_depth`]).
+//!
+//! Cascades are nested squares around the camera, each four times the side of the previous,
+//! projected along the sun onto the plane at the top of the shadow-casting layers. One atlas
+//! with a tile per cascade keeps the pass to one colour attachment and one draw, whatever the
+//! device's colour-attachment limit (WebGL2 guarantees only four draw buffers).
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use nimbus_dsl::prelude::*;
+
+use super::march::{CloudUniforms, total_density};
+use crate::key::CloudKey;
+
+/// Cascades and the shadow march (uniforms: changing them needs no new pipeline).
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct ShadowParams {
+    /// Camera-relative position to cascade-0 coordinates (centre 0.5, one tile = [0, 1]²),
+    /// projecting along the sun onto the plane of `top`.
+    pub matrix: Mat4,
+    /// Cascade-0 coordinates (x, y) to the point on that plane (camera-relative metres).
+    pub inverse_matrix: Mat4,
+    /// Side of each cascade relative to cascade 0 (1, 4, 16, 64).
+    pub cascade_scales: Vec4,
+    /// Cascades in the atlas (1..=4) and texels per tile side.
+    pub cascade_count: u32,
+    pub map_size: f32,
+    pub max_iterations: u32,
+    pub min_step: f32,
+    pub max_step: f32,
+    pub min_extinction: f32,
+    pub min_transmittance: f32,
+    /// Scale of the optical depth guessed for what lies beyond an early termination.
+    pub tail_scale: f32,
+}
+
+/// Altitude of a camera-relative point `p`, on a sphere of `radius` (stable for |p| ≪ R: no
+/// planet-sized squares are formed).
+#[shader_fn]
+pub fn altitude_at(p: Vec3, camera_altitude: f32, radius: f32) -> f32 {
+    let y = camera_altitude + p.y;
+    let d2 = p.x * p.x + p.z * p.z;
+    let r = radius + y;
+    y + d2 / ((r * r + d2).sqrt() + r)
+}
+
+/// Side of cascade `k` relative to cascade 0.
+#[shader_fn]
+pub fn cascade_scale(scales: Vec4, k: f32) -> f32 {
+    select(
+        select(select(scales.w, scales.z, k < 2.5), scales.y, k < 1.5),
+        scales.x,
+        k < 0.5,
+    )
+}
+
+/// The atlas texel of the finest cascade that holds camera-relative `p`; an empty texel (no
+/// optical depth) outside every cascade.
+#[shader_fn]
+pub fn shadow_texel(p: Vec3, s: ShadowParams, shadow_tex: &Texture2d, smp: &Sampler) -> Vec4 {
+    let base = (s.matrix * p.extend(1.0)).xy() - Vec2::splat(0.5);
+    let extent = base.x.abs().max(base.y.abs());
+    // One texel of margin, so bilinear filtering never reads the neighbouring tile.
+    let margin = 0.5 - 1.0 / s.map_size;
+    let count = s.cascade_count as f32;
+    let active = step(vec4(0.5, 1.5, 2.5, 3.5), Vec4::splat(count));
+    let holding = step(Vec4::splat(extent), s.cascade_scales * margin) * active;
+    let n = holding.dot(Vec4::ONE);
+    if n < 0.5 {
+        return Vec4::ZERO;
+    }
+    let k = count - n;
+    let local = base / cascade_scale(s.cascade_scales, k) + Vec2::splat(0.5);
+    shadow_tex.sample_level(smp, vec2((k + local.x) / count, local.y), 0.0)
+}
+
+/// One texel of the shadow atlas: march along the sun's rays, down from the top of the
+/// shadow-casting layers, and store front depth (transmittance-weighted mean distance, m),
+/// mean extinction, maximum optical depth and the tail beyond an early termination.
+#[shader_fn]
+#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
+pub fn shadow_fragment(
+    frag_coord: Vec4,
+    u: CloudUniforms,
+    weather_tex: &Texture2d,
+    shape_tex: &Texture3d,
+    detail_tex: &Texture3d,
+    turbulence_tex: &Texture2d,
+    smp: &Sampler,
+    #[spec] key: CloudKey,
+) -> Vec4 {
+    let s = u.shadow;
+    let m = u.march;
+    let sun = u.light.sun_direction;
+    let k = (frag_coord.x / s.map_size).floor();
+    let local = vec2(frag_coord.x - k * s.map_size, frag_coord.y) / s.map_size - Vec2::splat(0.5);
+    let base = local * cascade_scale(s.cascade_scales, k) + Vec2::splat(0.5);
+    let top = (s.inverse_matrix * vec4(base.x, base.y, 0.0, 1.0)).xyz();
+    let sigma_ratio = u.light.scattering_coefficient + u.light.absorption_coefficient;
+    // Through the whole slab of shadow-casting layers, however low the sun.
+    let length = ((m.shadow_top_height - m.min_height) / sun.y.max(0.01)).min(m.max_ray_distance);
+    let step_size = (length / (s.max_iterations.max(1u32) as f32)).clamp(s.min_step, s.max_step);
+    let mut t = step_size * 0.5;
+    let mut transmittance = 1.0f32;
+    let mut optical_depth = 0.0f32;
+    let mut extinction_sum = 0.0f32;
+    let mut samples = 0.0f32;
+    let mut depth_sum = 0.0f32;
+    let mut weight_sum = 0.0f32;
+    let mut end = length;
+    for _i in 0u32..s.max_iterations {
+        if t > length {
+            break;
+        }
+        let p = top - sun * t;
+        let h = altitude_at(p, u.camera_altitude, m.radius);
+        let rho = total_density(
+            p,
+            h,
+            u,
+            weather_tex,
+            shape_tex,
+            detail_tex,
+            turbulence_tex,
+            smp,
+            key,
+        );
+        let sigma_t = rho * sigma_ratio;
+        if sigma_t > s.min_extinction {
+            extinction_sum += sigma_t;
+            samples += 1.0;
+            depth_sum += t * transmittance;
+            weight_sum += transmittance;
+            optical_depth += sigma_t * step_size;
+            transmittance = (-optical_depth).exp();
+            if transmittance <= s.min_transmittance {
+                end = t;
+                break;
+            }
+        }
+        t += step_size;
+    }
+    if samples < 0.5 {
+        // No medium on this sun ray: nothing shadows, whatever the depth.
+        return vec4(m.max_ray_distance, 0.0, 0.0, 0.0);
+    }
+    let mean_extinction = extinction_sum / samples;
+    let tail = mean_extinction * (length - end).max(0.0) * s.tail_scale;
+    vec4(
+        depth_sum / weight_sum.max(1e-20),
+        mean_extinction,
+        optical_depth,
+        tail,
+    )
+}
+
+/// The cascade transforms for a sun direction: cascade 0 is `extent` metres on a side, centred
+/// on where the sun's ray through the middle of the layers below the camera meets the plane at
+/// `top_altitude`.
+pub fn shadow_matrices(
+    sun_direction: Vec3,
+    camera_altitude: f32,
+    top_altitude: f32,
+    mid_altitude: f32,
+    extent: f32,
+) -> (Mat4, Mat4) {
+    // A sun at the horizon would stretch the projection without bound; shadows fade long
+    // before, so a floor on its height keeps the transform finite.
+    let sun = Vec3::new(sun_direction.x, sun_direction.y.max(0.05), sun_direction.z);
+    let (sx, sz) = (sun.x / sun.y, sun.z / sun.y);
+    let y_top = top_altitude - camera_altitude;
+    let y_mid = mid_altitude - camera_altitude;
+    let (cx, cz) = (sx * (y_top - y_mid), sz * (y_top - y_mid));
+    // x_top = p.x + sx·(y_top − p.y); u = (x_top − cx)/extent + 0.5 (likewise z → v).
+    let inv = 1.0 / extent;
+    let matrix = Mat4::from_cols(
+        Vec4::new(inv, 0.0, 0.0, 0.0),
+        Vec4::new(-sx * inv, -sz * inv, 0.0, 0.0),
+        Vec4::new(0.0, inv, 0.0, 0.0),
+        Vec4::new(
+            (sx * y_top - cx) * inv + 0.5,
+            (sz * y_top - cz) * inv + 0.5,
+            0.0,
+            1.0,
+        ),
+    );
+    let inverse_matrix = Mat4::from_cols(
+        Vec4::new(extent, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, extent, 0.0),
+        Vec4::ZERO,
+        Vec4::new(cx - 0.5 * extent, y_top, cz - 0.5 * extent, 1.0),
+    );
+    (matrix, inverse_matrix)
+}

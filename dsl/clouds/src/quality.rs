@@ -1,0 +1,168 @@
+//! Quality presets with the semantics and numbers of @takram/three-clouds (`qualityPresets.ts`):
+//! low drops shape detail, light shafts and turbulence and marches far more coarsely; medium
+//! drops light shafts and turbulence; high is the baseline; ultra refines the shadow map and
+//! the minimum step. `reference` is not a real-time preset: it is the converged render the
+//! others are measured against (`nimbus tradeoff`).
+
+use serde::{Deserialize, Serialize};
+
+use super::features::Features;
+
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Quality {
+    Low,
+    Medium,
+    #[default]
+    High,
+    Ultra,
+    /// Converged, for measuring the others: short steps that never grow past 100 m, no early
+    /// termination or density cut-offs, long secondary marches, every effect on. Seconds per
+    /// frame; not for real time.
+    Reference,
+}
+
+/// Numbers of the primary, secondary, light-shaft and shadow marches.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarchSettings {
+    pub max_iteration_count: u32,
+    pub min_step_size: f32,
+    pub max_step_size: f32,
+    pub max_ray_distance: f32,
+    pub perspective_step_scale: f32,
+    pub min_density: f32,
+    pub min_extinction: f32,
+    pub min_transmittance: f32,
+    pub max_iteration_count_to_sun: u32,
+    pub max_iteration_count_to_ground: u32,
+    pub min_secondary_step_size: f32,
+    pub secondary_step_scale: f32,
+    pub max_shadow_length_iteration_count: u32,
+    pub min_shadow_length_step_size: f32,
+    pub max_shadow_length_ray_distance: f32,
+    pub shadow_cascade_count: u32,
+    pub shadow_map_size: u32,
+    pub shadow_max_iteration_count: u32,
+    pub shadow_min_step_size: f32,
+    pub shadow_max_step_size: f32,
+    pub shadow_min_density: f32,
+    pub shadow_min_extinction: f32,
+    pub shadow_min_transmittance: f32,
+}
+
+impl Quality {
+    /// The real-time presets (the reference is left out of catalogues and benchmarks).
+    pub const ALL: [Quality; 4] = [Quality::Low, Quality::Medium, Quality::High, Quality::Ultra];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Low => "low",
+            Quality::Medium => "medium",
+            Quality::High => "high",
+            Quality::Ultra => "ultra",
+            Quality::Reference => "reference",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Quality> {
+        Quality::ALL
+            .into_iter()
+            .chain([Quality::Reference])
+            .find(|q| q.name() == s.trim().to_ascii_lowercase())
+    }
+
+    /// The effects this preset turns on (the `presets` column of the effect table).
+    pub fn features(self) -> Features {
+        super::features::preset_features(self)
+    }
+
+    /// March settings (high = the reference's defaults).
+    pub fn settings(self) -> MarchSettings {
+        let high = MarchSettings {
+            max_iteration_count: 500,
+            min_step_size: 50.0,
+            max_step_size: 1000.0,
+            max_ray_distance: 2e5,
+            perspective_step_scale: 1.01,
+            min_density: 1e-5,
+            min_extinction: 1e-5,
+            min_transmittance: 1e-2,
+            max_iteration_count_to_sun: 2,
+            max_iteration_count_to_ground: 3,
+            min_secondary_step_size: 100.0,
+            secondary_step_scale: 2.0,
+            max_shadow_length_iteration_count: 500,
+            min_shadow_length_step_size: 50.0,
+            max_shadow_length_ray_distance: 2e5,
+            shadow_cascade_count: 3,
+            shadow_map_size: 512,
+            shadow_max_iteration_count: 50,
+            shadow_min_step_size: 100.0,
+            shadow_max_step_size: 1000.0,
+            shadow_min_density: 1e-5,
+            shadow_min_extinction: 1e-5,
+            shadow_min_transmittance: 1e-4,
+        };
+        match self {
+            Quality::Low => MarchSettings {
+                max_iteration_count: 200,
+                min_step_size: 100.0,
+                max_ray_distance: 1e5,
+                min_density: 1e-4,
+                min_extinction: 1e-4,
+                min_transmittance: 1e-1,
+                max_iteration_count_to_ground: 0,
+                max_iteration_count_to_sun: 1,
+                shadow_cascade_count: 2,
+                shadow_map_size: 256,
+                shadow_max_iteration_count: 25,
+                shadow_min_density: 1e-4,
+                shadow_min_extinction: 1e-4,
+                shadow_min_transmittance: 1e-2,
+                ..high
+            },
+            Quality::Medium => MarchSettings {
+                min_density: 1e-4,
+                min_extinction: 1e-4,
+                max_iteration_count_to_ground: 1,
+                shadow_map_size: 256,
+                shadow_min_density: 1e-4,
+                shadow_min_extinction: 1e-4,
+                ..high
+            },
+            Quality::High => high,
+            Quality::Ultra => MarchSettings {
+                min_step_size: 10.0,
+                shadow_map_size: 1024,
+                ..high
+            },
+            Quality::Reference => MarchSettings {
+                max_iteration_count: 6000,
+                min_step_size: 20.0,
+                max_step_size: 100.0,
+                perspective_step_scale: 1.002,
+                min_density: 0.0,
+                min_extinction: 0.0,
+                min_transmittance: 0.0,
+                max_iteration_count_to_sun: 16,
+                max_iteration_count_to_ground: 8,
+                min_secondary_step_size: 100.0,
+                // 16 steps from 6.25 m growing ×1.25: the sun march itself covers 862 m.
+                secondary_step_scale: 1.25,
+                max_shadow_length_iteration_count: 4000,
+                min_shadow_length_step_size: 20.0,
+                shadow_cascade_count: 4,
+                shadow_map_size: 1024,
+                shadow_max_iteration_count: 400,
+                shadow_min_step_size: 20.0,
+                shadow_max_step_size: 100.0,
+                shadow_min_density: 0.0,
+                shadow_min_extinction: 0.0,
+                shadow_min_transmittance: 0.0,
+                ..high
+            },
+        }
+    }
+}

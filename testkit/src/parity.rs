@@ -1,0 +1,298 @@
+//! CPU/GPU parity: run a `#[shader_fn]` over many inputs on the GPU, through a compute kernel
+//! that codegen builds around the function from its signature alone.
+//!
+//! Inputs and outputs travel as raw 32-bit words (`f32` bits, `u32`, `i32` bits), so the GPU
+//! sees exactly the values the CPU twin saw. Struct parameters are flattened field by field.
+
+use nimbus_codegen::{Target, generate};
+use nimbus_dsl::ir::{ExprId, ExprKind, Scalar, Type};
+use nimbus_dsl::record::push_expr;
+use nimbus_dsl::shader::U32;
+use nimbus_dsl::{ModuleBuilder, Value, loc};
+
+use nimbus_runtime::RuntimeError;
+use nimbus_runtime::{Gpu, GpuResource};
+
+const WORKGROUP: u32 = 64;
+
+/// 32-bit words per value of `ty`.
+pub fn words_of(ty: Type) -> Result<usize, RuntimeError> {
+    Ok(match ty {
+        Type::Scalar(_) => 1,
+        Type::Vector(n, _) => usize::from(n),
+        Type::Matrix(n) => usize::from(n) * usize::from(n),
+        Type::Struct(def) => {
+            let mut total = 0;
+            for f in def.fields {
+                total += words_of(f.ty)?;
+            }
+            total
+        }
+        other => {
+            return Err(RuntimeError::Kernel(format!(
+                "{} values cannot be passed through a parity buffer",
+                other.wgsl()
+            )));
+        }
+    })
+}
+
+fn from_word(word: ExprId, s: Scalar) -> ExprId {
+    match s {
+        Scalar::U32 => word,
+        Scalar::F32 | Scalar::I32 => push_expr(ExprKind::Bitcast(s, word), Type::Scalar(s)),
+        Scalar::Bool => {
+            let zero = push_expr(
+                ExprKind::Literal(nimbus_dsl::ir::Literal::U32(0)),
+                Type::U32,
+            );
+            push_expr(
+                ExprKind::Binary(nimbus_dsl::ir::BinaryOp::Ne, word, zero),
+                Type::BOOL,
+            )
+        }
+    }
+}
+
+fn to_word(value: ExprId, s: Scalar) -> ExprId {
+    match s {
+        Scalar::U32 => value,
+        Scalar::F32 | Scalar::I32 => push_expr(ExprKind::Bitcast(Scalar::U32, value), Type::U32),
+        Scalar::Bool => {
+            let one = push_expr(
+                ExprKind::Literal(nimbus_dsl::ir::Literal::U32(1)),
+                Type::U32,
+            );
+            let zero = push_expr(
+                ExprKind::Literal(nimbus_dsl::ir::Literal::U32(0)),
+                Type::U32,
+            );
+            push_expr(
+                ExprKind::Select {
+                    if_false: zero,
+                    if_true: one,
+                    cond: value,
+                },
+                Type::U32,
+            )
+        }
+    }
+}
+
+/// Builds a value of `ty` from consecutive words starting at `read(offset)`.
+fn load(ty: Type, offset: &mut usize, read: &mut impl FnMut(usize) -> ExprId) -> ExprId {
+    match ty {
+        Type::Scalar(s) => {
+            let w = read(*offset);
+            *offset += 1;
+            from_word(w, s)
+        }
+        Type::Vector(n, s) => {
+            let parts = (0..n)
+                .map(|_| load(Type::Scalar(s), offset, read))
+                .collect();
+            push_expr(ExprKind::Construct(ty, parts), ty)
+        }
+        Type::Matrix(n) => {
+            let col = Type::Vector(n, Scalar::F32);
+            let parts = (0..n).map(|_| load(col, offset, read)).collect();
+            push_expr(ExprKind::Construct(ty, parts), ty)
+        }
+        Type::Struct(def) => {
+            let parts = def
+                .fields
+                .iter()
+                .map(|f| load(f.ty, offset, read))
+                .collect();
+            push_expr(ExprKind::Construct(ty, parts), ty)
+        }
+        _ => read(*offset),
+    }
+}
+
+/// Words of a result value: scalars, vectors, and structs of them field by field (as
+/// [`load`] reads parameters).
+fn store(
+    ty: Type,
+    value: ExprId,
+    write: &mut impl FnMut(usize, ExprId),
+    offset: &mut usize,
+) -> Result<(), RuntimeError> {
+    match ty {
+        Type::Scalar(s) => {
+            write(*offset, to_word(value, s));
+            *offset += 1;
+        }
+        Type::Vector(n, s) => {
+            for i in 0..n {
+                let c = push_expr(ExprKind::Swizzle(value, vec![i]), Type::Scalar(s));
+                write(*offset, to_word(c, s));
+                *offset += 1;
+            }
+        }
+        Type::Struct(def) => {
+            for (i, f) in def.fields.iter().enumerate() {
+                let member = push_expr(ExprKind::Member(value, i as u32), f.ty);
+                store(f.ty, member, write, offset)?;
+            }
+        }
+        other => {
+            return Err(RuntimeError::Kernel(format!(
+                "parity results must be scalars, vectors or structs of them, not {}",
+                other.wgsl()
+            )));
+        }
+    }
+    Ok(())
+}
+
+enum Handle {
+    Texture2d(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Texture2d>),
+    Texture3d(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Texture3d>),
+    Sampler(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Sampler>),
+}
+
+/// A function under test: its parameter types, result type and a closure recording a call.
+pub struct KernelFn<'a> {
+    pub name: &'a str,
+    pub params: Vec<Type>,
+    pub result: Type,
+    pub call: &'a dyn Fn(&[ExprId]) -> ExprId,
+    /// Textures and samplers, bound from binding 2 on and passed to `call` after the
+    /// buffer-loaded parameters.
+    pub resources: &'a [GpuResource],
+}
+
+impl KernelFn<'_> {
+    /// Words per input record (all parameters) and per output record.
+    pub fn record_words(&self) -> Result<(usize, usize), RuntimeError> {
+        let input = self
+            .params
+            .iter()
+            .map(|t| words_of(*t))
+            .sum::<Result<usize, _>>()?;
+        Ok((input, words_of(self.result)?))
+    }
+}
+
+/// The WGSL of the parity kernel for `f` (validated by naga like every other output).
+pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
+    let (in_words, out_words) = f.record_words()?;
+    let module = ModuleBuilder::build(
+        &format!("parity_{}", f.name),
+        "CPU/GPU parity kernel: reads argument words, calls the function, writes result words.",
+        loc!(),
+        |m| {
+            let input = m.storage::<U32>(
+                "inputs",
+                0,
+                0,
+                false,
+                "Argument words, one record per invocation.",
+            );
+            let handles: Vec<Handle> = f
+                .resources
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    let binding = 2 + i as u32;
+                    let name = format!("resource{i}");
+                    match r {
+                        GpuResource::Texture2d(_) => {
+                            Handle::Texture2d(m.handle::<nimbus_dsl::cpu::Texture2d>(
+                                &name,
+                                0,
+                                binding,
+                                "A texture of the function under test.",
+                            ))
+                        }
+                        GpuResource::Texture3d(_) => {
+                            Handle::Texture3d(m.handle::<nimbus_dsl::cpu::Texture3d>(
+                                &name,
+                                0,
+                                binding,
+                                "A texture of the function under test.",
+                            ))
+                        }
+                        GpuResource::Sampler(_) => {
+                            Handle::Sampler(m.handle::<nimbus_dsl::cpu::Sampler>(
+                                &name,
+                                0,
+                                binding,
+                                "A sampler of the function under test.",
+                            ))
+                        }
+                    }
+                })
+                .collect();
+            let output = m.storage::<U32>(
+                "outputs",
+                0,
+                1,
+                true,
+                "Result words, one record per invocation.",
+            );
+            m.compute(
+                "parity_main",
+                "One call per invocation.",
+                loc!(),
+                [WORKGROUP, 1, 1],
+                |gid| {
+                    let index = gid.x;
+                    let inputs = input.array();
+                    let in_base = index * (in_words as u32);
+                    let mut read = |offset: usize| inputs.get(in_base + offset as u32).id();
+                    let mut offset = 0;
+                    let mut args: Vec<ExprId> = f
+                        .params
+                        .iter()
+                        .map(|t| load(*t, &mut offset, &mut read))
+                        .collect();
+                    for h in &handles {
+                        args.push(match h {
+                            Handle::Texture2d(g) => g.get().id(),
+                            Handle::Texture3d(g) => g.get().id(),
+                            Handle::Sampler(g) => g.get().id(),
+                        });
+                    }
+                    let result = (f.call)(&args);
+                    let outputs = output.array();
+                    let out_base = index * (out_words as u32);
+                    let mut write = |i: usize, word: ExprId| {
+                        outputs.set(out_base + i as u32, U32::from_id(word));
+                    };
+                    let _ = store(f.result, result, &mut write, &mut 0);
+                },
+            );
+        },
+    )?;
+    let generated = generate(module, "parity", &[Target::Wgsl])?;
+    Ok(generated.wgsl)
+}
+
+/// Runs `f` on the GPU for every record of `inputs` (each `words_of(params)` words long) and
+/// returns the result words, one record per input.
+pub fn run_on_gpu(gpu: &Gpu, f: &KernelFn<'_>, inputs: &[u32]) -> Result<Vec<u32>, RuntimeError> {
+    let (in_words, out_words) = f.record_words()?;
+    if in_words == 0 || !inputs.len().is_multiple_of(in_words) {
+        return Err(RuntimeError::Kernel(format!(
+            "{} input words is not a whole number of {in_words}-word records",
+            inputs.len()
+        )));
+    }
+    let count = inputs.len() / in_words;
+    let groups = count.div_ceil(WORKGROUP as usize);
+    // Pad to whole workgroups so the kernel needs no bounds check; padded results are dropped.
+    let mut padded = inputs.to_vec();
+    padded.resize(groups * WORKGROUP as usize * in_words, 0);
+    let wgsl = kernel_wgsl(f)?;
+    let out = gpu.run_compute(
+        &wgsl,
+        "parity_main",
+        &padded,
+        groups * WORKGROUP as usize * out_words,
+        groups as u32,
+        f.resources,
+    )?;
+    Ok(out[..count * out_words].to_vec())
+}

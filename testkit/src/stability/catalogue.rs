@@ -1,0 +1,552 @@
+//! The named hard cases. Each builds its probes from one small genus and the high preset,
+//! varied in exactly the way that makes it hard.
+
+use glam::{Vec2, Vec3};
+
+use nimbus_clouds::{CloudLayer, DensityProfileParams, Genus, Medium, PhaseSpec, Quality};
+use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::CloudKey;
+use nimbus_clouds::model::march::{CloudUniforms};
+use nimbus_clouds::model::shell::EARTH_RADIUS;
+
+use super::case::{Case, CaseTextures, Pair, Probe};
+
+/// One cumulus-like layer from 1500 to 3000 m, half the sky covered.
+pub fn base_genus() -> Genus {
+    Genus {
+        name: "stability".into(),
+        description: "One layer for the stability catalogue".into(),
+        coverage: 0.5,
+        medium: Medium::default(),
+        phase: PhaseSpec::default(),
+        layers: vec![CloudLayer {
+            altitude: 1500.0,
+            height: 1500.0,
+            shadow: true,
+            ..CloudLayer::default()
+        }],
+    }
+}
+
+/// `base_genus` with its one layer changed by `f`.
+fn with_layer(f: impl Fn(&mut CloudLayer)) -> Genus {
+    let mut g = base_genus();
+    f(&mut g.layers[0]);
+    g
+}
+
+/// The high preset's uniforms for `genus`, sun at `sun_elevation_deg` (azimuth 150°), camera
+/// at `camera_altitude`; textures tiled every few kilometres so the small case textures give
+/// structure at the probes' scale.
+fn uniforms(genus: &Genus, sun_elevation_deg: f32, camera_altitude: f32) -> CloudUniforms {
+    let (el, az) = (sun_elevation_deg.to_radians(), 150f32.to_radians());
+    let sun = Vec3::new(el.cos() * az.sin(), el.sin(), -el.cos() * az.cos());
+    let mut u = CloudUniforms::for_genus(genus, Quality::High, sun, camera_altitude);
+    u.media.weather_repeat = Vec2::splat(1.0 / 4000.0);
+    u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
+    u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
+    u
+}
+
+fn key_of(genus: &Genus) -> CloudKey {
+    CloudVariant::new(genus, Quality::High, Quality::High.features()).key
+}
+
+/// Unit direction with up-cosine `mu` at `azimuth` (radians).
+fn direction(mu: f32, azimuth: f32) -> Vec3 {
+    let mu = mu.clamp(-1.0, 1.0);
+    let s = ((1.0 - mu) * (1.0 + mu)).max(0.0).sqrt();
+    Vec3::new(s * azimuth.cos(), mu, s * azimuth.sin())
+}
+
+/// Up-cosine of the ray from `camera` altitude that grazes the shell at `shell` altitude
+/// (below the camera), in f64.
+fn tangent_mu(camera: f32, shell: f32) -> f32 {
+    let r = f64::from(EARTH_RADIUS);
+    let ratio = (r + f64::from(shell)) / (r + f64::from(camera));
+    -(1.0 - ratio * ratio).sqrt() as f32
+}
+
+/// Up-cosines a fan of rays covers: straight down, grazing either side of the horizon, up.
+const FAN: [f32; 13] = [
+    -1.0, -0.3, -0.05, -0.01, -1e-3, -1e-6, 0.0, 1e-6, 1e-3, 0.01, 0.05, 0.3, 1.0,
+];
+
+/// Collects a case's probes.
+struct Builder {
+    key: CloudKey,
+    textures: CaseTextures,
+    probes: Vec<Probe>,
+    chains: Vec<Vec<usize>>,
+    pairs: Vec<Pair>,
+}
+
+impl Builder {
+    fn new(genus: &Genus) -> Self {
+        Builder {
+            key: key_of(genus),
+            textures: CaseTextures::Random(7),
+            probes: Vec::new(),
+            chains: Vec::new(),
+            pairs: Vec::new(),
+        }
+    }
+
+    /// The ray cut at an eighth, a quarter, half and all of the march's reach.
+    fn chain(&mut self, u: CloudUniforms, direction: Vec3) {
+        let jitter = (self.probes.len() as f32 * 0.618_034).fract();
+        let chain = [0.125, 0.25, 0.5, 1.0]
+            .map(|f| {
+                let mut v = u;
+                v.march.max_ray_distance *= f;
+                self.probes.push(Probe {
+                    uniforms: v,
+                    direction: direction.normalize(),
+                    jitter,
+                });
+                self.probes.len() - 1
+            })
+            .to_vec();
+        self.chains.push(chain);
+    }
+
+    /// A fan of rays at two azimuths plus the rays towards and away from the sun, each a chain.
+    fn fan(&mut self, u: CloudUniforms) {
+        for az in [0.3f32, 2.5] {
+            for mu in FAN {
+                self.chain(u, direction(mu, az));
+            }
+        }
+        let sun = u.light.sun_direction;
+        self.chain(u, sun);
+        self.chain(u, -sun);
+    }
+
+    /// Two probes of one ray under uniforms on either side of a threshold.
+    fn pair(&mut self, a: CloudUniforms, b: CloudUniforms, direction: Vec3, rel: f32, abs: f32) {
+        self.pair_of((a, direction), (b, direction), rel, abs);
+    }
+
+    /// Two probes, each with its own uniforms and direction, that must agree.
+    fn pair_of(&mut self, a: (CloudUniforms, Vec3), b: (CloudUniforms, Vec3), rel: f32, abs: f32) {
+        let jitter = 0.37;
+        let mut push = |(u, d): (CloudUniforms, Vec3)| {
+            self.probes.push(Probe {
+                uniforms: u,
+                direction: d.normalize(),
+                jitter,
+            });
+            self.probes.len() - 1
+        };
+        let (a, b) = (push(a), push(b));
+        self.pairs.push(Pair { a, b, rel, abs });
+    }
+
+    fn finish(self, name: &'static str, about: &'static str) -> Case {
+        Case {
+            name,
+            about,
+            key: self.key,
+            textures: self.textures,
+            probes: self.probes,
+            chains: self.chains,
+            pairs: self.pairs,
+        }
+    }
+}
+
+/// A thin version of the base layer: light crosses a hundred kilometres of it, so where a ray
+/// stops marching shows in the pixel.
+fn thin_genus() -> Genus {
+    with_layer(|l| l.density_scale = 1e-4)
+}
+
+fn tangent_rays() -> Case {
+    let g = thin_genus();
+    let mut b = Builder::new(&g);
+    for (camera, shell) in [(2250.0, 1500.0), (6000.0, 3000.0), (6000.0, 1500.0)] {
+        let u = uniforms(&g, 30.0, camera);
+        let mu = tangent_mu(camera, shell);
+        for az in [0.3f32, 2.0, 4.0] {
+            for d in [0.0, 1e-5, -1e-5, 1e-3, -1e-3] {
+                b.chain(u, direction(mu + d, az));
+            }
+            // The same ray either side of the tangent. The chord a steeper ray cuts below the
+            // shell grows as √Δμ (1e-8 in μ: a dip of ~3 mm, a chord of ~300 m), so the pair
+            // sits a few f32 steps of μ apart.
+            b.pair_of(
+                (u, direction(mu - 1e-8, az)),
+                (u, direction(mu + 1e-8, az)),
+                0.02,
+                1e-4,
+            );
+        }
+    }
+    b.finish(
+        "tangent-rays",
+        "rays grazing a layer's bottom or top shell from inside and from above",
+    )
+}
+
+fn sun_case(name: &'static str, about: &'static str, elevation: f32) -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    b.fan(uniforms(&g, elevation, 2.0));
+    b.fan(uniforms(&g, elevation, 2250.0));
+    if elevation == 0.0 {
+        for mu in [0.05f32, 0.3, 0.9, -0.2] {
+            for camera in [2.0, 2250.0] {
+                b.pair(
+                    uniforms(&g, -0.01, camera),
+                    uniforms(&g, 0.01, camera),
+                    direction(mu, 2.6),
+                    0.02,
+                    1e-5,
+                );
+            }
+        }
+    }
+    b.finish(name, about)
+}
+
+fn camera_case(name: &'static str, about: &'static str, altitudes: &[f32]) -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    for a in altitudes {
+        b.fan(uniforms(&g, 30.0, *a));
+    }
+    b.finish(name, about)
+}
+
+fn camera_at_ground() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    b.fan(uniforms(&g, 30.0, 0.0));
+    for mu in [-0.3f32, -1e-3, 1e-3, 0.05, 0.5] {
+        b.pair(
+            uniforms(&g, 30.0, 0.0),
+            uniforms(&g, 30.0, 0.01),
+            direction(mu, 1.1),
+            0.05,
+            1e-5,
+        );
+    }
+    b.finish(
+        "camera-at-ground",
+        "camera at altitude 0: rays below the horizon hit the ground at distance 0",
+    )
+}
+
+fn camera_on_layer_boundary() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    for boundary in [1500.0f32, 3000.0] {
+        b.fan(uniforms(&g, 30.0, boundary));
+        for mu in [-0.3f32, -0.01, -0.005, 0.005, 0.01, 0.3] {
+            for az in [0.4f32, 3.3] {
+                b.pair(
+                    uniforms(&g, 30.0, boundary - 1e-3),
+                    uniforms(&g, 30.0, boundary + 1e-3),
+                    direction(mu, az),
+                    0.05,
+                    1e-4,
+                );
+            }
+        }
+    }
+    b.finish(
+        "camera-on-layer-boundary",
+        "camera exactly on, and a millimetre either side of, a layer's bottom and top",
+    )
+}
+
+fn camera_in_orbit() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    let altitude = 400_000.0;
+    let u = uniforms(&g, 30.0, altitude);
+    let limb = tangent_mu(altitude, 0.0);
+    for d in [-0.5f32, -0.05, -1e-3, -1e-5, 0.0, 1e-5, 1e-3, 0.05] {
+        for az in [0.3f32, 2.5] {
+            b.chain(u, direction(limb + d, az));
+        }
+    }
+    b.chain(u, direction(-1.0, 0.0));
+    b.chain(u, direction(1.0, 0.0));
+    b.finish(
+        "camera-in-orbit",
+        "camera 400 km up looking at the limb: clouds and air seen edge-on from space",
+    )
+}
+
+fn layer_case(name: &'static str, about: &'static str, genus: Genus, cameras: &[f32]) -> Case {
+    let mut b = Builder::new(&genus);
+    for c in cameras {
+        b.fan(uniforms(&genus, 30.0, *c));
+    }
+    b.finish(name, about)
+}
+
+fn zero_height_layer() -> Case {
+    let mut g = base_genus();
+    g.layers.insert(
+        0,
+        CloudLayer {
+            altitude: 2000.0,
+            height: 0.0,
+            ..CloudLayer::default()
+        },
+    );
+    layer_case(
+        "zero-height-layer",
+        "a layer of height 0 packed beside a real one (its lane must add nothing, not 0/0)",
+        g,
+        &[2.0, 2000.0, 2250.0],
+    )
+}
+
+fn density_pairs(name: &'static str, about: &'static str, scale: f32, reference: f32) -> Case {
+    let g = with_layer(|l| l.density_scale = scale);
+    let zero = with_layer(|l| l.density_scale = reference);
+    let mut b = Builder::new(&g);
+    b.textures = CaseTextures::RandomUnshadowed(7);
+    b.fan(uniforms(&g, 30.0, 2.0));
+    b.fan(uniforms(&g, 30.0, 2250.0));
+    for mu in [0.05f32, 0.3, 1.0, -0.3] {
+        for camera in [2.0f32, 2250.0, 6000.0] {
+            b.pair(
+                uniforms(&g, 30.0, camera),
+                uniforms(&zero, 30.0, camera),
+                direction(mu, 0.7),
+                1e-3,
+                1e-6,
+            );
+        }
+    }
+    b.finish(name, about)
+}
+
+fn coverage_case(name: &'static str, about: &'static str, coverage: f32) -> Case {
+    let mut g = base_genus();
+    g.coverage = coverage;
+    let mut b = Builder::new(&g);
+    if coverage >= 1.0 {
+        b.textures = CaseTextures::Constant(1.0);
+    } else {
+        b.textures = CaseTextures::RandomUnshadowed(7);
+    }
+    b.fan(uniforms(&g, 30.0, 2.0));
+    b.fan(uniforms(&g, 30.0, 2250.0));
+    if coverage == 0.0 {
+        let mut barely = g.clone();
+        barely.coverage = 1e-6;
+        for mu in [0.05f32, 0.3, 1.0] {
+            b.pair(
+                uniforms(&g, 30.0, 2.0),
+                uniforms(&barely, 30.0, 2.0),
+                direction(mu, 0.7),
+                1e-3,
+                1e-6,
+            );
+        }
+    }
+    b.finish(name, about)
+}
+
+fn phase_case(name: &'static str, about: &'static str, g: f32) -> Case {
+    let mut genus = base_genus();
+    genus.phase = PhaseSpec::HenyeyGreenstein { g };
+    let mut b = Builder::new(&genus);
+    for camera in [2.0f32, 2250.0, 6000.0] {
+        let u = uniforms(&genus, 30.0, camera);
+        b.fan(u);
+        let sun = u.light.sun_direction;
+        // Within a few peak widths (1 − |g| rad) of the sun and of the anti-sun.
+        for d in [1e-4f32, 1e-3, 3e-3] {
+            b.chain(u, sun + Vec3::new(d, 0.0, 0.0));
+            b.chain(u, -sun + Vec3::new(0.0, 0.0, d));
+        }
+    }
+    b.finish(name, about)
+}
+
+fn profile_case() -> Case {
+    let huge = |a: f32, b: f32| {
+        with_layer(move |l| {
+            l.density_profile = DensityProfileParams {
+                a,
+                b,
+                c: 0.0,
+                d: 0.0,
+            };
+        })
+    };
+    let g = huge(1.0, 80.0);
+    let mut b = Builder::new(&g);
+    for genus in [
+        huge(1.0, 80.0),
+        huge(1.0, -80.0),
+        huge(1e-30, 80.0),
+        huge(-1.0, 80.0),
+    ] {
+        b.fan(uniforms(&genus, 30.0, 2.0));
+        b.fan(uniforms(&genus, 30.0, 2250.0));
+    }
+    b.finish(
+        "overflowing-profile-exponent",
+        "profile a·e^(b·η) at the largest accepted |b| = 80 (e^80 ≈ 5.5e34), and tiny or negative a",
+    )
+}
+
+fn step_limits() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    let base = uniforms(&g, 30.0, 2250.0);
+    let variants: [(u32, u32, u32, f32); 6] = [
+        (0, 2, 3, 50.0),
+        (1, 2, 3, 50.0),
+        (2, 0, 0, 50.0),
+        (500, 64, 32, 50.0),
+        (20_000, 2, 3, 1.0),
+        (500, 2, 3, 1e-3),
+    ];
+    for (iterations, sun, ground, min_step) in variants {
+        let mut u = base;
+        u.march.max_iterations = iterations;
+        u.march.sun_steps = sun;
+        u.march.ground_steps = ground;
+        u.march.min_step = min_step;
+        for mu in [-0.3f32, 0.0, 0.05, 1.0] {
+            b.chain(u, direction(mu, 0.5));
+        }
+    }
+    b.finish(
+        "step-limits",
+        "0, 1 and 20 000 primary steps, 0 and 64 secondary steps, a 1 mm minimum step",
+    )
+}
+
+fn far_distances() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    for reach in [2e5f32, 1e6, 1e7] {
+        for (camera, offset) in [(2.0f32, 0.0f32), (2250.0, 2e5), (6000.0, 1e7)] {
+            let mut u = uniforms(&g, 30.0, camera);
+            u.march.max_ray_distance = reach;
+            u.camera_offset = Vec3::new(offset, 0.0, -offset);
+            for mu in [-0.01f32, 0.0, 1e-3, 0.02] {
+                b.chain(u, direction(mu, 1.3));
+            }
+        }
+    }
+    b.finish(
+        "far-distances",
+        "marches reaching 2e5, 1e6 and 1e7 m, noise looked up 1e7 m from the origin",
+    )
+}
+
+/// One ray of `genus` as a case of its own (cut at four distances): what the property tests
+/// draw at random.
+pub fn single_ray_case(
+    genus: &Genus,
+    sun_elevation_deg: f32,
+    camera_altitude: f32,
+    direction: Vec3,
+) -> Case {
+    let mut b = Builder::new(genus);
+    b.chain(
+        uniforms(genus, sun_elevation_deg, camera_altitude),
+        direction,
+    );
+    b.finish("random-ray", "a random ray of a random valid genus")
+}
+
+/// Every case, in a fixed order.
+pub fn catalogue() -> Vec<Case> {
+    vec![
+        tangent_rays(),
+        sun_case("sun-at-horizon", "sun at 0° (and ±0.01° either side)", 0.0),
+        sun_case(
+            "sun-just-below-horizon",
+            "sun 0.5° below the horizon: clouds lit by the grazing sun, ground in the earth's shadow",
+            -0.5,
+        ),
+        sun_case(
+            "sun-far-below-horizon",
+            "sun 30° below the horizon: no direct light anywhere",
+            -30.0,
+        ),
+        camera_at_ground(),
+        camera_case(
+            "camera-inside-layer",
+            "camera in the middle of the layer",
+            &[2250.0],
+        ),
+        camera_on_layer_boundary(),
+        camera_case(
+            "camera-above-layers",
+            "camera 5 km above the layer top",
+            &[8000.0],
+        ),
+        camera_in_orbit(),
+        zero_height_layer(),
+        layer_case(
+            "one-millimetre-layer",
+            "a layer 1 mm thick, seen from below, from inside and from above",
+            with_layer(|l| {
+                l.altitude = 2000.0;
+                l.height = 1e-3;
+            }),
+            &[2.0, 2000.0005, 5000.0],
+        ),
+        density_pairs(
+            "density-scale-zero",
+            "density scale 0 against 1e-12",
+            0.0,
+            1e-12,
+        ),
+        density_pairs(
+            "density-scale-1e-8",
+            "density scale 1e-8 against 0: far below every cut-off",
+            1e-8,
+            0.0,
+        ),
+        density_pairs(
+            "density-scale-1e3",
+            "density scale 1e3 against 1e3·(1 + 1e-6): optically thick within a millimetre",
+            1e3,
+            1e3 * (1.0 + 1e-6),
+        ),
+        coverage_case("coverage-zero", "coverage 0 (and 1e-6)", 0.0),
+        coverage_case(
+            "coverage-one",
+            "coverage 1 with a full weather texture: overcast everywhere",
+            1.0,
+        ),
+        layer_case(
+            "narrow-coverage-filter",
+            "coverage filter width 0.001, the smallest accepted: a near-step at cloud edges",
+            with_layer(|l| l.coverage_filter_width = 1e-3),
+            &[2.0, 2250.0],
+        ),
+        phase_case(
+            "hg-g-0.999",
+            "Henyey–Greenstein with g = 0.999: a forward peak 1e-3 rad wide",
+            0.999,
+        ),
+        phase_case(
+            "hg-g-minus-0.999",
+            "Henyey–Greenstein with g = −0.999: the same peak backwards",
+            -0.999,
+        ),
+        profile_case(),
+        step_limits(),
+        far_distances(),
+        density_pairs(
+            "denormal-density",
+            "density scale 1e-39, a subnormal f32 (GPUs may flush it to 0), against 0",
+            1e-39,
+            0.0,
+        ),
+    ]
+}
