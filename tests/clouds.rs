@@ -7,9 +7,13 @@ mod common;
 use std::path::Path;
 
 use nimbus_codegen::external::{ExternalCheck, check_file};
-use nimbus_codegen::{Contents, Generated, Target, cloud_catalog, generate, generate_variant};
-use nimbus_clouds::{CloudLibrary, Features, Quality, Toggle};
+use std::collections::BTreeMap;
+
+use nimbus_clouds::catalog::{ShaderKey, assignments, cloud_catalog};
 use nimbus_clouds::model::clouds::{CloudVariant, cloud_module};
+use nimbus_clouds::{CloudKey, CloudLibrary, Features, PhaseSpec, Quality, Toggle};
+use nimbus_codegen::{Contents, Generated, Target, generate, generate_variant, print_and_validate};
+use nimbus_dsl::ShaderVariant;
 
 fn library() -> CloudLibrary {
     CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data")
@@ -17,8 +21,8 @@ fn library() -> CloudLibrary {
 
 fn build(lib: &CloudLibrary, genus: &str, quality: Quality, features: Features) -> Generated {
     let v = CloudVariant::new(lib.genus(genus).expect("genus"), quality, features);
-    let module = cloud_module(&v).expect("records");
-    generate(module, &v.name(), &Target::ALL).unwrap_or_else(|e| panic!("{}: {e}", v.name()))
+    let module = cloud_module(&v.key).expect("records");
+    generate(module, &v.key.name(), &Target::ALL).unwrap_or_else(|e| panic!("{}: {e}", v.name()))
 }
 
 fn texts(g: &Generated) -> Vec<(String, String)> {
@@ -45,13 +49,21 @@ fn every_genus_at_every_quality_validates_everywhere() {
         );
     }
     let variants = cloud_catalog(&lib);
-    // Each genus × preset is a cloud variant and, when it samples shadows, a shadow pass.
-    let count = |module: &str| variants.iter().filter(|v| v.module == module).count();
-    assert_eq!(count("clouds"), lib.genera.len() * 4);
-    assert_eq!(count("cloud_shadow"), lib.genera.len() * 4);
+    // Each genus × preset resolves to a cloud key and, when it samples shadows, a shadow key;
+    // the catalogue holds each distinct key once, and every pair is some entry's user.
+    let pairs = assignments(&lib);
+    assert_eq!(pairs.len(), lib.genera.len() * 4);
+    for module in ["clouds", "shadow"] {
+        let users: usize = variants
+            .iter()
+            .filter(|v| v.module() == module)
+            .map(|v| v.users.len())
+            .sum();
+        assert_eq!(users, pairs.len(), "{module}: every pair runs one shader");
+    }
     let mut files = 0;
     for v in &variants {
-        let g = generate_variant(v, &Target::ALL).unwrap_or_else(|e| panic!("{}: {e}", v.key()));
+        let g = generate_variant(v, &Target::ALL).unwrap_or_else(|e| panic!("{}: {e}", v.id()));
         for f in &g.files {
             files += 1;
             if external {
@@ -84,11 +96,11 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
 fn each_toggle_off_removes_its_code_and_bindings_from_every_target() {
     let lib = library();
     let mut all_on = Features::default();
-    for t in Toggle::ALL {
+    for &t in Toggle::ALL {
         t.set(&mut all_on, true);
     }
     let on = build(&lib, "cumulus", Quality::High, all_on);
-    for t in Toggle::ALL {
+    for &t in Toggle::ALL {
         let wgsl_on = &on.wgsl;
         for m in markers(t) {
             assert!(
@@ -166,32 +178,43 @@ fn cloud_variant_manifest_is_pinned() {
             generate_variant(v, &Target::ALL)
                 .expect("generate")
                 .stats
-                .manifest_line(&v.key())
+                .manifest_line(&v.id())
         })
         .collect();
     insta::assert_snapshot!("cloud_variant_manifest", lines.join("\n"));
 }
 
 #[test]
-fn representative_cloud_variants_are_pinned_per_target() {
+fn representative_cloud_keys_are_pinned_per_target() {
     let lib = library();
+    // Three distinct cloud keys (low, high, and a Henyey–Greenstein genus at medium) and the
+    // shadow pass of high; cumulonimbus at ultra runs the same shader as cumulus at high.
+    let mut keys = Vec::new();
     for (genus, q) in [
         ("cumulus", Quality::Low),
         ("cumulus", Quality::High),
-        ("cumulonimbus", Quality::Ultra),
+        ("cirrus", Quality::Medium),
     ] {
-        let g = build(&lib, genus, q, q.features());
-        insta::assert_snapshot!(format!("clouds.{}.wgsl", g.variant), g.wgsl);
+        let v = CloudVariant::new(lib.genus(genus).expect("genus"), q, q.features());
+        keys.push(ShaderKey::Clouds(v.key));
+    }
+    let high = CloudVariant::new(
+        lib.genus("cumulonimbus").expect("genus"),
+        Quality::Ultra,
+        Quality::Ultra.features(),
+    );
+    assert_eq!(keys[1], ShaderKey::Clouds(high.key));
+    keys.extend(high.key.shadow_key().map(ShaderKey::Shadow));
+    for key in keys {
+        let g = generate_variant(&key, &Target::ALL).expect("generate");
+        insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);
         for f in &g.files {
             match &f.contents {
                 Contents::Text(t) if f.target != Target::Wgsl => {
                     insta::assert_snapshot!(f.file_name.clone(), t);
                 }
                 Contents::SpirV(words) => {
-                    insta::assert_snapshot!(
-                        f.file_name.clone(),
-                        format!("SPIR-V, {} words, FNV-1a {:016x}", words.len(), fnv(words))
-                    );
+                    insta::assert_snapshot!(f.file_name.clone(), common::spirv_text(words));
                 }
                 _ => {}
             }
@@ -199,13 +222,67 @@ fn representative_cloud_variants_are_pinned_per_target() {
     }
 }
 
-fn fnv(words: &[u32]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in words.iter().flat_map(|w| w.to_le_bytes()) {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+/// The code of a WGSL module without its comments (which name the key).
+fn code_of(wgsl: &str) -> String {
+    wgsl.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn distinct_emitted_shaders_have_distinct_code() {
+    // The catalogue: no two modules of the same stage print the same code.
+    let lib = library();
+    let mut seen: BTreeMap<(String, String), String> = BTreeMap::new();
+    for v in cloud_catalog(&lib) {
+        let (_, wgsl, _, _) = print_and_validate(v.record().expect("record"), &v.variant())
+            .unwrap_or_else(|e| panic!("{}: {e}", v.id()));
+        if let Some(other) = seen.insert((v.module().to_string(), code_of(&wgsl)), v.id()) {
+            panic!("{} and {other} print the same code", v.id());
+        }
     }
-    h
+    assert!(seen.len() >= 9, "{}", seen.len());
+}
+
+#[test]
+fn every_toggle_combination_gives_distinct_code_for_distinct_canonical_keys() {
+    // Every combination of the toggles that touch one another's code (the shadow map is read
+    // by shadows and by shafts, shafts live in the haze, the Mie toggle picks the phase) for a
+    // dual-lobe genus: canonical keys that differ print different code, and combinations that
+    // canonicalise alike are one key (shafts without haze, the Mie toggle as a phase kind).
+    let varied = [
+        Toggle::ShapeDetail,
+        Toggle::Turbulence,
+        Toggle::LightShafts,
+        Toggle::Haze,
+        Toggle::Shadows,
+        Toggle::AccuratePhaseFunction,
+    ];
+    let mut by_key: BTreeMap<String, CloudKey> = BTreeMap::new();
+    for bits in 0u32..(1 << varied.len()) {
+        let mut f = Features::default();
+        for (i, &t) in varied.iter().enumerate() {
+            t.set(&mut f, bits & (1 << i) != 0);
+        }
+        let phase = PhaseSpec::DualLobe {
+            g1: 0.7,
+            g2: -0.2,
+            weight: 0.5,
+        };
+        let key = CloudKey::new(f, &phase, 1);
+        by_key.insert(key.name(), key);
+    }
+    // 2³ for detail, turbulence and shadows; 3 of the 4 shaft/haze pairs; 2 phase kinds.
+    assert_eq!(by_key.len(), 8 * 3 * 2);
+    let mut seen: BTreeMap<String, String> = BTreeMap::new();
+    for (name, key) in &by_key {
+        let (_, wgsl, _, _) =
+            print_and_validate(cloud_module(key).expect("record"), name).expect("valid");
+        if let Some(other) = seen.insert(code_of(&wgsl), name.clone()) {
+            panic!("{name} and {other} print the same code: a key bit changes nothing");
+        }
+    }
 }
 
 #[test]
@@ -222,7 +299,8 @@ fn more_than_four_layers_use_a_second_lane_group() {
     genus.validate().expect("seven layers are valid");
     assert_eq!(genus.layer_groups(), 2);
     let v = CloudVariant::new(&genus, Quality::High, Quality::High.features());
-    let g = generate(cloud_module(&v).expect("records"), "seven", &Target::ALL).expect("validates");
+    let g = generate(cloud_module(&v.key).expect("records"), "seven", &Target::ALL)
+        .expect("validates");
     assert!(
         g.wgsl.contains("u.group1"),
         "second group unused:\n{}",

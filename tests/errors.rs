@@ -1,8 +1,9 @@
 //! Bad input gets a typed error naming what is wrong and where, with no panic and no partial
 //! output folder left looking complete.
 
+use nimbus_clouds::catalog::catalog;
 use nimbus_codegen::{
-    CodegenError, MARKER_FILE, Target, catalog, emit, generate, generate_variant,
+    CodegenError, EmitExtras, MARKER_FILE, Target, emit, generate, generate_variant,
 };
 use nimbus_dsl::cpu::{Sampler, Texture3d};
 use nimbus_dsl::prelude::*;
@@ -133,7 +134,7 @@ fn an_unwritable_output_folder_is_named_and_leaves_nothing_behind() {
     std::fs::write(&blocker, "not a folder").expect("write");
     let target = blocker.join("out");
     let g = generate_variant(&catalog()[0], &[Target::Wgsl]).expect("generate");
-    let err = emit(&[g], &target).expect_err("cannot write under a file");
+    let err = emit(&[g], &EmitExtras::default(), &target).expect_err("cannot write under a file");
     assert!(matches!(err, CodegenError::Output { .. }), "{err:?}");
     assert!(err.to_string().contains("a-file"), "{err}");
     let left: Vec<_> = std::fs::read_dir(tmp.path()).expect("read").collect();
@@ -146,7 +147,7 @@ fn a_foreign_folder_is_not_replaced() {
     let precious = tmp.path().join("notes.txt");
     std::fs::write(&precious, "mine").expect("write");
     let g = generate_variant(&catalog()[0], &[Target::Wgsl]).expect("generate");
-    let err = emit(&[g], tmp.path()).expect_err("refuses");
+    let err = emit(&[g], &EmitExtras::default(), tmp.path()).expect_err("refuses");
     assert!(matches!(err, CodegenError::ForeignOutput { .. }), "{err:?}");
     assert_eq!(
         std::fs::read_to_string(&precious).expect("still there"),
@@ -159,10 +160,10 @@ fn a_previous_output_is_replaced_whole() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let out = tmp.path().join("shaders");
     let all = generate_variant(&catalog()[0], &Target::ALL).expect("generate");
-    let first = emit(&[all], &out).expect("first emit");
+    let first = emit(&[all], &EmitExtras::default(), &out).expect("first emit");
     assert!(first.files.len() > 2);
     let wgsl_only = generate_variant(&catalog()[0], &[Target::Wgsl]).expect("generate");
-    emit(&[wgsl_only], &out).expect("second emit");
+    emit(&[wgsl_only], &EmitExtras::default(), &out).expect("second emit");
     let mut names: Vec<String> = std::fs::read_dir(&out)
         .expect("read")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())

@@ -6,7 +6,8 @@
 mod common;
 
 use nimbus_codegen::external::{ExternalCheck, check_file};
-use nimbus_codegen::{Target, catalog, generate_variant};
+use nimbus_clouds::catalog::catalog;
+use nimbus_codegen::{Target, generate_variant};
 
 fn check(targets: &[Target], tool: &str) {
     if !common::tool_available(tool) {

@@ -2,31 +2,23 @@
 //! the variant manifest. A change to the model or to codegen shows up here as a reviewable diff
 //! (`cargo insta review`); CI runs with `INSTA_UPDATE=no` and fails on any unreviewed change.
 
-use nimbus_codegen::{Contents, Target, catalog, generate_variant};
+mod common;
 
-/// SPIR-V as reviewable text: size, then 8 words per line.
-fn spirv_text(words: &[u32]) -> String {
-    let mut s = format!("; SPIR-V, {} words\n", words.len());
-    for chunk in words.chunks(8) {
-        let line: Vec<String> = chunk.iter().map(|w| format!("{w:08x}")).collect();
-        s.push_str(&line.join(" "));
-        s.push('\n');
-    }
-    s
-}
+use nimbus_clouds::catalog::catalog;
+use nimbus_codegen::{Contents, Target, generate_variant};
 
 #[test]
 fn every_target_of_every_sample_variant_is_pinned() {
     for source in catalog() {
         let g = generate_variant(&source, &Target::ALL).expect("generate");
-        insta::assert_snapshot!(format!("{}.{}.wgsl", g.module_name, g.variant), g.wgsl);
+        insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);
         for file in &g.files {
             if file.target == Target::Wgsl {
                 continue;
             }
             let text = match &file.contents {
                 Contents::Text(t) => t.clone(),
-                Contents::SpirV(words) => spirv_text(words),
+                Contents::SpirV(words) => common::spirv_text(words),
             };
             insta::assert_snapshot!(file.file_name.clone(), text);
             if let Some(m) = &file.manifest {
@@ -42,7 +34,7 @@ fn variant_manifest_is_pinned() {
         .iter()
         .map(|s| {
             let g = generate_variant(s, &Target::ALL).expect("generate");
-            g.stats.manifest_line(&g.key())
+            g.stats.manifest_line(&g.id())
         })
         .collect();
     insta::assert_snapshot!("variant_manifest", lines.join("\n"));
@@ -53,12 +45,12 @@ fn generation_is_deterministic() {
     for source in catalog() {
         let a = generate_variant(&source, &Target::ALL).expect("first");
         let b = generate_variant(&source, &Target::ALL).expect("second");
-        assert_eq!(a.wgsl, b.wgsl, "{}: WGSL differs between runs", a.key());
+        assert_eq!(a.wgsl, b.wgsl, "{}: WGSL differs between runs", a.id());
         assert_eq!(
             a.files,
             b.files,
             "{}: target outputs differ between runs",
-            a.key()
+            a.id()
         );
     }
 }

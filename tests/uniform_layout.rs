@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use nimbus_codegen::{catalog, generate_variant, print_and_validate};
+use nimbus_clouds::catalog::catalog;
+use nimbus_codegen::{generate_variant, print_and_validate};
 use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_dsl::layout::{UniformBytes, struct_layout};
 use nimbus_clouds::model::clouds::{CloudVariant, cloud_module};
@@ -40,10 +41,10 @@ fn every_struct_offset_matches_naga() {
     let mut fields = 0;
     for q in Quality::ALL {
         fields +=
-            check_module(cloud_module(&CloudVariant::new(g, q, q.features())).expect("records"));
+            check_module(cloud_module(&CloudVariant::new(g, q, q.features()).key).expect("records"));
     }
     for v in catalog() {
-        fields += check_module(v.build().expect("records"));
+        fields += check_module(nimbus_dsl::ShaderVariant::record(&v).expect("records"));
     }
     assert!(fields > 60, "only {fields} members checked");
     println!("{fields} struct members checked against naga's layout");

@@ -679,6 +679,62 @@ impl<'g> Renderer<'g> {
             self.prepare(ShaderKey::Resolve)?;
         }
 
+        // Targets first (the cloud pass's, the history), so that every bind group below is
+        // made after the last resource it references: the cloud pass's target, kept while
+        // its size holds.
+        let scale = if frame.upscale { 4 } else { 1 };
+        let (lw, lh) = (frame.width.div_ceil(scale), frame.height.div_ceil(scale));
+        if !matches!(&self.clouds, Some(p) if size_of(&p.target) == (lw, lh)) {
+            let uniform = match self.clouds.take() {
+                Some(p) => p.uniform,
+                None => uniform_buffer(self.gpu, "cloud uniforms", uniform_size),
+            };
+            self.clouds = Some(CloudPass {
+                uniform,
+                group: None,
+                target: target(self.gpu, "clouds", lw, lh),
+            });
+            self.epoch += 1;
+        }
+
+        // History: kept across calls of the same size and mode; restarted unless continued.
+        let view_projection = frame.view_projection();
+        let same = matches!(&self.history, Some(h) if h.upscale == frame.upscale
+            && size_of(&h.targets[0]) == (frame.width, frame.height));
+        if resolve {
+            if !same {
+                self.history = Some(History {
+                    targets: [
+                        target(self.gpu, "history A", frame.width, frame.height),
+                        target(self.gpu, "history B", frame.width, frame.height),
+                    ],
+                    latest: 0,
+                    upscale: frame.upscale,
+                    view_projection,
+                    frames: 0,
+                });
+                self.epoch += 1;
+            } else if !frame.continue_history
+                && let Some(h) = &mut self.history
+            {
+                // A fresh start on the kept targets: frame 0 ignores the history.
+                h.frames = 0;
+                h.view_projection = view_projection;
+            }
+            if self.resolve.is_none() {
+                self.resolve = Some(ResolvePass {
+                    uniform: uniform_buffer(
+                        self.gpu,
+                        "resolve uniforms",
+                        align_size(ResolveParams::shader_type()).1 as usize,
+                    ),
+                    groups: [None, None],
+                });
+            }
+        } else if self.history.take().is_some() {
+            self.epoch += 1;
+        }
+
         // Shadow atlas: kept while its size holds, redrawn only when its inputs change.
         let mut encoder = self
             .gpu
@@ -744,60 +800,6 @@ impl<'g> Renderer<'g> {
             self.epoch += 1;
         }
         self.gpu.queue().submit([encoder.finish()]);
-
-        // The cloud pass's target, kept while its size holds.
-        let scale = if frame.upscale { 4 } else { 1 };
-        let (lw, lh) = (frame.width.div_ceil(scale), frame.height.div_ceil(scale));
-        if !matches!(&self.clouds, Some(p) if size_of(&p.target) == (lw, lh)) {
-            let uniform = match self.clouds.take() {
-                Some(p) => p.uniform,
-                None => uniform_buffer(self.gpu, "cloud uniforms", uniform_size),
-            };
-            self.clouds = Some(CloudPass {
-                uniform,
-                group: None,
-                target: target(self.gpu, "clouds", lw, lh),
-            });
-            self.epoch += 1;
-        }
-
-        // History: kept across calls of the same size and mode; restarted unless continued.
-        let view_projection = frame.view_projection();
-        let same = matches!(&self.history, Some(h) if h.upscale == frame.upscale
-            && size_of(&h.targets[0]) == (frame.width, frame.height));
-        if resolve {
-            if !same {
-                self.history = Some(History {
-                    targets: [
-                        target(self.gpu, "history A", frame.width, frame.height),
-                        target(self.gpu, "history B", frame.width, frame.height),
-                    ],
-                    latest: 0,
-                    upscale: frame.upscale,
-                    view_projection,
-                    frames: 0,
-                });
-                self.epoch += 1;
-            } else if !frame.continue_history
-                && let Some(h) = &mut self.history
-            {
-                // A fresh start on the kept targets: frame 0 ignores the history.
-                h.frames = 0;
-                h.view_projection = view_projection;
-            }
-            if self.resolve.is_none() {
-                self.resolve = Some(ResolvePass {
-                    uniform: uniform_buffer(
-                        self.gpu,
-                        "resolve uniforms",
-                        align_size(ResolveParams::shader_type()).1 as usize,
-                    ),
-                    groups: [None, None],
-                });
-            }
-        } else if self.history.take().is_some() {
-            self.epoch += 1;
-        }
 
         // Bind groups, remade only when a resource or the key changed.
         let stale = |g: &Option<BoundGroup>, key: ShaderKey, epoch: u64| {

@@ -4,6 +4,7 @@ mod bench;
 mod bench_frames;
 mod check;
 mod data;
+mod diff;
 mod emit;
 mod error;
 mod explain;
@@ -131,8 +132,20 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
     },
-    /// List genera, scene presets, quality presets, toggles, modules and targets.
+    /// List genera, scene presets, quality presets, toggles, the distinct shaders (one per
+    /// key) with the genus × preset pairs that share each, and targets.
     List,
+    /// Which shaders (keys) and targets differ between two emitted folders, or two git
+    /// revisions of this project, with the WGSL diff of each changed key.
+    Diff {
+        /// The old side: a folder written by `nimbus emit`, or a git revision.
+        old: PathBuf,
+        /// The new side: a folder written by `nimbus emit`, or a git revision.
+        new: PathBuf,
+        /// Only list the changed keys and targets, without the WGSL diffs.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// Time generation per variant and target, and the whole `check`.
     Bench {
         /// Timed repetitions per measurement (the median is reported).
@@ -169,6 +182,7 @@ fn main() -> ExitCode {
         Command::ExportDensity(args) => export_density::run(data, args),
         Command::Explain { scene } => explain::run(data, scene),
         Command::List => list::run(data).map_err(Into::into),
+        Command::Diff { old, new, quiet } => diff::run(old, new, *quiet),
         Command::Bench { iterations } => bench::run(data, (*iterations).max(1)).map_err(Into::into),
     };
     match result {
