@@ -171,7 +171,7 @@ fn a_previous_output_is_replaced_whole() {
     names.sort();
     assert_eq!(
         names,
-        vec![MARKER_FILE.to_string(), "preview.hg.wgsl".to_string()]
+        vec![MARKER_FILE.to_string(), "preview-hg.wgsl".to_string()]
     );
     let leftovers = std::fs::read_dir(tmp.path()).expect("read").count();
     assert_eq!(leftovers, 1, "no temporary folder left beside the output");

@@ -211,3 +211,62 @@ impl ComponentArray for glam::Mat4 {
     }
 }
 flatten_glam!(glam::Vec2, glam::Vec3, glam::Vec4, glam::Mat3, glam::Mat4);
+
+/// The members of a uniform value read back from its buffer bytes, flattened to dotted paths
+/// (`group0.min_height`) with their scalar components (matrices column by column): what a host
+/// that sets uniforms member by member, or a manifest, needs. Integers and booleans are exact
+/// in `f64`.
+pub fn read_members(ty: Type, bytes: &[u8]) -> Vec<(String, Vec<f64>)> {
+    let mut out = Vec::new();
+    read_into(ty, bytes, 0, "", &mut out);
+    out
+}
+
+fn word(bytes: &[u8], at: usize) -> u32 {
+    bytes
+        .get(at..at + 4)
+        .and_then(|b| b.try_into().ok())
+        .map_or(0, u32::from_le_bytes)
+}
+
+fn scalar(s: Scalar, w: u32) -> f64 {
+    match s {
+        Scalar::F32 => f64::from(f32::from_bits(w)),
+        Scalar::I32 => f64::from(w as i32),
+        Scalar::U32 | Scalar::Bool => f64::from(w),
+    }
+}
+
+fn read_into(ty: Type, bytes: &[u8], offset: u32, path: &str, out: &mut Vec<(String, Vec<f64>)>) {
+    let at = offset as usize;
+    match ty {
+        Type::Struct(def) => {
+            let (_, _, offsets) = struct_layout(def);
+            for (f, o) in def.fields.iter().zip(offsets) {
+                let p = if path.is_empty() {
+                    f.name.to_string()
+                } else {
+                    format!("{path}.{}", f.name)
+                };
+                read_into(f.ty, bytes, offset + o, &p, out);
+            }
+        }
+        Type::Scalar(s) => out.push((path.to_string(), vec![scalar(s, word(bytes, at))])),
+        Type::Vector(n, s) => out.push((
+            path.to_string(),
+            (0..usize::from(n))
+                .map(|i| scalar(s, word(bytes, at + 4 * i)))
+                .collect(),
+        )),
+        Type::Matrix(n) => {
+            let (col_align, col_size) = align_size(Type::Vector(n, Scalar::F32));
+            let stride = round_up(col_align, col_size) as usize;
+            let values = (0..usize::from(n))
+                .flat_map(|c| (0..usize::from(n)).map(move |r| at + c * stride + 4 * r))
+                .map(|a| scalar(Scalar::F32, word(bytes, a)))
+                .collect();
+            out.push((path.to_string(), values));
+        }
+        Type::RuntimeArray(_) | Type::Texture2d | Type::Texture3d | Type::Sampler => {}
+    }
+}

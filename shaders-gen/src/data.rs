@@ -2,7 +2,12 @@
 
 use std::path::{Path, PathBuf};
 
-use nimbus_clouds::catalog::{Assignment, CatalogEntry, assign, catalog, distinct, select};
+use nimbus_clouds::catalog::{
+    Assignment, CatalogEntry, ShaderKey, assign, catalog, distinct, select,
+};
+use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_dsl::layout::{UniformBytes, read_members};
+use nimbus_runtime::render::{Frame, Renderer};
 use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, load_scene};
 use crate::error::CliError;
 use nimbus_dsl::ShaderVariant;
@@ -34,56 +39,73 @@ pub(crate) fn scene_with_genus<'a>(
     Ok((scene, genus))
 }
 
-pub(crate) fn parse_toggles(list: &[String]) -> Result<Vec<Toggle>, CliError> {
-    let mut out = Vec::new();
-    for item in list
-        .iter()
-        .flat_map(|s| s.split(','))
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-    {
-        let t = Toggle::parse(item).ok_or_else(|| CliError::Unknown {
-            kind: "toggle",
-            given: item.to_string(),
-            known: Toggle::ALL
-                .iter()
-                .map(|t| t.name())
-                .collect::<Vec<_>>()
-                .join(", "),
-        })?;
-        out.push(t);
-    }
-    Ok(out)
-}
-
 /// What the user asked to emit or check.
 pub(crate) struct Selection<'a> {
     pub name: Option<&'a str>,
     pub genus: Option<&'a str>,
-    pub quality: Option<&'a str>,
-    pub enable: &'a [String],
-    pub disable: &'a [String],
+    pub quality: Option<Quality>,
+    pub enable: &'a [Toggle],
+    pub disable: &'a [Toggle],
     pub octaves: Option<u32>,
 }
 
 /// The shaders a selection names, and the genus × preset pairs it covers (the table that
-/// says which key each pair runs).
+/// says which key each pair runs), each with its uniform values.
 pub(crate) struct Resolved {
     pub entries: Vec<CatalogEntry>,
     pub table: Vec<Assignment>,
+    pub uniforms: Vec<CloudUniforms>,
+}
+
+/// The uniform values of `genus` at `quality`, lit and seen as `Frame::new` sets them up (sun
+/// 35° high at azimuth 150°, camera 2 m above the ground, 640×360).
+pub(crate) fn pair_uniforms(genus: &Genus, quality: Quality) -> CloudUniforms {
+    Renderer::uniforms(&Frame::new(genus.clone(), quality, 640, 360))
+}
+
+/// The uniform values of every row of `table` whose genus is in `lib`.
+fn uniforms_of(lib: &CloudLibrary, table: &[Assignment]) -> Vec<CloudUniforms> {
+    table
+        .iter()
+        .filter_map(|a| lib.genus(&a.genus).map(|g| pair_uniforms(g, a.quality)))
+        .collect()
+}
+
+/// `nimbus-keys.json`: every pair's keys and uniform values, member by member in layout order,
+/// so an engine loads a handful of shaders and switches genus and preset by uniforms alone.
+pub(crate) fn keys_json(r: &Resolved) -> String {
+    let pairs: Vec<serde_json::Value> = r
+        .table
+        .iter()
+        .zip(&r.uniforms)
+        .map(|(a, u)| {
+            let members: Vec<serde_json::Value> =
+                read_members(CloudUniforms::shader_type(), &u.to_uniform_bytes())
+                    .into_iter()
+                    .map(|(member, value)| serde_json::json!({ "member": member, "value": value }))
+                    .collect();
+            serde_json::json!({
+                "pair": a.name(),
+                "genus": a.genus,
+                "quality": a.quality.name(),
+                "clouds": ShaderKey::Clouds(a.clouds).id(),
+                "shadow": a.shadow.map(|k| ShaderKey::Shadow(k).id()),
+                "uniforms": { "block": "clouds", "members": members },
+            })
+        })
+        .collect();
+    let doc = serde_json::json!({
+        "about": "Each genus × quality preset: the shaders (by key) it runs and the values of the `clouds` uniform block, member by member in layout order. Sun, camera and image members hold Frame::new's defaults (sun 35° high at azimuth 150°, camera 2 m, 640×360): a host sets those per frame.",
+        "pairs": pairs,
+    });
+    let mut s = serde_json::to_string_pretty(&doc).unwrap_or_default();
+    s.push('\n');
+    s
 }
 
 pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolved, CliError> {
-    let quality = match sel.quality {
-        Some(q) => Some(Quality::parse(q).ok_or_else(|| CliError::Unknown {
-            kind: "quality preset",
-            given: q.to_string(),
-            known: Quality::ALL.map(Quality::name).join(", "),
-        })?),
-        None => None,
-    };
-    let enable = parse_toggles(sel.enable)?;
-    let disable = parse_toggles(sel.disable)?;
+    let quality = sel.quality;
+    let (enable, disable) = (sel.enable, sel.disable);
     if let Some(o) = sel.octaves
         && !(1..=12).contains(&o)
     {
@@ -104,10 +126,10 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
             .into_iter()
             .map(|q| {
                 let mut f = q.features();
-                for t in &enable {
+                for t in enable {
                     t.set(&mut f, true);
                 }
-                for t in &disable {
+                for t in disable {
                     t.set(&mut f, false);
                 }
                 if let Some(o) = sel.octaves {
@@ -116,9 +138,11 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
                 assign(g, q, f)
             })
             .collect();
+        let uniforms = table.iter().map(|a| pair_uniforms(g, a.quality)).collect();
         return Ok(Resolved {
             entries: distinct(&table),
             table,
+            uniforms,
         });
     }
     if !enable.is_empty() || !disable.is_empty() || quality.is_some() || sel.octaves.is_some() {
@@ -152,11 +176,16 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
     };
     // The table rows whose keys were selected.
     let ids: Vec<String> = entries.iter().map(|e| e.id()).collect();
-    let table = table
+    let table: Vec<Assignment> = table
         .into_iter()
         .filter(|a| a.keys().iter().any(|k| ids.contains(&k.id())))
         .collect();
-    Ok(Resolved { entries, table })
+    let uniforms = uniforms_of(lib, &table);
+    Ok(Resolved {
+        entries,
+        table,
+        uniforms,
+    })
 }
 
 /// The genus × preset → key table, as manifest text: one line per pair.
@@ -169,7 +198,7 @@ pub(crate) fn table_text(table: &[Assignment]) -> String {
     for a in table {
         s.push_str(&format!("{:<28} {}", a.name(), a.keys()[0].id()));
         if let Some(k) = a.shadow {
-            s.push_str(&format!(" {}", nimbus_clouds::catalog::ShaderKey::Shadow(k).id()));
+            s.push_str(&format!(" {}", ShaderKey::Shadow(k).id()));
         }
         s.push('\n');
     }

@@ -5,7 +5,10 @@ use std::path::Path;
 
 use nimbus_codegen::{EmitExtras, Target, emit, generate_variant};
 
-use crate::data::{Resolved, Selection, load, resolve, table_text};
+use crate::data::{Resolved, Selection, keys_json, load, resolve, table_text};
+
+/// The genus × preset → key table with uniform values, beside the manifest.
+const KEYS_FILE: &str = "nimbus-keys.json";
 
 pub(crate) fn run(
     data: Option<&Path>,
@@ -15,17 +18,22 @@ pub(crate) fn run(
     out: &Path,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let targets = Target::parse_list(targets)?;
-    let Resolved { entries, table } = match scene {
+    let resolved = match scene {
         Some(file) => crate::explain::resolved(data, file)?,
         None => resolve(sel, &load(data)?)?,
     };
+    let Resolved { entries, table, .. } = &resolved;
     let mut generated = Vec::new();
-    for s in &entries {
+    for s in entries {
         generated.push(generate_variant(s, &targets)?);
     }
+    let mut files = Vec::new();
+    if !table.is_empty() {
+        files.push((KEYS_FILE.to_string(), keys_json(&resolved).into_bytes()));
+    }
     let extras = EmitExtras {
-        manifest_appendix: table_text(&table),
-        files: Vec::new(),
+        manifest_appendix: table_text(table),
+        files,
     };
     let report = emit(&generated, &extras, out)?;
     for g in &generated {

@@ -41,6 +41,7 @@ pub(crate) fn resolved(
     let table: Vec<Assignment> = vec![assign(&genus, scene.quality, features)];
     Ok(crate::data::Resolved {
         entries: distinct(&table),
+        uniforms: vec![crate::data::pair_uniforms(&genus, scene.quality)],
         table,
     })
 }

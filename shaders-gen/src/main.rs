@@ -18,6 +18,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use nimbus_clouds::{Quality, Toggle};
 
 /// Nimbus: volumetric-cloud shaders written once in Rust, emitted for every target.
 #[derive(Parser)]
@@ -40,9 +41,9 @@ struct VariantArgs {
     /// A cloud genus (a file in genera/); with no --quality, every quality preset.
     #[arg(short, long)]
     genus: Option<String>,
-    /// Quality preset: low, medium, high, ultra.
-    #[arg(short, long)]
-    quality: Option<String>,
+    /// Quality preset.
+    #[arg(short, long, value_enum)]
+    quality: Option<Quality>,
     #[command(flatten)]
     toggles: ToggleArgs,
 }
@@ -51,11 +52,11 @@ struct VariantArgs {
 #[derive(Args)]
 pub(crate) struct ToggleArgs {
     /// Toggles to switch on beyond the preset's (comma-separated, see `nimbus list`).
-    #[arg(long, value_delimiter = ',')]
-    pub(crate) enable: Vec<String>,
+    #[arg(long, value_delimiter = ',', value_enum, ignore_case = true)]
+    pub(crate) enable: Vec<Toggle>,
     /// Toggles to switch off.
-    #[arg(long, value_delimiter = ',')]
-    pub(crate) disable: Vec<String>,
+    #[arg(long, value_delimiter = ',', value_enum, ignore_case = true)]
+    pub(crate) disable: Vec<Toggle>,
     /// Multiple-scattering octaves (1..=12).
     #[arg(long)]
     pub(crate) octaves: Option<u32>,
@@ -66,7 +67,7 @@ impl VariantArgs {
         data::Selection {
             name: self.name.as_deref(),
             genus: self.genus.as_deref(),
-            quality: self.quality.as_deref(),
+            quality: self.quality,
             enable: &self.toggles.enable,
             disable: &self.toggles.disable,
             octaves: self.toggles.octaves,

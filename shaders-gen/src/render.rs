@@ -27,9 +27,9 @@ pub(crate) struct RenderArgs {
     /// Genus: a name from genera/, or the path of a genus TOML file.
     #[arg(short, long)]
     genus: Option<String>,
-    /// Quality preset: low, medium, high, ultra.
-    #[arg(short, long)]
-    quality: Option<String>,
+    /// Quality preset (default: the scene's).
+    #[arg(short, long, value_enum)]
+    quality: Option<Quality>,
     #[command(flatten)]
     toggles: crate::ToggleArgs,
     /// Image size, WIDTHxHEIGHT.
@@ -135,10 +135,10 @@ fn derive_features(
     seen.sun_elevation_deg = frame.sun_elevation_deg;
     seen.camera_altitude = frame.camera_altitude;
     let mut features = analyse(&seen, &frame.genus).features;
-    for t in data::parse_toggles(&toggles.enable)? {
+    for t in &toggles.enable {
         t.set(&mut features, true);
     }
-    for t in data::parse_toggles(&toggles.disable)? {
+    for t in &toggles.disable {
         t.set(&mut features, false);
     }
     if let Some(o) = toggles.octaves {
@@ -169,14 +169,7 @@ pub(crate) fn frame(
         }
         genus.coverage = c;
     }
-    let quality = match &a.quality {
-        Some(q) => Quality::parse(q).ok_or_else(|| CliError::Unknown {
-            kind: "quality preset",
-            given: q.clone(),
-            known: Quality::ALL.map(Quality::name).join(", "),
-        })?,
-        None => scene.quality,
-    };
+    let quality = a.quality.unwrap_or(scene.quality);
     let mut seen = scene.clone();
     seen.quality = quality;
     seen.coverage = None; // already in the genus, with --coverage applied

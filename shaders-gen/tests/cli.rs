@@ -8,16 +8,16 @@ use common::{nimbus, text};
 fn emit_writes_every_target_and_a_manifest() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let out = tmp.path().join("shaders");
-    let o = nimbus(&["emit", "preview/hg", "-o", out.to_str().expect("utf8")]);
+    let o = nimbus(&["emit", "preview-hg", "-o", out.to_str().expect("utf8")]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     for name in [
-        "preview.hg.wgsl",
-        "preview.hg.fs_main.es300.frag",
-        "preview.hg.fs_main.es300.frag.json",
-        "preview.hg.vs_main.450.vert",
-        "preview.hg.fs_main.hlsl",
-        "preview.hg.fs_main.metal",
-        "preview.hg.fs_main.spv",
+        "preview-hg.wgsl",
+        "preview-hg.fs_main.es300.frag",
+        "preview-hg.fs_main.es300.frag.json",
+        "preview-hg.vs_main.450.vert",
+        "preview-hg.fs_main.hlsl",
+        "preview-hg.fs_main.metal",
+        "preview-hg.fs_main.spv",
         "nimbus-manifest.txt",
     ] {
         assert!(
@@ -48,7 +48,7 @@ fn an_unknown_variant_fails_cleanly_and_writes_nothing() {
     assert!(!o.status.success());
     let err = text(&o.stderr);
     assert!(
-        err.contains("`cumulus/ultra`") && err.contains("preview/hg"),
+        err.contains("unknown shader `cumulus/ultra`") && err.contains("preview-hg"),
         "{err}"
     );
     assert!(!out.exists());
@@ -60,8 +60,11 @@ fn list_and_check_describe_and_validate_everything() {
     assert!(o.status.success());
     let s = text(&o.stdout);
     for want in [
-        "preview/hg",
-        "preview/dual_lobe",
+        "preview-hg",
+        "preview-dual_lobe",
+        "clouds: 6 distinct shader(s)",
+        "shadow: 3 distinct shader(s)",
+        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-sunsky-o8-dual-g1 ← 18 pair(s)",
         "glsl-es300",
         "spirv",
         "msl",
@@ -71,7 +74,10 @@ fn list_and_check_describe_and_validate_everything() {
     }
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    assert!(text(&o.stdout).contains("0 failure(s)"));
+    let s = text(&o.stdout);
+    // 2 previews + resolve + 6 cloud keys + 3 shadow keys, for 11 genera × 4 presets.
+    assert!(s.contains("12 shader(s),") && s.contains("0 failure(s)"), "{s}");
+    assert!(s.contains("distinct shaders (44 genus × preset pair(s))"), "{s}");
 }
 
 #[test]
@@ -121,11 +127,38 @@ fn emit_genus_quality_and_toggles() {
         out.to_str().expect("utf8"),
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let wgsl = std::fs::read_to_string(out.join("clouds.cumulus.high-haze.wgsl")).expect("wgsl");
+    // Without haze the shafts have nothing to light: the key drops both.
+    let id = "clouds-detail-turb-shadows-bounce-powder-sunsky-o8-dual-g1";
+    let wgsl = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("wgsl");
     assert!(wgsl.contains("fn march_clouds") && !wgsl.contains("haze_opacity"));
+    assert!(out.join(format!("{id}.fs_main.es300.frag")).is_file());
+    assert!(out.join("shadow-detail-turb-g1.wgsl").is_file());
+    let manifest = std::fs::read_to_string(out.join("nimbus-manifest.txt")).expect("manifest");
     assert!(
-        out.join("clouds.cumulus.high-haze.fs_main.es300.frag")
-            .is_file()
+        manifest.contains(&format!("cumulus.high                 {id} shadow-detail-turb-g1")),
+        "{manifest}"
+    );
+    // The pair's uniform values, member by member: the genus' coverage is among them.
+    let keys: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("nimbus-keys.json")).expect("keys file"),
+    )
+    .expect("json");
+    let pair = &keys["pairs"][0];
+    assert_eq!(pair["pair"], "cumulus.high");
+    assert_eq!(pair["clouds"], id);
+    let coverage = pair["uniforms"]["members"]
+        .as_array()
+        .and_then(|m| m.iter().find(|m| m["member"] == "media.coverage"))
+        .map(|m| m["value"][0].as_f64().unwrap_or(-1.0));
+    let genus = std::fs::read_to_string(common::examples("genera/cumulus.toml")).expect("genus");
+    let want: f64 = genus
+        .lines()
+        .find_map(|l| l.strip_prefix("coverage = "))
+        .and_then(|v| v.split_whitespace().next()?.parse().ok())
+        .expect("cumulus.toml sets coverage");
+    assert!(
+        coverage.is_some_and(|c| (c - want).abs() < 1e-6),
+        "{coverage:?} vs {want}: {pair}"
     );
     let o = nimbus(&[
         "emit",
@@ -137,7 +170,11 @@ fn emit_genus_quality_and_toggles() {
         out.to_str().expect("utf8"),
     ]);
     assert!(!o.status.success());
-    assert!(text(&o.stderr).contains("unknown quality preset `extreme`"));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("invalid value 'extreme'") && err.contains("--quality") && err.contains("ultra"),
+        "{err}"
+    );
 }
 
 fn example_scene(name: &str) -> String {
@@ -180,11 +217,13 @@ fn emit_and_explain_agree_on_the_scene_variant() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let name = "stratocumulus.high-light-shafts-ground-bounce";
-    let clouds = std::fs::read_to_string(out.join(format!("clouds.{name}.wgsl"))).expect("clouds");
-    assert!(out.join(format!("cloud_shadow.{name}.wgsl")).is_file());
+    let id = "clouds-detail-turb-haze-shadows-powder-sunsky-o8-dual-g1";
+    let clouds = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("clouds");
+    assert!(out.join("shadow-detail-turb-g1.wgsl").is_file());
     // Shafts and ground bounce are out: their code is not in the shader.
     assert!(!clouds.contains("fn shadow_length"));
     assert!(clouds.contains("fn shadow_texel"), "shadows stay in");
     let e = text(&nimbus(&["explain", &example_scene("above-the-deck")]).stdout);
     assert!(e.contains(&format!("variant: {name}")), "{e}");
+    assert!(e.contains(&format!("shader: {id}")), "{e}");
 }

@@ -66,6 +66,15 @@ impl Quality {
         }
     }
 
+    /// Every preset, the reference included.
+    pub const WITH_REFERENCE: [Quality; 5] = [
+        Quality::Low,
+        Quality::Medium,
+        Quality::High,
+        Quality::Ultra,
+        Quality::Reference,
+    ];
+
     pub fn parse(s: &str) -> Option<Quality> {
         Quality::ALL
             .into_iter()
@@ -164,5 +173,16 @@ impl Quality {
                 ..high
             },
         }
+    }
+}
+
+#[cfg(feature = "clap")]
+impl clap::ValueEnum for Quality {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Quality::WITH_REFERENCE
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(clap::builder::PossibleValue::new(self.name()))
     }
 }

@@ -11,7 +11,7 @@ use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, analyse};
 use nimbus_clouds::model::clouds::CloudVariant;
 
 fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
 }
 
 fn library() -> CloudLibrary {

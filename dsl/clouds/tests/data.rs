@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use nimbus_clouds::{CloudLibrary, DataError, MAX_LAYERS, parse_genus};
 
 fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
 }
 
 #[test]
