@@ -6,7 +6,7 @@ use crate::module::DslError;
 
 /// One shader a project can emit.
 pub trait ShaderVariant {
-    /// The module's name (`clouds`), which the generated code's header names.
+    /// The module's name (`water`, say), which the generated code's header names.
     fn module(&self) -> &str;
 
     /// The name of this variant within the module, derived from its generation-time key.
