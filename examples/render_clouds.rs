@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_clouds::model::tonemap::tonemap;
+use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 

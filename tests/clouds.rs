@@ -299,8 +299,12 @@ fn more_than_four_layers_use_a_second_lane_group() {
     genus.validate().expect("seven layers are valid");
     assert_eq!(genus.layer_groups(), 2);
     let v = CloudVariant::new(&genus, Quality::High, Quality::High.features());
-    let g = generate(cloud_module(&v.key).expect("records"), "seven", &Target::ALL)
-        .expect("validates");
+    let g = generate(
+        cloud_module(&v.key).expect("records"),
+        "seven",
+        &Target::ALL,
+    )
+    .expect("validates");
     assert!(
         g.wgsl.contains("u.group1"),
         "second group unused:\n{}",

@@ -57,7 +57,16 @@ fn dependencies_point_one_way() {
             "codegen",
             &["nimbus-clouds", "nimbus-runtime", "nimbus-testkit", "wgpu"][..],
         ),
-        ("dsl/clouds", &["nimbus-codegen", "nimbus-runtime", "nimbus-testkit", "naga", "wgpu"][..]),
+        (
+            "dsl/clouds",
+            &[
+                "nimbus-codegen",
+                "nimbus-runtime",
+                "nimbus-testkit",
+                "naga",
+                "wgpu",
+            ][..],
+        ),
         ("runtime", &["nimbus-testkit", "image-compare", "rayon"][..]),
     ] {
         let deps = dependencies(krate);
@@ -73,8 +82,8 @@ fn dependencies_point_one_way() {
 #[test]
 fn the_language_names_no_cloud_concept() {
     let words = [
-        "cloud", "genus", "cumulus", "cirrus", "stratus", "weather", "scatter", "march",
-        "phase", "sun", "haze", "density",
+        "cloud", "genus", "cumulus", "cirrus", "stratus", "weather", "scatter", "march", "phase",
+        "sun", "haze", "density",
     ];
     let mut checked = 0;
     for dir in ["dsl/src", "dsl/macros/src"] {
@@ -84,10 +93,14 @@ fn the_language_names_no_cloud_concept() {
             for w in words {
                 // Whole words (and their plurals), so `sunk` or `summary` do not count.
                 let hit = lower.match_indices(w).any(|(i, _)| {
-                    let before = lower[..i].chars().last().is_none_or(|c| !c.is_alphanumeric());
+                    let before = lower[..i]
+                        .chars()
+                        .last()
+                        .is_none_or(|c| !c.is_alphanumeric());
                     let after: String = lower[i + w.len()..].chars().take(2).collect();
                     let after_ok = after.chars().next().is_none_or(|c| !c.is_alphanumeric())
-                        || after.starts_with('s') && after.chars().nth(1).is_none_or(|c| !c.is_alphanumeric());
+                        || after.starts_with('s')
+                            && after.chars().nth(1).is_none_or(|c| !c.is_alphanumeric());
                     before && after_ok
                 });
                 assert!(!hit, "{} names `{w}`", path.display());
@@ -124,7 +137,9 @@ fn the_runtime_names_no_wgsl_binding() {
                 let before = text[..i].trim_end();
                 let after = text[i + quoted.len()..].trim_start();
                 let chosen = before.ends_with("==")
-                    || before.ends_with('(') && !before.ends_with("push(") && !before.ends_with("Some(")
+                    || before.ends_with('(')
+                        && !before.ends_with("push(")
+                        && !before.ends_with("Some(")
                     || after.starts_with("=>")
                     || after.starts_with("==")
                     || after.starts_with('|');

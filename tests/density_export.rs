@@ -5,10 +5,10 @@
 use std::path::Path;
 
 use glam::Vec3;
-use nimbus_clouds::{CloudLibrary, load_scene};
-use nimbus_dsl::cpu::Sampler;
 use nimbus_clouds::model::march::total_density;
 use nimbus_clouds::model::shadow::altitude_at;
+use nimbus_clouds::{CloudLibrary, load_scene};
+use nimbus_dsl::cpu::Sampler;
 use nimbus_runtime::RuntimeError;
 use nimbus_runtime::density_export::{CpuTextures, Region, density_grid};
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};

@@ -5,8 +5,8 @@
 
 mod common;
 
-use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_clouds::catalog::catalog;
+use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{Target, generate_variant};
 
 fn check(targets: &[Target], tool: &str) {

@@ -7,13 +7,13 @@ use std::path::Path;
 
 use common::{Rng, Tolerance, compare_with};
 use glam::{Vec3, Vec4};
-use nimbus_dsl::Value;
+use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::model::march::{CloudUniforms, CloudUniformsShader, march_clouds};
 use nimbus_clouds::{CloudLibrary, Quality};
+use nimbus_dsl::Value;
 use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::ir::{ExprId, Scalar, Type};
 use nimbus_dsl::layout::Flatten;
-use nimbus_clouds::model::clouds::CloudVariant;
-use nimbus_clouds::model::march::{CloudUniforms, CloudUniformsShader, march_clouds};
 use nimbus_dsl::shader;
 use nimbus_runtime::GpuResource;
 
@@ -173,11 +173,7 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
 
 /// The uniforms of the test scene seen from `altitude`: a weather tile of 4 km and shape tiles
 /// of ~1 km keep the small test textures busy.
-fn test_uniforms(
-    genus: &nimbus_clouds::Genus,
-    quality: Quality,
-    altitude: f32,
-) -> CloudUniforms {
+fn test_uniforms(genus: &nimbus_clouds::Genus, quality: Quality, altitude: f32) -> CloudUniforms {
     let mut u = CloudUniforms::for_genus(genus, quality, Vec3::new(0.4, 0.5, 0.3), altitude);
     u.media.weather_repeat = glam::Vec2::splat(1.0 / 4000.0);
     u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);

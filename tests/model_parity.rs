@@ -5,14 +5,14 @@ mod common;
 
 use common::{MIN_INPUTS, Rng, Tolerance, compare};
 use glam::Vec4;
-use nimbus_dsl::Value;
-use nimbus_dsl::ir::{ExprId, Scalar, Type};
 use nimbus_clouds::model::density::{
     coverage_remap, detail_erosion, height_fraction, profile4, shape_altering, shape_erosion,
 };
 use nimbus_clouds::model::layers::{LayerGroup, LayerGroupShader};
 use nimbus_clouds::model::phase::{approximate_mie, draine_phase, isotropic_phase, rayleigh_phase};
 use nimbus_clouds::model::shell::{EARTH_RADIUS, ray_shell};
+use nimbus_dsl::Value;
+use nimbus_dsl::ir::{ExprId, Scalar, Type};
 
 fn f(v: f32) -> u32 {
     v.to_bits()

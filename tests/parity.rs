@@ -6,14 +6,14 @@
 mod common;
 
 use common::{MIN_INPUTS, Rng, Tolerance, compare, linspace};
-use nimbus_dsl::Value;
-use nimbus_dsl::ir::{ExprId, Type};
 use nimbus_clouds::model::phase::{dual_lobe_hg, henyey_greenstein};
 use nimbus_clouds::model::preview::{
     PhaseModel, PreviewParams, PreviewParamsShader, fullscreen_position, preview_color,
     preview_fragment, preview_phase,
 };
 use nimbus_clouds::model::profile::density_profile;
+use nimbus_dsl::Value;
+use nimbus_dsl::ir::{ExprId, Type};
 use nimbus_dsl::shader;
 
 fn f(v: f32) -> u32 {

@@ -83,9 +83,9 @@ cases! {
 fn thin_medium_radiance_is_linear_in_density() {
     use glam::Vec3;
     use nimbus_clouds::Quality;
-    use nimbus_dsl::cpu::Sampler;
     use nimbus_clouds::model::clouds::CloudVariant;
     use nimbus_clouds::model::march::{CloudUniforms, march_clouds, one_minus_exp_over};
+    use nimbus_dsl::cpu::Sampler;
     use nimbus_testkit::stability::{CaseTextures, base_genus};
 
     for x in [

@@ -5,17 +5,17 @@
 mod common;
 
 use glam::{Vec3, Vec4};
+use nimbus_clouds::model::march::{CloudUniformsShader, MarchResult};
 use nimbus_dsl::Value;
 use nimbus_dsl::cpu::Sampler;
 use nimbus_dsl::ir::{ExprId, Scalar, Type};
 use nimbus_dsl::layout::Flatten;
-use nimbus_clouds::model::march::{CloudUniformsShader, MarchResult};
 use nimbus_dsl::shader;
+use nimbus_runtime::GpuResource;
+use nimbus_testkit::parity::{KernelFn, run_on_gpu};
 use nimbus_testkit::stability::{
     Case, RayOutcome, RayOutcomeShader, catalogue, check_case, probe_ray, run_case_cpu,
 };
-use nimbus_runtime::GpuResource;
-use nimbus_testkit::parity::{KernelFn, run_on_gpu};
 
 /// Runs every probe of `cases` (which share a variant key and textures: one kernel) on the GPU.
 fn run_cases_gpu(gpu: &nimbus_runtime::Gpu, cases: &[&Case]) -> Vec<Vec<RayOutcome>> {

@@ -7,8 +7,8 @@ mod common;
 use std::path::Path;
 
 use nimbus_clouds::{CloudLibrary, Quality, load_scene};
-use nimbus_testkit::metrics::image_error;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+use nimbus_testkit::metrics::image_error;
 use nimbus_testkit::tradeoff::{StudyOptions, measure, reference, rows, samples_per_pixel};
 
 fn view() -> Frame {

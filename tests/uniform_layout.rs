@@ -4,11 +4,11 @@
 use std::path::Path;
 
 use nimbus_clouds::catalog::catalog;
-use nimbus_codegen::{generate_variant, print_and_validate};
-use nimbus_clouds::{CloudLibrary, Quality};
-use nimbus_dsl::layout::{UniformBytes, struct_layout};
 use nimbus_clouds::model::clouds::{CloudVariant, cloud_module};
 use nimbus_clouds::model::preview::PreviewParams;
+use nimbus_clouds::{CloudLibrary, Quality};
+use nimbus_codegen::{generate_variant, print_and_validate};
+use nimbus_dsl::layout::{UniformBytes, struct_layout};
 
 fn check_module(module: nimbus_dsl::ir::Module) -> usize {
     let (ir, _, _, validated) = print_and_validate(module, "layout").expect("valid");
@@ -40,8 +40,9 @@ fn every_struct_offset_matches_naga() {
     let g = lib.genus("takram-default").expect("genus");
     let mut fields = 0;
     for q in Quality::ALL {
-        fields +=
-            check_module(cloud_module(&CloudVariant::new(g, q, q.features()).key).expect("records"));
+        fields += check_module(
+            cloud_module(&CloudVariant::new(g, q, q.features()).key).expect("records"),
+        );
     }
     for v in catalog() {
         fields += check_module(nimbus_dsl::ShaderVariant::record(&v).expect("records"));

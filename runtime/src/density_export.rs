@@ -15,9 +15,9 @@
 use std::path::Path;
 
 use glam::{Vec3, Vec4};
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_clouds::model::march::total_density;
 use nimbus_clouds::model::shadow::altitude_at;
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 
 use crate::atomic_write::write_atomically;
 use crate::error::RuntimeError;

@@ -85,9 +85,9 @@ impl PipelineCache {
 
     /// A pipeline built earlier.
     pub fn get(&self, key: &ShaderKey) -> Result<&CachedPipeline, RuntimeError> {
-        self.map.get(key).ok_or_else(|| {
-            RuntimeError::Kernel(format!("pipeline `{}` was not built", key.id()))
-        })
+        self.map
+            .get(key)
+            .ok_or_else(|| RuntimeError::Kernel(format!("pipeline `{}` was not built", key.id())))
     }
 
     /// The pipeline for `key`, recording and compiling its module on a miss.

@@ -427,10 +427,7 @@ impl<'g> Renderer<'g> {
         let mut textures: Vec<String> = self.textures.keys().map(role).collect();
         textures.extend(self.user.keys().map(|k| format!("{} (user)", role(k))));
         if let Some(s) = &self.shadow {
-            textures.push(format!(
-                "shadow_map ({}x{})",
-                s.atlas.width, s.atlas.height
-            ));
+            textures.push(format!("shadow_map ({}x{})", s.atlas.width, s.atlas.height));
         }
         if let Some(h) = &self.history {
             textures.push(format!(
@@ -492,7 +489,9 @@ impl<'g> Renderer<'g> {
 
     fn sampler(&self, b: &BindingInfo) -> Option<wgpu::BindingResource<'_>> {
         match b.kind {
-            BindingKind::Sampler(desc) => self.samplers.get(&desc).map(wgpu::BindingResource::Sampler),
+            BindingKind::Sampler(desc) => {
+                self.samplers.get(&desc).map(wgpu::BindingResource::Sampler)
+            }
             _ => None,
         }
     }
@@ -567,7 +566,8 @@ impl<'g> Renderer<'g> {
     fn resolve_group(&self, read: usize) -> Result<wgpu::BindGroup, RuntimeError> {
         let key = ShaderKey::Resolve;
         let pipeline = self.pipelines.get(&key)?;
-        let (Some(pass), Some(clouds), Some(history)) = (&self.resolve, &self.clouds, &self.history)
+        let (Some(pass), Some(clouds), Some(history)) =
+            (&self.resolve, &self.clouds, &self.history)
         else {
             return Err(RuntimeError::Kernel(
                 "the resolve pass runs without its resources".into(),
@@ -762,7 +762,10 @@ impl<'g> Renderer<'g> {
             inputs.inverse_view_projection = Mat4::IDENTITY;
             inputs.resolution = Vec2::ZERO;
             let inputs = (key, inputs.to_uniform_bytes());
-            let stale = self.shadow.as_ref().is_some_and(|p| p.inputs.as_ref() != Some(&inputs));
+            let stale = self
+                .shadow
+                .as_ref()
+                .is_some_and(|p| p.inputs.as_ref() != Some(&inputs));
             if stale {
                 let rebuild = !matches!(&self.shadow, Some(ShadowPass { group: Some(g), .. })
                     if g.key == key && g.epoch == self.epoch);
@@ -802,11 +805,13 @@ impl<'g> Renderer<'g> {
         self.gpu.queue().submit([encoder.finish()]);
 
         // Bind groups, remade only when a resource or the key changed.
-        let stale = |g: &Option<BoundGroup>, key: ShaderKey, epoch: u64| {
-            !matches!(g, Some(b) if b.key == key && b.epoch == epoch)
-        };
+        let stale = |g: &Option<BoundGroup>, key: ShaderKey, epoch: u64| !matches!(g, Some(b) if b.key == key && b.epoch == epoch);
         let epoch = self.epoch;
-        if self.clouds.as_ref().is_some_and(|p| stale(&p.group, clouds_key, epoch)) {
+        if self
+            .clouds
+            .as_ref()
+            .is_some_and(|p| stale(&p.group, clouds_key, epoch))
+        {
             let group = {
                 let p = self.clouds.as_ref().ok_or_else(missing)?;
                 self.cloud_group(clouds_key, &p.uniform)?

@@ -2,8 +2,8 @@
 //! `#[shader_fn]`s (whose CPU twins test them). Each kernel writes RGBA8 texels into a buffer
 //! with rows padded to 256 bytes, which is then copied into the texture.
 
-use nimbus_codegen::{Target, generate};
 use nimbus_clouds::model::noise::{curl_noise, detail_noise, shape_noise, weather_noise};
+use nimbus_codegen::{Target, generate};
 use nimbus_dsl::shader::{self, F32, I32, U32};
 use nimbus_dsl::{ModuleBuilder, loc};
 use wgpu::util::DeviceExt;

@@ -2,15 +2,15 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::error::CliError;
 use nimbus_clouds::catalog::{
     Assignment, CatalogEntry, ShaderKey, assign, catalog, distinct, select,
 };
 use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, load_scene};
+use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::layout::{UniformBytes, read_members};
 use nimbus_runtime::render::{Frame, Renderer};
-use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, load_scene};
-use crate::error::CliError;
-use nimbus_dsl::ShaderVariant;
 
 /// The data folder: `--data`, else `NIMBUS_DATA`, else this repository's `examples/`.
 pub(crate) fn data_dir(flag: Option<&Path>) -> PathBuf {

@@ -58,7 +58,18 @@ fn emit_revision(rev: &str, scratch: &Path) -> Result<PathBuf, Box<dyn std::erro
     let status = Command::new("cargo")
         .current_dir(&tree)
         .env("CARGO_TARGET_DIR", target)
-        .args(["run", "--release", "-q", "-p", "nimbus-cli", "--", "emit", "-t", "all", "-o"])
+        .args([
+            "run",
+            "--release",
+            "-q",
+            "-p",
+            "nimbus-cli",
+            "--",
+            "emit",
+            "-t",
+            "all",
+            "-o",
+        ])
         .arg(&out)
         .status();
     let _ = Command::new("git")
@@ -106,7 +117,12 @@ pub(crate) fn run(old: &Path, new: &Path, quiet: bool) -> Result<(), Box<dyn std
                 .cloned()
                 .collect();
             if !targets.is_empty() {
-                changed.push((id.clone(), targets, x.get("wgsl").cloned(), y.get("wgsl").cloned()));
+                changed.push((
+                    id.clone(),
+                    targets,
+                    x.get("wgsl").cloned(),
+                    y.get("wgsl").cloned(),
+                ));
             }
         }
     }

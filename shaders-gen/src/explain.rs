@@ -3,8 +3,8 @@
 use std::path::Path;
 
 use nimbus_clouds::catalog::{Assignment, assign, distinct};
-use nimbus_clouds::{Analysis, CloudLibrary, ScenePreset, analyse, load_scene};
 use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::{Analysis, CloudLibrary, ScenePreset, analyse, load_scene};
 
 use nimbus_dsl::ShaderVariant;
 

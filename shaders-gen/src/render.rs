@@ -4,9 +4,9 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::error::CliError;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use crate::error::CliError;
 use nimbus_clouds::{
     CloudLibrary, Features, Genus, Quality, ScenePreset, analyse, load_genus, load_scene,
 };
@@ -113,13 +113,11 @@ pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CliError
     if name.ends_with(".toml") || name.contains('/') {
         return Ok(load_genus(Path::new(name))?);
     }
-    lib.genus(name)
-        .cloned()
-        .ok_or_else(|| CliError::Unknown {
-            kind: "genus",
-            given: name.to_string(),
-            known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
-        })
+    lib.genus(name).cloned().ok_or_else(|| CliError::Unknown {
+        kind: "genus",
+        given: name.to_string(),
+        known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
+    })
 }
 
 /// The scene's derived features (see `nimbus explain`), with what the flags changed in the

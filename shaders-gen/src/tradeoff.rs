@@ -10,8 +10,8 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use nimbus_clouds::Quality;
 use nimbus_runtime::Gpu;
-use nimbus_testkit::metrics::ImageError;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+use nimbus_testkit::metrics::ImageError;
 use nimbus_testkit::tradeoff::{
     Clock, Measurement, StudyOptions, dominators, measure, pareto_front, reference, rows,
 };

@@ -76,8 +76,14 @@ fn list_and_check_describe_and_validate_everything() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
     // 2 previews + resolve + 6 cloud keys + 3 shadow keys, for 11 genera × 4 presets.
-    assert!(s.contains("12 shader(s),") && s.contains("0 failure(s)"), "{s}");
-    assert!(s.contains("distinct shaders (44 genus × preset pair(s))"), "{s}");
+    assert!(
+        s.contains("12 shader(s),") && s.contains("0 failure(s)"),
+        "{s}"
+    );
+    assert!(
+        s.contains("distinct shaders (44 genus × preset pair(s))"),
+        "{s}"
+    );
 }
 
 #[test]
@@ -135,7 +141,9 @@ fn emit_genus_quality_and_toggles() {
     assert!(out.join("shadow-detail-turb-g1.wgsl").is_file());
     let manifest = std::fs::read_to_string(out.join("nimbus-manifest.txt")).expect("manifest");
     assert!(
-        manifest.contains(&format!("cumulus.high                 {id} shadow-detail-turb-g1")),
+        manifest.contains(&format!(
+            "cumulus.high                 {id} shadow-detail-turb-g1"
+        )),
         "{manifest}"
     );
     // The pair's uniform values, member by member: the genus' coverage is among them.
@@ -172,7 +180,9 @@ fn emit_genus_quality_and_toggles() {
     assert!(!o.status.success());
     let err = text(&o.stderr);
     assert!(
-        err.contains("invalid value 'extreme'") && err.contains("--quality") && err.contains("ultra"),
+        err.contains("invalid value 'extreme'")
+            && err.contains("--quality")
+            && err.contains("ultra"),
         "{err}"
     );
 }

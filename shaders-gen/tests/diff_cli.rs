@@ -18,7 +18,11 @@ use nimbus_dsl::ir::{ExprKind, Literal, Module};
 /// The one-line edit, on a recorded module; returns whether the module had the line.
 fn edit_sun_attenuation(m: &mut Module) -> bool {
     let mut hit = false;
-    for f in m.functions.iter_mut().filter(|f| f.name == "sun_attenuation") {
+    for f in m
+        .functions
+        .iter_mut()
+        .filter(|f| f.name == "sun_attenuation")
+    {
         for e in &mut f.exprs {
             if e.kind == ExprKind::Literal(Literal::f32(20.0)) {
                 e.kind = ExprKind::Literal(Literal::f32(25.0));
@@ -53,7 +57,10 @@ fn diff_names_exactly_the_keys_a_one_line_model_edit_changes() {
         .collect();
     by_key.sort();
     expected.sort();
-    assert_eq!(expected, by_key, "the edited function is reached by exactly these keys");
+    assert_eq!(
+        expected, by_key,
+        "the edited function is reached by exactly these keys"
+    );
     assert!(!expected.is_empty() && expected.len() < entries.len());
 
     let dir = tempfile::tempdir().expect("tmp");
@@ -83,10 +90,18 @@ fn diff_names_exactly_the_keys_a_one_line_model_edit_changes() {
         "{stdout}"
     );
     // The WGSL diff shows the edited line on both sides.
-    assert!(stdout.contains("-    return exp(min(") && stdout.contains("25.0"), "{stdout}");
+    assert!(
+        stdout.contains("-    return exp(min(") && stdout.contains("25.0"),
+        "{stdout}"
+    );
 
     // The same folder against itself: nothing changed.
-    let same = nimbus(&["diff", "-q", &old.display().to_string(), &old.display().to_string()]);
+    let same = nimbus(&[
+        "diff",
+        "-q",
+        &old.display().to_string(),
+        &old.display().to_string(),
+    ]);
     assert!(text(&same.stdout).contains("0 changed, 0 added, 0 removed"));
 }
 

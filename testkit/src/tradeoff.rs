@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use nimbus_clouds::{Features, Quality, Toggle};
 
-use nimbus_runtime::RuntimeError;
 use crate::metrics::{ImageError, image_error};
+use nimbus_runtime::RuntimeError;
 use nimbus_runtime::render::{Frame, Image, Renderer};
 
 /// What a row renders.
@@ -36,7 +36,7 @@ pub fn rows() -> Vec<RowSpec> {
         })
         .collect();
     let high = Quality::High.features();
-    for t in Toggle::ALL.into_iter().filter(|t| t.get(&high)) {
+    for &t in Toggle::ALL.iter().filter(|t| t.get(&high)) {
         let mut f = high;
         t.set(&mut f, false);
         rows.push(RowSpec {

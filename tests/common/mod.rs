@@ -168,7 +168,11 @@ pub fn compare_with(
 /// SPIR-V as reviewable text: rspirv's disassembly, one instruction per line.
 pub fn spirv_text(words: &[u32]) -> String {
     match rspirv::dr::load_words(words) {
-        Ok(module) => format!("; SPIR-V, {} words\n{}\n", words.len(), rspirv::binary::Disassemble::disassemble(&module)),
+        Ok(module) => format!(
+            "; SPIR-V, {} words\n{}\n",
+            words.len(),
+            rspirv::binary::Disassemble::disassemble(&module)
+        ),
         Err(e) => format!("; SPIR-V that rspirv cannot parse: {e}\n"),
     }
 }

@@ -8,12 +8,15 @@ use nimbus_dsl::ir::Stage;
 use super::{Baked, Contents, TargetNames, naga_stage};
 use crate::target::Target;
 
+/// One combined sampler naga wrote: (GLSL name, WGSL texture name, WGSL sampler name).
+pub(super) type Combined = (String, String, String);
+
 pub(super) fn write(
     baked: &Baked,
     target: Target,
     stage: Stage,
     entry: &str,
-) -> Result<(Contents, TargetNames, Vec<(String, String, String)>), String> {
+) -> Result<(Contents, TargetNames, Vec<Combined>), String> {
     let version = match target {
         Target::GlslEs300 => Version::Embedded {
             version: 300,

@@ -161,11 +161,7 @@ pub fn assign(genus: &Genus, quality: Quality, features: Features) -> Assignment
 pub fn assignments(lib: &CloudLibrary) -> Vec<Assignment> {
     lib.genera
         .values()
-        .flat_map(|(_, genus)| {
-            Quality::ALL
-                .iter()
-                .map(|&q| assign(genus, q, q.features()))
-        })
+        .flat_map(|(_, genus)| Quality::ALL.iter().map(|&q| assign(genus, q, q.features())))
         .collect()
 }
 

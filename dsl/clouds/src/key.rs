@@ -120,7 +120,7 @@ impl CloudKey {
 
     /// The key of this shader's shadow pass, when it samples a shadow map.
     pub fn shadow_key(&self) -> Option<ShadowKey> {
-        self.uses_shadow_map().then(|| ShadowKey {
+        self.uses_shadow_map().then_some(ShadowKey {
             shape_detail: self.features.shape_detail,
             turbulence: self.features.turbulence,
             groups: self.groups,

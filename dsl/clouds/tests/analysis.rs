@@ -7,8 +7,8 @@ use nimbus_clouds::analysis::{
     SceneContent, clouds_present, ground_bounce, haze, light_shafts, shadows, shape_detail, sun_up,
     turbulence,
 };
-use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, analyse};
 use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, analyse};
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")

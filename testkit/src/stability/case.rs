@@ -3,9 +3,9 @@
 
 use glam::{Vec3, Vec4};
 
-use nimbus_dsl::cpu::{Texture2d, Texture3d};
 use nimbus_clouds::CloudKey;
-use nimbus_clouds::model::march::{CloudUniforms};
+use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_dsl::cpu::{Texture2d, Texture3d};
 
 /// One view ray with the uniforms it is marched under.
 #[derive(Clone, Copy, Debug)]

@@ -3,11 +3,11 @@
 
 use glam::{Vec2, Vec3};
 
-use nimbus_clouds::{CloudLayer, DensityProfileParams, Genus, Medium, PhaseSpec, Quality};
-use nimbus_clouds::model::clouds::CloudVariant;
 use nimbus_clouds::CloudKey;
-use nimbus_clouds::model::march::{CloudUniforms};
+use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::shell::EARTH_RADIUS;
+use nimbus_clouds::{CloudLayer, DensityProfileParams, Genus, Medium, PhaseSpec, Quality};
 
 use super::case::{Case, CaseTextures, Pair, Probe};
 

@@ -2,9 +2,9 @@
 
 use glam::Vec3;
 
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_clouds::CloudKey;
 use nimbus_clouds::model::march::{CloudUniforms, MarchResult, composite, march_clouds};
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::prelude::*;
 
 use super::case::{Case, Probe};

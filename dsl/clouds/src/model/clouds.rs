@@ -7,10 +7,10 @@ use nimbus_dsl::ir::{Module, SamplerDesc};
 use nimbus_dsl::{DslError, GlobalRef, ModuleBuilder, ShaderType, loc};
 
 use super::march::{CloudUniforms, cloud_fragment};
-use crate::key::{CloudKey, ShadowKey};
 use super::preview::fullscreen_position;
 use super::resolve::{ResolveParams, resolve_fragment};
 use super::shadow::shadow_fragment;
+use crate::key::{CloudKey, ShadowKey};
 
 /// A genus at a quality preset with a set of features: it resolves to a shader key (the
 /// code) and uniform values ([`CloudUniforms::for_genus`]).
@@ -143,12 +143,37 @@ impl CloudBindings {
         use CloudBinding as B;
         let g = B::GROUP;
         CloudBindings {
-            clouds: m.uniform::<CloudUniforms>(B::Uniforms.name(), g, B::Uniforms.binding(), B::Uniforms.doc()),
-            weather: m.handle::<Texture2d>(B::Weather.name(), g, B::Weather.binding(), B::Weather.doc()),
+            clouds: m.uniform::<CloudUniforms>(
+                B::Uniforms.name(),
+                g,
+                B::Uniforms.binding(),
+                B::Uniforms.doc(),
+            ),
+            weather: m.handle::<Texture2d>(
+                B::Weather.name(),
+                g,
+                B::Weather.binding(),
+                B::Weather.doc(),
+            ),
             shape: m.handle::<Texture3d>(B::Shape.name(), g, B::Shape.binding(), B::Shape.doc()),
-            detail: m.handle::<Texture3d>(B::Detail.name(), g, B::Detail.binding(), B::Detail.doc()),
-            turbulence: m.handle::<Texture2d>(B::Turbulence.name(), g, B::Turbulence.binding(), B::Turbulence.doc()),
-            shadow: m.handle::<Texture2d>(B::ShadowMap.name(), g, B::ShadowMap.binding(), B::ShadowMap.doc()),
+            detail: m.handle::<Texture3d>(
+                B::Detail.name(),
+                g,
+                B::Detail.binding(),
+                B::Detail.doc(),
+            ),
+            turbulence: m.handle::<Texture2d>(
+                B::Turbulence.name(),
+                g,
+                B::Turbulence.binding(),
+                B::Turbulence.doc(),
+            ),
+            shadow: m.handle::<Texture2d>(
+                B::ShadowMap.name(),
+                g,
+                B::ShadowMap.binding(),
+                B::ShadowMap.doc(),
+            ),
             sampler: m.sampler(
                 B::Sampler.name(),
                 g,
@@ -430,11 +455,24 @@ pub fn resolve_module() -> Result<Module, DslError> {
         |m| {
             use ResolveBinding as B;
             let g = B::GROUP;
-            let r = m.uniform::<ResolveParams>("resolve", g, B::Params as u32, "Offsets, weights, reprojection.");
-            let current =
-                m.handle::<Texture2d>("current_texture", g, B::Current as u32, "This frame's clouds.");
-            let history =
-                m.handle::<Texture2d>("history_texture", g, B::History as u32, "Last resolved frame.");
+            let r = m.uniform::<ResolveParams>(
+                "resolve",
+                g,
+                B::Params as u32,
+                "Offsets, weights, reprojection.",
+            );
+            let current = m.handle::<Texture2d>(
+                "current_texture",
+                g,
+                B::Current as u32,
+                "This frame's clouds.",
+            );
+            let history = m.handle::<Texture2d>(
+                "history_texture",
+                g,
+                B::History as u32,
+                "Last resolved frame.",
+            );
             let nearest = m.sampler(
                 "nearest_sampler",
                 g,
