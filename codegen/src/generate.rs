@@ -9,6 +9,7 @@ use crate::backend::{self, Contents};
 use crate::bindings::{BindingInfo, describe};
 use crate::error::CodegenError;
 use crate::manifest::BindingManifest;
+use crate::names::rename_for_wgsl;
 use crate::specialise::{specialise, walk_block};
 use crate::target::Target;
 use crate::validate::{Validated, validate};
@@ -161,6 +162,7 @@ pub fn print_and_validate(
     variant: &str,
 ) -> Result<(Module, String, SpanTable, Validated), CodegenError> {
     specialise(&mut module);
+    rename_for_wgsl(&mut module);
     let (wgsl, spans) = print_module(&module, variant)?;
     let validated = validate(&wgsl, &spans, &module.name, variant)?;
     Ok((module, wgsl, spans, validated))

@@ -11,6 +11,7 @@ mod error;
 pub mod external;
 mod generate;
 pub mod manifest;
+mod names;
 pub mod specialise;
 mod target;
 mod validate;

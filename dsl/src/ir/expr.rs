@@ -142,6 +142,46 @@ pub enum Builtin {
 }
 
 impl Builtin {
+    /// Every built-in function (a name missing here is only renamed more eagerly in WGSL).
+    pub const ALL: [Builtin; 36] = [
+        Builtin::Abs,
+        Builtin::Ceil,
+        Builtin::Clamp,
+        Builtin::Cos,
+        Builtin::Cross,
+        Builtin::Distance,
+        Builtin::Dot,
+        Builtin::Exp,
+        Builtin::Exp2,
+        Builtin::Floor,
+        Builtin::Fract,
+        Builtin::InverseSqrt,
+        Builtin::Length,
+        Builtin::Log,
+        Builtin::Log2,
+        Builtin::Max,
+        Builtin::Min,
+        Builtin::Mix,
+        Builtin::Normalize,
+        Builtin::Pow,
+        Builtin::Round,
+        Builtin::Select,
+        Builtin::Sign,
+        Builtin::Sin,
+        Builtin::Smoothstep,
+        Builtin::Sqrt,
+        Builtin::Step,
+        Builtin::Tan,
+        Builtin::Trunc,
+        Builtin::Atan2,
+        Builtin::Acos,
+        Builtin::Asin,
+        Builtin::Atan,
+        Builtin::Fma,
+        Builtin::Saturate,
+        Builtin::Pack4x8Unorm,
+    ];
+
     pub fn wgsl(self) -> &'static str {
         match self {
             Builtin::Abs => "abs",

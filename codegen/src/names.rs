@@ -1,0 +1,105 @@
+//! Identifiers WGSL will not take, renamed just before printing. The recorder keeps the Rust
+//! names (made into valid identifiers); a name changes only where WGSL requires it, by naga's
+//! own lists (`naga::keywords::wgsl`):
+//! - any declaration named like a keyword or reserved word (`active`, `target`, `loop`);
+//! - a module-scope function or global named like a predeclared identifier (`step`, `vec3`),
+//!   which would shadow it for the whole module;
+//! - a local or parameter named like a predeclared type or enumerant, or like a built-in
+//!   function *that its own function calls* (it would shadow the call). Otherwise `step`,
+//!   `distance` and `length` stay as written: WGSL lets a local shadow a built-in it never uses.
+//!
+//! A renamed identifier gets a trailing `_` (more if that name is taken).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use naga::keywords::wgsl::{BUILTIN_IDENTIFIERS, RESERVED};
+use nimbus_dsl::ir::{Builtin, ExprKind, Module};
+
+fn reserved(name: &str) -> bool {
+    RESERVED.contains(&name)
+}
+
+fn predeclared(name: &str) -> bool {
+    BUILTIN_IDENTIFIERS.contains(&name)
+}
+
+/// `name_`, `name__`, ... whichever is not in `taken`.
+fn fresh(name: &str, taken: &BTreeSet<String>) -> String {
+    let mut n = format!("{name}_");
+    while taken.contains(&n) || reserved(&n) || predeclared(&n) {
+        n.push('_');
+    }
+    n
+}
+
+/// Renames what WGSL requires in `module`, consistently at every use.
+pub(crate) fn rename_for_wgsl(module: &mut Module) {
+    let builtin_fns: BTreeSet<&str> = Builtin::ALL.iter().map(|b| b.wgsl()).collect();
+    // Module scope: functions and globals share one namespace with the predeclared names.
+    let mut taken: BTreeSet<String> = module
+        .functions
+        .iter()
+        .map(|f| f.name.clone())
+        .chain(module.globals.iter().map(|g| g.name.clone()))
+        .collect();
+    let mut renamed: BTreeMap<String, String> = BTreeMap::new();
+    for name in taken.clone() {
+        if reserved(&name) || predeclared(&name) {
+            let new = fresh(&name, &taken);
+            taken.insert(new.clone());
+            renamed.insert(name, new);
+        }
+    }
+    for g in &mut module.globals {
+        if let Some(n) = renamed.get(&g.name) {
+            g.name = n.clone();
+        }
+    }
+    for ep in &mut module.entry_points {
+        if let Some(n) = renamed.get(&ep.function) {
+            ep.function = n.clone();
+        }
+    }
+    for f in &mut module.functions {
+        if let Some(n) = renamed.get(&f.name) {
+            f.name = n.clone();
+        }
+        let mut called = BTreeSet::new();
+        for e in &mut f.exprs {
+            match &mut e.kind {
+                ExprKind::Call(callee, _) => {
+                    if let Some(n) = renamed.get(callee) {
+                        *callee = n.clone();
+                    }
+                }
+                ExprKind::Builtin(b, _) => {
+                    called.insert(b.wgsl());
+                }
+                _ => {}
+            }
+        }
+        let clash = |name: &str| {
+            reserved(name)
+                || (predeclared(name) && (!builtin_fns.contains(name) || called.contains(name)))
+        };
+        let mut local_taken: BTreeSet<String> = f
+            .params
+            .iter()
+            .map(|p| p.name.clone())
+            .chain(f.locals.iter().map(|l| l.name.clone()))
+            .chain(taken.iter().cloned())
+            .collect();
+        for p in &mut f.params {
+            if clash(&p.name) {
+                p.name = fresh(&p.name, &local_taken);
+                local_taken.insert(p.name.clone());
+            }
+        }
+        for l in &mut f.locals {
+            if clash(&l.name) {
+                l.name = fresh(&l.name, &local_taken);
+                local_taken.insert(l.name.clone());
+            }
+        }
+    }
+}
