@@ -12,15 +12,15 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use naga::keywords::wgsl::{BUILTIN_IDENTIFIERS, RESERVED};
+use naga::keywords::wgsl::{BUILTIN_IDENTIFIER_SET, RESERVED_SET};
 use nimbus_dsl::ir::{Builtin, ExprKind, Module};
 
 fn reserved(name: &str) -> bool {
-    RESERVED.contains(&name)
+    RESERVED_SET.contains(name)
 }
 
 fn predeclared(name: &str) -> bool {
-    BUILTIN_IDENTIFIERS.contains(&name)
+    BUILTIN_IDENTIFIER_SET.contains(name)
 }
 
 /// `name_`, `name__`, ... whichever is not in `taken`.

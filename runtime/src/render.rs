@@ -378,6 +378,16 @@ fn target(gpu: &Gpu, label: &str, width: u32, height: u32) -> Target {
     }
 }
 
+/// A buffer the GPU copies a target into for the CPU to read.
+fn readback_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
+    gpu.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("frame readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 fn size_of(t: &Target) -> (u32, u32) {
     (t.width, t.height)
 }
@@ -987,12 +997,7 @@ impl<'g> Renderer<'g> {
         if self.readback.as_ref().is_some_and(|b| b.size() >= size) {
             return;
         }
-        self.readback = Some(self.gpu.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        }));
+        self.readback = Some(readback_buffer(self.gpu, size));
     }
 
     fn read_back(&self, target: &Target) -> Result<Image, RuntimeError> {
@@ -1003,12 +1008,7 @@ impl<'g> Renderer<'g> {
         let readback = match &self.readback {
             Some(b) if b.size() >= size => b,
             _ => {
-                owned = self.gpu.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("frame readback"),
-                    size,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
+                owned = readback_buffer(self.gpu, size);
                 &owned
             }
         };

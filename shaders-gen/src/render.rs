@@ -230,6 +230,10 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
         if frame.frames == 1 { "" } else { "s" },
         if frame.upscale { ", upscaled 1/16" } else { "" }
     );
+    println!(
+        "shader: {}",
+        nimbus_dsl::ShaderVariant::id(&nimbus_clouds::catalog::ShaderKey::Clouds(variant.key))
+    );
     let bar = ProgressBar::new(u64::from(frame.frames));
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})")

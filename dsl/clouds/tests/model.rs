@@ -153,3 +153,17 @@ fn detail_erosion_at_amount_zero_is_no_detail() {
     let got = detail_erosion(glam::Vec4::splat(rho), d, eta, glam::Vec4::ONE);
     assert!((got.x - expect).abs() < 1e-6, "{got} vs {expect}");
 }
+
+#[test]
+fn binding_enums_find_every_slot_they_declare() {
+    use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
+    for b in CloudBinding::ALL {
+        assert_eq!(CloudBinding::at(CloudBinding::GROUP, b.binding()), Some(b));
+    }
+    assert_eq!(CloudBinding::at(1, 0), None);
+    assert_eq!(CloudBinding::at(0, 7), None);
+    for (i, b) in ResolveBinding::ALL.into_iter().enumerate() {
+        assert_eq!(ResolveBinding::at(ResolveBinding::GROUP, i as u32), Some(b));
+        assert_eq!(b as usize, i);
+    }
+}

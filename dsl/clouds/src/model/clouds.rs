@@ -53,6 +53,14 @@ impl CloudVariant {
     }
 }
 
+/// The entry of `all` at `binding` when `group` is the enum's group: binding enums list their
+/// variants in binding order, so a slot is an index.
+fn slot<T: Copy>(all: &[T], own_group: u32, group: u32, binding: u32) -> Option<T> {
+    (group == own_group)
+        .then(|| all.get(binding as usize).copied())
+        .flatten()
+}
+
 /// The bindings of the cloud passes (clouds and shadow), declared once: slot, name, doc and
 /// sampler state. Both passes number them alike; codegen drops those a pass does not read, and
 /// the runtime binds by this enum, looked up by slot in codegen's binding description.
@@ -93,9 +101,7 @@ impl CloudBinding {
 
     /// The binding at `(group, binding)`.
     pub fn at(group: u32, binding: u32) -> Option<CloudBinding> {
-        (group == Self::GROUP)
-            .then(|| Self::ALL.get(binding as usize).copied())
-            .flatten()
+        slot(&Self::ALL, Self::GROUP, group, binding)
     }
 
     fn name(self) -> &'static str {
@@ -212,9 +218,7 @@ impl ResolveBinding {
 
     /// The binding at `(group, binding)`.
     pub fn at(group: u32, binding: u32) -> Option<ResolveBinding> {
-        (group == Self::GROUP)
-            .then(|| Self::ALL.get(binding as usize).copied())
-            .flatten()
+        slot(&Self::ALL, Self::GROUP, group, binding)
     }
 }
 
