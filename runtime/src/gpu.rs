@@ -4,7 +4,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use wgpu::util::DeviceExt;
 
+use nimbus_codegen::Generated;
+
 use crate::error::RuntimeError;
+use crate::pipelines::bind_group_layout;
 
 /// What adapter ran the work, for the output of tests and benchmarks.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -143,25 +146,34 @@ impl Gpu {
         &self.device
     }
 
-    /// A compute pipeline for entry point `entry` of codegen's `wgsl`; wgpu's validation errors
-    /// come back as [`RuntimeError::Pipeline`].
+    /// A compute pipeline for entry point `entry` of a generated module, with the explicit
+    /// layout of codegen's binding description; wgpu's validation errors come back as
+    /// [`RuntimeError::Pipeline`].
     pub(crate) fn compute_pipeline(
         &self,
-        wgsl: &str,
+        generated: &Generated,
         entry: &str,
-    ) -> Result<wgpu::ComputePipeline, RuntimeError> {
+    ) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), RuntimeError> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let layout = bind_group_layout(&self.device, entry, &generated.bindings)?;
+        let pipeline_layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
         let module = self
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(entry),
-                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                source: wgpu::ShaderSource::Wgsl(generated.wgsl.as_str().into()),
             });
         let pipeline = self
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
-                layout: None,
+                layout: Some(&pipeline_layout),
                 module: &module,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
@@ -173,7 +185,7 @@ impl Gpu {
                 reason: e.to_string(),
             });
         }
-        Ok(pipeline)
+        Ok((pipeline, layout))
     }
 
     /// Maps a `MAP_READ` buffer (after the submitted work that fills it), copies its bytes out
@@ -228,7 +240,7 @@ impl Gpu {
     /// bound from binding 2 on, in order.
     pub fn run_compute(
         &self,
-        wgsl: &str,
+        generated: &Generated,
         entry: &str,
         input: &[u32],
         output_words: usize,
@@ -236,7 +248,7 @@ impl Gpu {
         resources: &[GpuResource],
     ) -> Result<Vec<u32>, RuntimeError> {
         let device = &self.device;
-        let pipeline = self.compute_pipeline(wgsl, entry)?;
+        let (pipeline, layout) = self.compute_pipeline(generated, entry)?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         // Storage buffers cannot be empty.
         let input_bytes: &[u8] = if input.is_empty() {
@@ -284,7 +296,7 @@ impl Gpu {
         }
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
-            layout: &pipeline.get_bind_group_layout(0),
+            layout: &layout,
             entries: &entries,
         });
         let mut encoder = device.create_command_encoder(&Default::default());

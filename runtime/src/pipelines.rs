@@ -44,6 +44,27 @@ fn stages(b: &BindingInfo) -> wgpu::ShaderStages {
     s
 }
 
+/// The explicit bind-group layout of group 0 of a generated module, from codegen's binding
+/// description.
+pub(crate) fn bind_group_layout(
+    device: &wgpu::Device,
+    label: &str,
+    bindings: &[BindingInfo],
+) -> Result<wgpu::BindGroupLayout, RuntimeError> {
+    if bindings.iter().any(|b| b.group != 0) {
+        return Err(RuntimeError::Kernel(format!(
+            "`{label}` uses a bind group other than 0; the runtime binds group 0 only"
+        )));
+    }
+    let entries: Vec<_> = bindings.iter().map(layout_entry).collect();
+    Ok(
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &entries,
+        }),
+    )
+}
+
 /// The layout entry of one described binding.
 fn layout_entry(b: &BindingInfo) -> wgpu::BindGroupLayoutEntry {
     let ty = match &b.kind {
@@ -99,11 +120,6 @@ impl PipelineCache {
         if let std::collections::hash_map::Entry::Vacant(slot) = self.map.entry(key) {
             let label = key.id();
             let generated = generate(key.record()?, &key.variant(), &[Target::Wgsl])?;
-            if generated.bindings.iter().any(|b| b.group != 0) {
-                return Err(RuntimeError::Kernel(format!(
-                    "`{label}` uses a bind group other than 0; the renderer binds group 0 only"
-                )));
-            }
             let entry_of = |stage: Stage| {
                 generated
                     .ir
@@ -118,11 +134,7 @@ impl PipelineCache {
             let (vs, fs) = (entry_of(Stage::Vertex)?, entry_of(Stage::Fragment)?);
             let device = gpu.device();
             let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let entries: Vec<_> = generated.bindings.iter().map(layout_entry).collect();
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(&label),
-                entries: &entries,
-            });
+            let layout = bind_group_layout(device, &label, &generated.bindings)?;
             let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some(&label),
                 bind_group_layouts: &[Some(&layout)],

@@ -3,7 +3,7 @@
 //! with rows padded to 256 bytes, which is then copied into the texture.
 
 use nimbus_clouds::model::noise::{curl_noise, detail_noise, shape_noise, weather_noise};
-use nimbus_codegen::{Target, generate};
+use nimbus_codegen::{Generated, Target, generate};
 use nimbus_dsl::shader::{self, F32, I32, U32};
 use nimbus_dsl::{ModuleBuilder, loc};
 use wgpu::util::DeviceExt;
@@ -55,8 +55,8 @@ pub fn padded_row(size: u32) -> u32 {
     (size * 4).div_ceil(256) * 256 / 4
 }
 
-/// The WGSL of the kernel that fills a `size`-texel (per side) texture of `kind`.
-pub fn noise_kernel_wgsl(kind: NoiseKind, size: u32) -> Result<String, RuntimeError> {
+/// The kernel that fills a `size`-texel (per side) texture of `kind`, generated.
+fn noise_kernel(kind: NoiseKind, size: u32) -> Result<Generated, RuntimeError> {
     let row = padded_row(size);
     let module = ModuleBuilder::build(
         &format!("{}_texture", kind.name()),
@@ -104,7 +104,7 @@ pub fn noise_kernel_wgsl(kind: NoiseKind, size: u32) -> Result<String, RuntimeEr
             );
         },
     )?;
-    Ok(generate(module, "default", &[Target::Wgsl])?.wgsl)
+    Ok(generate(module, "default", &[Target::Wgsl])?)
 }
 
 /// A generated texture and its view.
@@ -121,9 +121,9 @@ impl Gpu {
         let count = size * size * depth;
         let row = padded_row(size);
         let words = (row * size * depth) as usize;
-        let wgsl = noise_kernel_wgsl(kind, size)?;
+        let kernel = noise_kernel(kind, size)?;
         let groups = count.div_ceil(64);
-        let buffer = self.compute_to_buffer(&wgsl, "fill", words, groups)?;
+        let buffer = self.compute_to_buffer(&kernel, "fill", words, groups)?;
         let texture = self.create_texture(&wgpu::TextureDescriptor {
             label: Some(kind.name()),
             size: wgpu::Extent3d {
@@ -202,7 +202,7 @@ impl Gpu {
     /// at binding 0, and returns the buffer (for copies).
     pub(crate) fn compute_to_buffer(
         &self,
-        wgsl: &str,
+        kernel: &Generated,
         entry: &str,
         words: usize,
         groups: u32,
@@ -214,7 +214,7 @@ impl Gpu {
             )));
         }
         let device = self.device();
-        let pipeline = self.compute_pipeline(wgsl, entry)?;
+        let (pipeline, layout) = self.compute_pipeline(kernel, entry)?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("texels"),
@@ -223,7 +223,7 @@ impl Gpu {
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
-            layout: &pipeline.get_bind_group_layout(0),
+            layout: &layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: buffer.as_entire_binding(),
@@ -275,7 +275,7 @@ impl Gpu {
         let row = padded_row(size);
         let words = (row * size * depth) as usize;
         let buffer = self.compute_to_buffer(
-            &noise_kernel_wgsl(kind, size)?,
+            &noise_kernel(kind, size)?,
             "fill",
             words,
             (size * size * depth).div_ceil(64),

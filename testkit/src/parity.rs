@@ -4,7 +4,7 @@
 //! Inputs and outputs travel as raw 32-bit words (`f32` bits, `u32`, `i32` bits), so the GPU
 //! sees exactly the values the CPU twin saw. Struct parameters are flattened field by field.
 
-use nimbus_codegen::{Target, generate};
+use nimbus_codegen::{Generated, Target, generate};
 use nimbus_dsl::ir::{ExprId, ExprKind, Scalar, Type};
 use nimbus_dsl::record::push_expr;
 use nimbus_dsl::shader::U32;
@@ -175,8 +175,9 @@ impl KernelFn<'_> {
     }
 }
 
-/// The WGSL of the parity kernel for `f` (validated by naga like every other output).
-pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
+/// The parity kernel for `f`, generated (its WGSL, validated by naga like every other output,
+/// and its binding description).
+fn kernel(f: &KernelFn<'_>) -> Result<Generated, RuntimeError> {
     let (in_words, out_words) = f.record_words()?;
     let module = ModuleBuilder::build(
         &format!("parity_{}", f.name),
@@ -266,8 +267,7 @@ pub fn kernel_wgsl(f: &KernelFn<'_>) -> Result<String, RuntimeError> {
             );
         },
     )?;
-    let generated = generate(module, "parity", &[Target::Wgsl])?;
-    Ok(generated.wgsl)
+    Ok(generate(module, "parity", &[Target::Wgsl])?)
 }
 
 /// Runs `f` on the GPU for every record of `inputs` (each `words_of(params)` words long) and
@@ -285,9 +285,9 @@ pub fn run_on_gpu(gpu: &Gpu, f: &KernelFn<'_>, inputs: &[u32]) -> Result<Vec<u32
     // Pad to whole workgroups so the kernel needs no bounds check; padded results are dropped.
     let mut padded = inputs.to_vec();
     padded.resize(groups * WORKGROUP as usize * in_words, 0);
-    let wgsl = kernel_wgsl(f)?;
+    let kernel = kernel(f)?;
     let out = gpu.run_compute(
-        &wgsl,
+        &kernel,
         "parity_main",
         &padded,
         groups * WORKGROUP as usize * out_words,
