@@ -14,10 +14,9 @@ pub(crate) fn run(
     data: Option<&Path>,
     sel: &Selection<'_>,
     scene: Option<&Path>,
-    targets: &str,
+    targets: &[Target],
     out: &Path,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let targets = Target::parse_list(targets)?;
     let resolved = match scene {
         Some(file) => crate::explain::resolved(data, file)?,
         None => resolve(sel, &load(data)?)?,
@@ -25,7 +24,7 @@ pub(crate) fn run(
     let Resolved { entries, table, .. } = &resolved;
     let mut generated = Vec::new();
     for s in entries {
-        generated.push(generate_variant(s, &targets)?);
+        generated.push(generate_variant(s, targets)?);
     }
     let mut files = Vec::new();
     if !table.is_empty() {

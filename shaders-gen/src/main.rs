@@ -19,6 +19,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use nimbus_clouds::{Quality, Toggle};
+use nimbus_codegen::Target;
 
 /// Nimbus: volumetric-cloud shaders written once in Rust, emitted for every target.
 #[derive(Parser)]
@@ -46,6 +47,46 @@ struct VariantArgs {
     quality: Option<Quality>,
     #[command(flatten)]
     toggles: ToggleArgs,
+}
+
+/// A `--targets` value: one target, or every one.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum TargetChoice {
+    All,
+    One(Target),
+}
+
+impl clap::ValueEnum for TargetChoice {
+    fn value_variants<'a>() -> &'a [Self] {
+        static CHOICES: std::sync::OnceLock<Vec<TargetChoice>> = std::sync::OnceLock::new();
+        CHOICES.get_or_init(|| {
+            std::iter::once(TargetChoice::All)
+                .chain(Target::ALL.map(TargetChoice::One))
+                .collect()
+        })
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        match self {
+            TargetChoice::All => Some(clap::builder::PossibleValue::new("all")),
+            TargetChoice::One(t) => clap::ValueEnum::to_possible_value(t),
+        }
+    }
+}
+
+impl TargetChoice {
+    /// The targets the choices name, each once, in `Target::ALL` order.
+    pub(crate) fn resolve(choices: &[TargetChoice]) -> Vec<Target> {
+        Target::ALL
+            .into_iter()
+            .filter(|t| {
+                choices.iter().any(|c| match c {
+                    TargetChoice::All => true,
+                    TargetChoice::One(o) => o == t,
+                })
+            })
+            .collect()
+    }
 }
 
 /// Effects switched on or off beyond the preset's.
@@ -85,9 +126,16 @@ enum Command {
         /// Emit the variant a scene file derives (see `explain`) with its shadow pass.
         #[arg(long, conflicts_with_all = ["name", "genus", "quality"])]
         scene: Option<PathBuf>,
-        /// Comma-separated targets: wgsl, glsl-es300, glsl450, hlsl, msl, spirv, or all.
-        #[arg(short, long, visible_alias = "target", default_value = "all")]
-        targets: String,
+        /// Comma-separated targets, or all.
+        #[arg(
+            short,
+            long,
+            visible_alias = "target",
+            value_delimiter = ',',
+            value_enum,
+            default_value = "all"
+        )]
+        targets: Vec<TargetChoice>,
         /// Output folder (created; replaced only if it is empty or a previous Nimbus output).
         #[arg(short, long, default_value = "nimbus-out")]
         out: PathBuf,
@@ -164,7 +212,13 @@ fn main() -> ExitCode {
             scene,
             targets,
             out,
-        } => emit::run(data, &variants.selection(), scene.as_deref(), targets, out),
+        } => emit::run(
+            data,
+            &variants.selection(),
+            scene.as_deref(),
+            &TargetChoice::resolve(targets),
+            out,
+        ),
         Command::Check {
             variants,
             no_external,
