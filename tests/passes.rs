@@ -7,7 +7,8 @@ mod common;
 use std::path::Path;
 
 use nimbus_clouds::{CloudLibrary, Quality};
-use nimbus_runtime::render::{Frame, RenderStats, Renderer, TextureSizes};
+use nimbus_runtime::render::{Frame, RenderStats, Renderer, TextureSizes, TextureSource};
+use nimbus_runtime::textures::NoiseKind;
 
 const SIZES: TextureSizes = TextureSizes {
     weather: 32,
@@ -146,5 +147,14 @@ fn the_atlas_is_redrawn_only_when_its_inputs_change() {
     // So does the wind.
     f.weather_offset.x += 0.01;
     r.render(&f).expect("weather moved");
+    assert_eq!(r.stats().passes, ["shadow", "clouds"]);
+    r.render(&f).expect("unchanged");
+    assert_eq!(r.stats().passes, ["clouds"]);
+    // And a new weather map: the atlas was marched through the old one.
+    r.set_texture(
+        NoiseKind::Weather,
+        TextureSource::User(gpu.constant_texture([1.0, 1.0, 1.0, 1.0])),
+    );
+    r.render(&f).expect("new weather map");
     assert_eq!(r.stats().passes, ["shadow", "clouds"]);
 }

@@ -1,7 +1,9 @@
 //! Identifiers WGSL will not take, renamed just before printing. The recorder keeps the Rust
 //! names (made into valid identifiers); a name changes only where WGSL requires it, by naga's
 //! own lists (`naga::keywords::wgsl`):
-//! - any declaration named like a keyword or reserved word (`active`, `target`, `loop`);
+//! - any function, global, parameter or local named like a keyword or reserved word (`active`,
+//!   `target`, `loop`); struct members keep their Rust names (a Rust field cannot be a WGSL
+//!   keyword; a reserved word there would be refused by naga, at the struct's Rust line);
 //! - a module-scope function or global named like a predeclared identifier (`step`, `vec3`),
 //!   which would shadow it for the whole module;
 //! - a local or parameter named like a predeclared type or enumerant, or like a built-in
@@ -35,15 +37,21 @@ fn fresh(name: &str, taken: &BTreeSet<String>) -> String {
 /// Renames what WGSL requires in `module`, consistently at every use.
 pub(crate) fn rename_for_wgsl(module: &mut Module) {
     let builtin_fns: BTreeSet<&str> = Builtin::ALL.iter().map(|b| b.wgsl()).collect();
-    // Module scope: functions and globals share one namespace with the predeclared names.
-    let mut taken: BTreeSet<String> = module
+    // Module scope: functions and globals share one namespace with the predeclared names. A
+    // new module-scope name must not be taken by any local either (it would hide the callee).
+    let declared: BTreeSet<String> = module
         .functions
         .iter()
         .map(|f| f.name.clone())
         .chain(module.globals.iter().map(|g| g.name.clone()))
         .collect();
+    let mut taken: BTreeSet<String> = declared.clone();
+    for f in &module.functions {
+        taken.extend(f.params.iter().map(|p| p.name.clone()));
+        taken.extend(f.locals.iter().map(|l| l.name.clone()));
+    }
     let mut renamed: BTreeMap<String, String> = BTreeMap::new();
-    for name in taken.clone() {
+    for name in declared {
         if reserved(&name) || predeclared(&name) {
             let new = fresh(&name, &taken);
             taken.insert(new.clone());
@@ -74,6 +82,9 @@ pub(crate) fn rename_for_wgsl(module: &mut Module) {
                 }
                 ExprKind::Builtin(b, _) => {
                     called.insert(b.wgsl());
+                }
+                ExprKind::Select { .. } => {
+                    called.insert("select");
                 }
                 _ => {}
             }

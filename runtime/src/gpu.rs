@@ -191,10 +191,22 @@ impl Gpu {
     /// Maps a `MAP_READ` buffer (after the submitted work that fills it), copies its bytes out
     /// and unmaps it.
     pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RuntimeError> {
+        self.map_read_prefix(buffer, buffer.size())
+    }
+
+    /// [`Self::map_read`] of the first `len` bytes only (a buffer kept larger than this use).
+    pub fn map_read_prefix(
+        &self,
+        buffer: &wgpu::Buffer,
+        len: u64,
+    ) -> Result<Vec<u8>, RuntimeError> {
+        let len = len.min(buffer.size());
         let (tx, rx) = std::sync::mpsc::channel();
-        buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
+        buffer
+            .slice(..len)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                let _ = tx.send(r);
+            });
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| RuntimeError::Readback(e.to_string()))?;
@@ -202,7 +214,7 @@ impl Gpu {
             .map_err(|e| RuntimeError::Readback(e.to_string()))?
             .map_err(|e| RuntimeError::Readback(e.to_string()))?;
         let data = buffer
-            .slice(..)
+            .slice(..len)
             .get_mapped_range()
             .map_err(|e| RuntimeError::Readback(e.to_string()))?;
         let bytes = data.to_vec();

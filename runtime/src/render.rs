@@ -425,6 +425,10 @@ impl<'g> Renderer<'g> {
             }
         }
         self.epoch += 1;
+        // The atlas was marched through the old texture: redraw it.
+        if let Some(p) = &mut self.shadow {
+            p.inputs = None;
+        }
     }
 
     /// Pipelines built so far (one per shader key).
@@ -669,6 +673,7 @@ impl<'g> Renderer<'g> {
         progress: &mut dyn FnMut(u32, u32),
     ) -> Result<Image, RuntimeError> {
         self.check_size("the image", frame.width, frame.height)?;
+        self.ensure_readback(frame.width, frame.height);
         let frames = frame.frames.max(1);
         let variant = frame.variant();
         let clouds_key = ShaderKey::Clouds(variant.key);
@@ -742,6 +747,8 @@ impl<'g> Renderer<'g> {
                 });
             }
         } else if self.history.take().is_some() {
+            // The resolve pass's bind groups hold the history targets: release them too.
+            self.resolve = None;
             self.epoch += 1;
         }
 
@@ -981,9 +988,6 @@ impl<'g> Renderer<'g> {
 
     /// Renders `frame`.
     pub fn render(&mut self, frame: &Frame) -> Result<Image, RuntimeError> {
-        let (w, h) = (frame.width, frame.height);
-        self.check_size("the image", w, h)?;
-        self.ensure_readback(w, h);
         self.render_with_progress(frame, &mut |_, _| {})
     }
 
@@ -1033,7 +1037,7 @@ impl<'g> Renderer<'g> {
             },
         );
         self.gpu.queue().submit([encoder.finish()]);
-        let data = self.gpu.map_read(readback)?;
+        let data = self.gpu.map_read_prefix(readback, size)?;
         let mut pixels = Vec::with_capacity((width * height) as usize);
         for y in 0..height as usize {
             let row = &data[y * row_bytes as usize..];

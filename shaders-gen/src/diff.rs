@@ -30,12 +30,29 @@ fn files_of(dir: &Path) -> Result<BTreeMap<String, Vec<u8>>, Box<dyn std::error:
     Ok(out)
 }
 
-/// `clouds-detail-…-g1` and the target's part of a file name (`wgsl`, `fs_main.es300.frag`...).
+/// The shader's part of a file name and the target's (`wgsl`, `fs_main.es300.frag`,
+/// `fs_main.hlsl.json`...), split from the right so that ids holding dots (older emits named
+/// files `clouds.<variant>.fs_main.spv`) stay whole.
 fn split(name: &str) -> (String, String) {
-    match name.split_once('.') {
-        Some((id, rest)) => (id.to_string(), rest.to_string()),
-        None => (name.to_string(), String::new()),
+    let base = name.strip_suffix(".json").unwrap_or(name);
+    let json = if base.len() < name.len() { ".json" } else { "" };
+    if let Some(id) = base.strip_suffix(".wgsl") {
+        return (id.to_string(), format!("wgsl{json}"));
     }
+    // `<id>.<entry>.<ext>` or `<id>.<entry>.<version>.<stage>` (GLSL).
+    let glsl = [".es300.", ".450."].iter().any(|v| base.contains(v));
+    let parts = if glsl { 3 } else { 2 };
+    let mut rest = base;
+    for _ in 0..parts {
+        match rest.rsplit_once('.') {
+            Some((head, _)) => rest = head,
+            None => return (name.to_string(), String::new()),
+        }
+    }
+    (
+        rest.to_string(),
+        format!("{}{json}", &base[rest.len() + 1..]),
+    )
 }
 
 /// Emits every shader of the project at git revision `rev` into a fresh folder, by running
@@ -52,9 +69,12 @@ fn emit_revision(rev: &str, scratch: &Path) -> Result<PathBuf, Box<dyn std::erro
     if !status.success() {
         return Err(format!("`{rev}` is neither an emitted folder nor a git revision").into());
     }
+    // A target folder of its own, absolute, so that building an old revision neither replaces
+    // this build's binaries nor starts from nothing each time.
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target"));
+    let target = std::path::absolute(target)?.join("nimbus-diff");
     let status = Command::new("cargo")
         .current_dir(&tree)
         .env("CARGO_TARGET_DIR", target)
@@ -157,4 +177,33 @@ pub(crate) fn run(old: &Path, new: &Path, quiet: bool) -> Result<(), Box<dyn std
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::split;
+
+    #[test]
+    fn file_names_split_into_shader_and_target() {
+        let id = "clouds-detail-turb-o8-dual-g1";
+        for (file, target) in [
+            (format!("{id}.wgsl"), "wgsl"),
+            (format!("{id}.fs_main.es300.frag"), "fs_main.es300.frag"),
+            (
+                format!("{id}.fs_main.es300.frag.json"),
+                "fs_main.es300.frag.json",
+            ),
+            (format!("{id}.vs_main.450.vert"), "vs_main.450.vert"),
+            (format!("{id}.fs_main.hlsl"), "fs_main.hlsl"),
+            (format!("{id}.fs_main.metal.json"), "fs_main.metal.json"),
+            (format!("{id}.fs_main.spv"), "fs_main.spv"),
+        ] {
+            assert_eq!(split(&file), (id.to_string(), target.to_string()), "{file}");
+        }
+        // Older emits put dots in the id.
+        assert_eq!(
+            split("clouds.cumulus.high.fs_main.spv"),
+            ("clouds.cumulus.high".to_string(), "fs_main.spv".to_string())
+        );
+    }
 }
