@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use nimbus_codegen::MARKER_FILE;
+
+use crate::emit::KEYS_FILE;
 use similar::TextDiff;
 
 /// The files of an emitted folder, by name.
@@ -22,7 +24,8 @@ fn files_of(dir: &Path) -> Result<BTreeMap<String, Vec<u8>>, Box<dyn std::error:
     for entry in std::fs::read_dir(dir)? {
         let entry = entry?;
         let name = entry.file_name().to_string_lossy().into_owned();
-        if name == MARKER_FILE || !entry.file_type()?.is_file() {
+        if name.starts_with("nimbus-") || !entry.file_type()?.is_file() {
+            // The manifest and the key table are Nimbus's own files, not shaders.
             continue;
         }
         out.insert(name, std::fs::read(entry.path())?);
@@ -153,6 +156,10 @@ pub(crate) fn run(old: &Path, new: &Path, quiet: bool) -> Result<(), Box<dyn std
         added.len(),
         removed.len()
     );
+    let table = |d: &Path| std::fs::read(d.join(KEYS_FILE)).ok();
+    if table(&old_dir) != table(&new_dir) {
+        println!("the genus × preset table ({KEYS_FILE}: keys and uniform values) changed");
+    }
     for id in &added {
         println!("added    {id}");
     }

@@ -8,7 +8,7 @@ use nimbus_codegen::{EmitExtras, Target, emit, generate_variant};
 use crate::data::{Resolved, Selection, keys_json, load, resolve, table_text};
 
 /// The genus × preset → key table with uniform values, beside the manifest.
-const KEYS_FILE: &str = "nimbus-keys.json";
+pub(crate) const KEYS_FILE: &str = "nimbus-keys.json";
 
 pub(crate) fn run(
     data: Option<&Path>,
