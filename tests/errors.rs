@@ -176,3 +176,56 @@ fn a_previous_output_is_replaced_whole() {
     let leftovers = std::fs::read_dir(tmp.path()).expect("read").count();
     assert_eq!(leftovers, 1, "no temporary folder left beside the output");
 }
+
+/// A generation-time value whose suffix cannot tell two values apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Gain(u32);
+
+impl nimbus_dsl::SpecValue for Gain {
+    fn suffix(&self) -> String {
+        String::new()
+    }
+
+    fn label(&self) -> String {
+        format!("gain {}", self.0)
+    }
+}
+
+/// Scales by a generation-time gain.
+#[nimbus_dsl::shader_fn]
+fn scaled(x: f32, #[spec] gain: Gain) -> f32 {
+    x * gain.0 as f32
+}
+
+#[test]
+fn a_specialisation_key_clash_is_a_typed_error() {
+    assert_eq!(scaled(2.0, Gain(3)), 6.0);
+    let err = nimbus_dsl::ModuleBuilder::build(
+        "clash",
+        "Two gains, one name.",
+        nimbus_dsl::loc!(),
+        |m| {
+            m.fragment("fs_main", "Both gains.", nimbus_dsl::loc!(), |p| {
+                let a = scaled::shader(p.x, Gain(1));
+                let b = scaled::shader(p.y, Gain(2));
+                nimbus_dsl::shader::vec4(a, b, 0.0, 1.0)
+            });
+        },
+    )
+    .expect_err("two values under one name");
+    match &err {
+        nimbus_dsl::DslError::SpecialisationClash {
+            function,
+            first,
+            second,
+            ..
+        } => {
+            assert_eq!(function, "scaled");
+            assert!(
+                first.contains("gain 1") && second.contains("gain 2"),
+                "{err}"
+            );
+        }
+        other => panic!("expected a clash, got {other:?}"),
+    }
+}

@@ -9,25 +9,126 @@
 use std::collections::BTreeSet;
 
 use nimbus_dsl::ir::{
-    BinaryOp, Block, ExprId, ExprKind, Function, Literal, Module, Stmt, Type, UnaryOp,
+    BinaryOp, Block, ExprId, ExprKind, Function, Literal, LocalId, Module, Stmt, Type, UnaryOp,
 };
 
 /// Specialises a recorded module in place.
 pub fn specialise(module: &mut Module) {
     for f in &mut module.functions {
-        // Folding a `let` to a literal can make further reads literal; a few rounds reach the
-        // fixed point for any realistic chain.
-        for _ in 0..4 {
-            fold_constants(f);
-            if !propagate_literal_lets(f) {
-                break;
-            }
-        }
+        // Folding a `let` to a literal can make further reads literal: fold to the fixed point.
+        fold_to_fixed_point(f);
+        let body = std::mem::take(&mut f.body);
+        f.body = prune_block(f, body);
+        // Pruned branches can leave a `var` never assigned again: as a `let` it may be a literal
+        // that folds further.
+        tidy(f);
+        fold_to_fixed_point(f);
         let body = std::mem::take(&mut f.body);
         f.body = prune_block(f, body);
     }
     remove_unused_params(module);
     remove_unreachable(module);
+}
+
+/// Folds literal arithmetic and propagates literal `let`s until nothing changes (each round
+/// that continues removed at least one `let`, so this ends).
+fn fold_to_fixed_point(f: &mut Function) {
+    loop {
+        fold_constants(f);
+        if !propagate_literal_lets(f) {
+            break;
+        }
+    }
+}
+
+/// Says what the code does: a `var` never assigned after its declaration becomes a `let`, and a
+/// `let` returned by the very next statement is returned directly (`let c = f(); return c;`
+/// prints as `return f();`).
+fn tidy(f: &mut Function) {
+    fn assigned(block: &Block, out: &mut BTreeSet<LocalId>) {
+        for stmt in block {
+            match stmt {
+                Stmt::Assign { local, .. } => {
+                    out.insert(*local);
+                }
+                Stmt::If {
+                    then, otherwise, ..
+                } => {
+                    assigned(then, out);
+                    assigned(otherwise, out);
+                }
+                Stmt::For { body, .. } => assigned(body, out),
+                _ => {}
+            }
+        }
+    }
+    fn rewrite(f: &Function, block: Block, written: &BTreeSet<LocalId>) -> Block {
+        let mut out: Block = Vec::with_capacity(block.len());
+        for stmt in block {
+            let stmt = match stmt {
+                Stmt::Var {
+                    local,
+                    init: Some(value),
+                    loc,
+                } if !written.contains(&local) => Stmt::Let { local, value, loc },
+                Stmt::If {
+                    cond,
+                    then,
+                    otherwise,
+                    loc,
+                } => Stmt::If {
+                    cond,
+                    then: rewrite(f, then, written),
+                    otherwise: rewrite(f, otherwise, written),
+                    loc,
+                },
+                Stmt::For {
+                    counter,
+                    start,
+                    end,
+                    body,
+                    loc,
+                } => Stmt::For {
+                    counter,
+                    start,
+                    end,
+                    body: rewrite(f, body, written),
+                    loc,
+                },
+                Stmt::Return {
+                    value: Some(r),
+                    loc,
+                } => match out.last() {
+                    Some(Stmt::Let { local, value, .. })
+                        if f.expr(r).kind == ExprKind::Local(*local) =>
+                    {
+                        let value = *value;
+                        out.pop();
+                        Stmt::Return {
+                            value: Some(value),
+                            loc,
+                        }
+                    }
+                    _ => Stmt::Return {
+                        value: Some(r),
+                        loc,
+                    },
+                },
+                other => other,
+            };
+            out.push(stmt);
+        }
+        out
+    }
+    let mut written = BTreeSet::new();
+    assigned(&f.body, &mut written);
+    let body = std::mem::take(&mut f.body);
+    f.body = rewrite(f, body, &written);
+    for (i, l) in f.locals.iter_mut().enumerate() {
+        if l.mutable && !written.contains(&LocalId(i as u32)) {
+            l.mutable = false;
+        }
+    }
 }
 
 /// Replaces reads of `let` locals bound to a literal by the literal and drops those `let`s.
@@ -256,6 +357,16 @@ fn fold_constants(f: &mut Function) {
             },
             ExprKind::Binary(op, a, b) => match (lit(f, a), lit(f, b)) {
                 (Some(x), Some(y)) => fold_binary(op, x, y),
+                // `x * 1.0`, `1.0 * x` and `x / 1.0` are `x` exactly (NaN and infinities
+                // included), when `x` already has the result's type.
+                (_, Some(one)) if is_one(one) && matches!(op, BinaryOp::Mul | BinaryOp::Div) => {
+                    identity(f, i, a);
+                    None
+                }
+                (Some(one), _) if is_one(one) && op == BinaryOp::Mul => {
+                    identity(f, i, b);
+                    None
+                }
                 _ => None,
             },
             ExprKind::Convert(s, a) => match lit(f, a) {
@@ -286,6 +397,17 @@ fn fold_constants(f: &mut Function) {
         {
             f.exprs[i].kind = ExprKind::Literal(l);
         }
+    }
+}
+
+fn is_one(l: Literal) -> bool {
+    l == Literal::f32(1.0)
+}
+
+/// Makes expression `i` the expression `operand` when their types agree.
+fn identity(f: &mut Function, i: usize, operand: ExprId) {
+    if f.expr(operand).ty == f.exprs[i].ty {
+        f.exprs[i].kind = f.expr(operand).kind.clone();
     }
 }
 

@@ -25,6 +25,15 @@ pub enum DslError {
     Nested { module: String },
     #[error("module `{module}`: recording panicked: {reason}")]
     Panicked { module: String, reason: String },
+    #[error(
+        "module `{module}`: `{function}` was specialised twice with different generation-time values ({first}; then {second}) under one name; give its SpecValue a suffix that tells them apart"
+    )]
+    SpecialisationClash {
+        module: String,
+        function: String,
+        first: String,
+        second: String,
+    },
 }
 
 /// A handle to a module global; `get()` reads it inside a function body.
@@ -102,6 +111,7 @@ impl ModuleBuilder {
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             body(&mut builder);
         }));
+        let clashes = record::take_clashes();
         let module = record::end_module();
         std::mem::forget(guard);
         if let Err(payload) = outcome {
@@ -113,6 +123,14 @@ impl ModuleBuilder {
             return Err(DslError::Panicked {
                 module: name.to_string(),
                 reason,
+            });
+        }
+        if let Some(c) = clashes.into_iter().next() {
+            return Err(DslError::SpecialisationClash {
+                module: name.to_string(),
+                function: c.function,
+                first: c.first,
+                second: c.second,
             });
         }
         if let Some(reason) = builder.errors.into_iter().next() {

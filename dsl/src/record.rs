@@ -26,6 +26,8 @@ struct ModuleRecorder {
     /// generation-time values they were specialised for.
     started: BTreeMap<String, Vec<String>>,
     next_temp: u32,
+    /// Functions recorded again with other generation-time values under the same name.
+    clashes: Vec<SpecialisationClash>,
 }
 
 thread_local! {
@@ -64,6 +66,7 @@ pub(crate) fn begin_module(module: Module) -> bool {
             frames: Vec::new(),
             started: BTreeMap::new(),
             next_temp: 0,
+            clashes: Vec::new(),
         });
         true
     })
@@ -71,6 +74,25 @@ pub(crate) fn begin_module(module: Module) -> bool {
 
 /// Ends recording and hands back the module, even after a panic in user code (the guard in
 /// `ModuleBuilder::build` calls this on unwind so a failed build cannot poison the thread).
+/// A function recorded twice in one module with different generation-time values and the same
+/// name (its `SpecValue` suffix does not tell the values apart).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecialisationClash {
+    pub function: String,
+    pub first: String,
+    pub second: String,
+}
+
+/// The clashes recorded so far in the current module.
+pub(crate) fn take_clashes() -> Vec<SpecialisationClash> {
+    RECORDER.with(|cell| {
+        cell.borrow_mut()
+            .as_mut()
+            .map(|r| std::mem::take(&mut r.clashes))
+            .unwrap_or_default()
+    })
+}
+
 pub(crate) fn end_module() -> Option<Module> {
     RECORDER.with(|cell| cell.borrow_mut().take().map(|r| r.module))
 }
@@ -204,12 +226,18 @@ pub fn ensure_function(
     let name = header.name.clone();
     let previous = with(|rec| rec.started.insert(name.clone(), header.specialised.clone()));
     if let Some(previous) = previous {
-        assert!(
-            previous == header.specialised,
-            "`{name}` was specialised twice in one module with different generation-time values \
-             ({previous:?} and {:?}); give its SpecValue a suffix that tells them apart",
-            header.specialised
-        );
+        if previous != header.specialised {
+            // Recording goes on (the first copy is called); the module builder reports it.
+            with(|rec| {
+                // The copy in the module is the first one: keep comparing against it.
+                rec.started.insert(name.clone(), previous.clone());
+                rec.clashes.push(SpecialisationClash {
+                    function: name.clone(),
+                    first: previous.join(", "),
+                    second: header.specialised.join(", "),
+                })
+            });
+        }
         return name;
     }
     let params = header.params.clone();

@@ -8,7 +8,7 @@ use super::types::{Scalar, Type};
 pub struct ExprId(pub u32);
 
 /// Index of a named local (`let` or `var`) in its function.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
 pub struct LocalId(pub u32);
 
 /// Index of a module-level global (uniform, texture, sampler, storage buffer, override).
