@@ -201,6 +201,16 @@ macro_rules! float_vector {
                 ))
             }
 
+            /// Component-wise `x^e`, each lane its own exponent (WGSL's vector `pow`).
+            #[must_use]
+            pub fn pow(self, e: impl Into<$name>) -> Self {
+                Self::from_id(builtin(
+                    Builtin::Pow,
+                    &[self.id, e.into().id],
+                    <Self as Value>::TYPE,
+                ))
+            }
+
             /// Component-wise `x^e`.
             #[must_use]
             pub fn powf(self, e: impl Into<F32>) -> Self {
@@ -338,6 +348,9 @@ impl UVec3 {
 pub trait CpuVecExt {
     /// Component-wise `clamp(x, 0, 1)`.
     fn saturate(self) -> Self;
+
+    /// Component-wise `x^e`, each lane its own exponent (WGSL's vector `pow`).
+    fn pow(self, e: Self) -> Self;
 }
 
 macro_rules! cpu_vec_ext {
@@ -345,6 +358,12 @@ macro_rules! cpu_vec_ext {
         impl CpuVecExt for $t {
             fn saturate(self) -> Self {
                 self.clamp(<$t>::ZERO, <$t>::ONE)
+            }
+
+            fn pow(self, e: Self) -> Self {
+                <$t>::from_array(
+                    core::array::from_fn(|i| self.to_array()[i].powf(e.to_array()[i])),
+                )
             }
         }
     )*};

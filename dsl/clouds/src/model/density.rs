@@ -69,12 +69,6 @@ impl Default for MediaParams {
     }
 }
 
-/// Component-wise `v^e` (each lane its own exponent).
-#[shader_fn]
-pub fn pow4(v: Vec4, e: Vec4) -> Vec4 {
-    vec4(v.x.powf(e.x), v.y.powf(e.y), v.z.powf(e.z), v.w.powf(e.w))
-}
-
 /// Height fraction η ∈ [0, 1] of `altitude` in each layer. A zero-height (absent) layer gives
 /// 0 or 1, never 0/0.
 #[shader_fn]
@@ -87,7 +81,7 @@ pub fn height_fraction(altitude: f32, layers: LayerGroup) -> Vec4 {
 /// ends of the layer, peak at η = 0.5^(1/bias).
 #[shader_fn]
 pub fn shape_altering(eta: Vec4, bias: Vec4) -> Vec4 {
-    let x = (pow4(eta, bias) * 2.0 - Vec4::ONE).clamp(Vec4::splat(-1.0), Vec4::ONE);
+    let x = (eta.pow(bias) * 2.0 - Vec4::ONE).clamp(Vec4::splat(-1.0), Vec4::ONE);
     Vec4::ONE - x * x
 }
 
@@ -128,13 +122,7 @@ pub fn detail_erosion(density: Vec4, d: f32, eta: Vec4, amount: Vec4) -> Vec4 {
 /// exponential is finite and `0·e^(bη)` is 0).
 #[shader_fn]
 pub fn profile4(eta: Vec4, layers: LayerGroup) -> Vec4 {
-    let e = vec4(
-        (layers.profile_b.x * eta.x).exp(),
-        (layers.profile_b.y * eta.y).exp(),
-        (layers.profile_b.z * eta.z).exp(),
-        (layers.profile_b.w * eta.w).exp(),
-    );
-    layers.profile_a * e + layers.profile_c * eta + layers.profile_d
+    layers.profile_a * (layers.profile_b * eta).exp() + layers.profile_c * eta + layers.profile_d
 }
 
 /// Coverage-stage density of each layer at a point: what the weather allows before erosion.
@@ -149,10 +137,9 @@ pub fn weather_density(
 ) -> Vec4 {
     let uv = vec2(position.x, position.z) * media.weather_repeat + media.weather_offset;
     let rgba = weather_tex.sample_level(smp, uv, 0.0);
-    let weather = pow4(
-        (layers.channel_matrix * rgba).saturate(),
-        layers.weather_exponent,
-    );
+    let weather = (layers.channel_matrix * rgba)
+        .saturate()
+        .pow(layers.weather_exponent);
     let eta = height_fraction(altitude, layers);
     let shape = shape_altering(eta, layers.shape_altering_bias);
     coverage_remap(weather, media.coverage, shape, layers.coverage_filter_width)
