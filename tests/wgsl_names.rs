@@ -68,3 +68,64 @@ fn only_what_wgsl_forbids_is_renamed() {
     let px = names_fragment(Vec4::new(2.0, 0.0, 1.0, 0.0));
     assert_eq!((px.x, px.z), (2.0, 4.0));
 }
+
+/// Gain of [`with_constants`], a named constant in the shader.
+const GAIN: f32 = 2.5;
+/// Decided while the shader is generated: a `bool` constant stays a Rust value.
+const DOUBLE: bool = false;
+/// Loop count, a named `u32` constant.
+const TAPS: u32 = 3;
+
+/// Reads three constants.
+#[shader_fn]
+fn with_constants(x: f32) -> f32 {
+    let mut acc = 0.0f32;
+    for _i in 0u32..TAPS {
+        acc += x * GAIN;
+    }
+    if DOUBLE { acc * 2.0 } else { acc }
+}
+
+mod other {
+    /// Same name, another value.
+    pub const GAIN: f32 = 4.0;
+
+    /// Reads its own `GAIN`.
+    #[nimbus_dsl::shader_fn]
+    pub fn other_gain(x: f32) -> f32 {
+        x * GAIN
+    }
+}
+
+#[test]
+fn constants_print_by_name_and_two_values_under_one_name_are_an_error() {
+    assert_eq!(with_constants(2.0), 15.0);
+    let module = ModuleBuilder::build("constants", "Named constants.", loc!(), |m| {
+        m.fragment("fs_main", "One constant-reading function.", loc!(), |p| {
+            nimbus_dsl::shader::vec4(with_constants::shader(p.x), 0.0, 0.0, 1.0)
+        });
+    })
+    .expect("records");
+    let w = generate(module, "default", &Target::ALL)
+        .expect("valid everywhere")
+        .wgsl;
+    assert!(w.contains("const GAIN: f32 = 2.5;"), "{w}");
+    assert!(w.contains("const TAPS: u32 = 3u;"), "{w}");
+    assert!(w.contains("x * GAIN"), "{w}");
+    assert!(w.contains("< TAPS;"), "{w}");
+    assert!(
+        !w.contains("DOUBLE") && !w.contains("if "),
+        "decided at generation time:\n{w}"
+    );
+
+    assert_eq!(other::other_gain(1.0), 4.0);
+    let err = ModuleBuilder::build("clash", "Two GAINs.", loc!(), |m| {
+        m.fragment("fs_main", "Both.", loc!(), |p| {
+            let a = with_constants::shader(p.x);
+            let b = other::other_gain::shader(p.y);
+            nimbus_dsl::shader::vec4(a, b, 0.0, 1.0)
+        });
+    })
+    .expect_err("two values named GAIN");
+    assert!(err.to_string().contains("constant `GAIN`"), "{err}");
+}

@@ -104,7 +104,7 @@ pub(crate) fn describe(dsl: &Module, validated: &Validated) -> Vec<BindingInfo> 
             (GlobalKind::Handle { .. }, _) => BindingKind::Texture {
                 dimension: TextureDimension::D2,
             },
-            (GlobalKind::Override { .. }, _) => continue,
+            (GlobalKind::Override { .. } | GlobalKind::Const { .. }, _) => continue,
         };
         let mut visibility = Vec::new();
         if let Some(h) = handle {

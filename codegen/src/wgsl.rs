@@ -230,6 +230,12 @@ impl Printer<'_> {
                     g.ty.wgsl(),
                     literal(*default).unwrap_or_else(|| "0.0".into())
                 ),
+                GlobalKind::Const { value } => format!(
+                    "const {}: {} = {};",
+                    g.name,
+                    g.ty.wgsl(),
+                    literal(*value).unwrap_or_else(|| "0.0".into())
+                ),
             };
             self.line(&decl);
         }

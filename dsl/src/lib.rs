@@ -20,6 +20,7 @@
 extern crate self as nimbus_dsl;
 
 pub mod builtins;
+pub mod constant;
 pub mod control;
 pub mod cpu;
 pub mod ir;

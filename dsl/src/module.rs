@@ -112,6 +112,7 @@ impl ModuleBuilder {
             body(&mut builder);
         }));
         let clashes = record::take_clashes();
+        let recorded_errors = record::take_errors();
         let module = record::end_module();
         std::mem::forget(guard);
         if let Err(payload) = outcome {
@@ -133,7 +134,7 @@ impl ModuleBuilder {
                 second: c.second,
             });
         }
-        if let Some(reason) = builder.errors.into_iter().next() {
+        if let Some(reason) = builder.errors.into_iter().chain(recorded_errors).next() {
             return Err(DslError::InvalidModule {
                 module: name.to_string(),
                 reason,

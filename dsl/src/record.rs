@@ -28,6 +28,8 @@ struct ModuleRecorder {
     next_temp: u32,
     /// Functions recorded again with other generation-time values under the same name.
     clashes: Vec<SpecialisationClash>,
+    /// Other problems found while recording a function body (reported by the module builder).
+    errors: Vec<String>,
 }
 
 thread_local! {
@@ -67,6 +69,7 @@ pub(crate) fn begin_module(module: Module) -> bool {
             started: BTreeMap::new(),
             next_temp: 0,
             clashes: Vec::new(),
+            errors: Vec::new(),
         });
         true
     })
@@ -89,6 +92,21 @@ pub(crate) fn take_clashes() -> Vec<SpecialisationClash> {
         cell.borrow_mut()
             .as_mut()
             .map(|r| std::mem::take(&mut r.clashes))
+            .unwrap_or_default()
+    })
+}
+
+/// Notes a problem found while recording; the module builder returns it as an error.
+pub(crate) fn push_error(message: String) {
+    with(|rec| rec.errors.push(message));
+}
+
+/// The problems noted so far in the current module.
+pub(crate) fn take_errors() -> Vec<String> {
+    RECORDER.with(|cell| {
+        cell.borrow_mut()
+            .as_mut()
+            .map(|r| std::mem::take(&mut r.errors))
             .unwrap_or_default()
     })
 }

@@ -188,7 +188,7 @@ fn manifest_for(
             (GlobalKind::Storage { .. }, _) => "storage",
             (GlobalKind::Handle { .. }, nimbus_dsl::ir::Type::Sampler) => "sampler",
             (GlobalKind::Handle { .. }, _) => "texture",
-            (GlobalKind::Override { .. }, _) => continue,
+            (GlobalKind::Override { .. } | GlobalKind::Const { .. }, _) => continue,
         };
         let target_name = names
             .iter()

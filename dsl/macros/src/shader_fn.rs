@@ -122,8 +122,12 @@ pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenS
         }
     }
 
-    // The shader twin's body.
+    // The shader twin's body. Parameters are declared names: only a name declared nowhere in
+    // the function is a constant item.
     let mut tr = Transformer::new();
+    for p in &params {
+        tr.declare_param(p.name.to_string());
+    }
     let body = tr.function_body(&func.block)?;
 
     // CPU twin: the function as written, minus our parameter attributes.

@@ -50,6 +50,16 @@ impl Transformer {
         false
     }
 
+    /// Whether `name` is a parameter or a local in scope (not a constant item).
+    fn is_declared(&self, name: &str) -> bool {
+        self.scopes.iter().any(|s| s.contains_key(name))
+    }
+
+    /// Declares a parameter of the function.
+    pub(crate) fn declare_param(&mut self, name: String) {
+        self.declare(name, false);
+    }
+
     fn declare(&mut self, name: String, mutable: bool) {
         if let Some(scope) = self.scopes.last_mut() {
             scope.insert(name, mutable);
@@ -213,10 +223,27 @@ impl Transformer {
                     return Err(unsupported(p, "a qualified path"));
                 }
                 if let Some(id) = p.path.get_ident() {
-                    if self.is_mutable(&id.to_string()) {
+                    let name = id.to_string();
+                    if self.is_mutable(&name) {
                         quote! { #id.get() }
-                    } else {
+                    } else if self.is_declared(&name) {
                         quote! { #p }
+                    } else {
+                        // A constant item: named in the shader when it is a scalar, its plain
+                        // value otherwise (see `nimbus_dsl::constant`).
+                        quote! {
+                            {
+                                #[allow(unused_imports)]
+                                use ::nimbus_dsl::constant::{NamedConst as _, PlainConst as _};
+                                #[allow(clippy::needless_borrow)]
+                                let value = (&&::nimbus_dsl::constant::ConstProbe(
+                                    ::core::stringify!(#id),
+                                    #id,
+                                ))
+                                    .shader_value();
+                                value
+                            }
+                        }
                     }
                 } else {
                     let segs = &p.path.segments;

@@ -27,6 +27,11 @@ pub enum GlobalKind {
     Override {
         default: Literal,
     },
+    /// A named module constant (`const INV_FOUR_PI: f32 = 0.07957747;`), from a Rust `const`
+    /// a `#[shader_fn]` reads.
+    Const {
+        value: Literal,
+    },
 }
 
 /// A module-scope declaration.
@@ -47,7 +52,7 @@ impl Global {
             GlobalKind::Uniform { group, binding }
             | GlobalKind::Storage { group, binding, .. }
             | GlobalKind::Handle { group, binding } => Some((group, binding)),
-            GlobalKind::Override { .. } => None,
+            GlobalKind::Override { .. } | GlobalKind::Const { .. } => None,
         }
     }
 }
