@@ -4,7 +4,8 @@ use std::time::{Duration, Instant};
 
 use std::path::Path;
 
-use nimbus_clouds::catalog::{catalog, cloud_catalog};
+use nimbus_clouds::catalog::{ShaderKey, catalog, cloud_catalog};
+use nimbus_clouds::{CloudKey, ShadowKey};
 use nimbus_codegen::{Target, generate_variant};
 
 use crate::error::CliError;
@@ -36,7 +37,7 @@ fn ms(d: Duration) -> String {
     format!("{:.3}", d.as_secs_f64() * 1e3)
 }
 
-pub(crate) fn run(data: Option<&Path>, iterations: u32) -> Result<(), CliError> {
+pub(crate) fn run(data: Option<&Path>, iterations: u32, reachable: bool) -> Result<(), CliError> {
     let lib = load(data)?;
     let clouds = cloud_catalog(&lib);
     // Per-target rows for the previews and the shaders cumulus runs at each quality; every
@@ -88,5 +89,60 @@ pub(crate) fn run(data: Option<&Path>, iterations: u32) -> Result<(), CliError> 
     println!(
         "(the wgsl column is record + specialise + print + naga parse/validate; other columns add one backend)"
     );
+    if reachable {
+        every_reachable_key()?;
+    }
+    Ok(())
+}
+
+/// Generates every reachable cloud and shadow key, WGSL (the printed, naga-validated gate of
+/// every target) and then all six targets, split over the machine's cores.
+fn every_reachable_key() -> Result<(), CliError> {
+    let keys: Vec<ShaderKey> = CloudKey::reachable()
+        .into_iter()
+        .map(ShaderKey::Clouds)
+        .chain(ShadowKey::reachable().into_iter().map(ShaderKey::Shadow))
+        .collect();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    for (what, targets) in [
+        ("WGSL + naga validation", &[Target::Wgsl][..]),
+        ("all six targets", &Target::ALL[..]),
+    ] {
+        let start = Instant::now();
+        let chunk = keys.len().div_ceil(threads);
+        let failures: Vec<String> = std::thread::scope(|scope| {
+            let handles: Vec<_> = keys
+                .chunks(chunk)
+                .map(|part| {
+                    scope.spawn(move || {
+                        part.iter()
+                            .filter_map(|k| {
+                                generate_variant(k, targets)
+                                    .err()
+                                    .map(|e| format!("{}: {e}", k.id()))
+                            })
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| {
+                    h.join()
+                        .unwrap_or_else(|_| vec!["a thread panicked".into()])
+                })
+                .collect()
+        });
+        let secs = start.elapsed().as_secs_f64();
+        println!(
+            "every reachable key ({} keys, {what}, {threads} thread(s)): {secs:.1} s, {:.2} ms per key per core, {} failure(s)",
+            keys.len(),
+            secs * 1e3 * threads as f64 / keys.len() as f64,
+            failures.len()
+        );
+        for f in failures.iter().take(5) {
+            eprintln!("FAIL {f}");
+        }
+    }
     Ok(())
 }

@@ -200,6 +200,10 @@ enum Command {
         /// Timed repetitions per measurement (the median is reported).
         #[arg(short, long, default_value_t = 20)]
         iterations: u32,
+        /// Also generate and validate every reachable key (18,432 cloud keys and 8 shadow
+        /// keys), on every core, and report the time (minutes on 2 cores).
+        #[arg(long)]
+        reachable: bool,
     },
 }
 
@@ -238,7 +242,10 @@ fn main() -> ExitCode {
         Command::Explain { scene } => explain::run(data, scene),
         Command::List => list::run(data).map_err(Into::into),
         Command::Diff { old, new, quiet } => diff::run(old, new, *quiet),
-        Command::Bench { iterations } => bench::run(data, (*iterations).max(1)).map_err(Into::into),
+        Command::Bench {
+            iterations,
+            reachable,
+        } => bench::run(data, (*iterations).max(1), *reachable).map_err(Into::into),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

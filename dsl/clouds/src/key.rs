@@ -111,6 +111,52 @@ impl CloudKey {
         parts.join("-")
     }
 
+    /// Every canonical key the model can be asked for: each combination of the toggles (light
+    /// shafts only with haze; the Mie toggle is a phase kind), 1–12 octaves, the four phase
+    /// kinds and one or two lane groups. 192 × 12 × 4 × 2 = 18,432 keys.
+    pub fn reachable() -> Vec<CloudKey> {
+        let toggles: Vec<Toggle> = Toggle::ALL
+            .iter()
+            .copied()
+            .filter(|t| *t != Toggle::AccuratePhaseFunction)
+            .collect();
+        let phases = [
+            PhaseKind::HenyeyGreenstein,
+            PhaseKind::DualLobe,
+            PhaseKind::ApproximateMie,
+            PhaseKind::Isotropic,
+        ];
+        let mut out = Vec::new();
+        for bits in 0u32..(1 << toggles.len()) {
+            let mut features = Features {
+                accurate_phase_function: false,
+                ..Features::default()
+            };
+            for (i, t) in toggles.iter().enumerate() {
+                t.set(&mut features, bits & (1 << i) != 0);
+            }
+            if features.light_shafts && !features.haze {
+                continue;
+            }
+            for octaves in 1..=12 {
+                for phase in phases {
+                    for groups in 1..=2 {
+                        out.push(CloudKey {
+                            features: Features {
+                                octaves,
+                                ..features
+                            },
+                            phase,
+                            groups,
+                            count_samples: false,
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// Whether the shader samples the beer shadow map: for cloud shadows, or for light shafts
     /// (which live in the haze).
     pub fn uses_shadow_map(&self) -> bool {
@@ -167,6 +213,21 @@ impl ShadowKey {
         }
         parts.push(format!("g{}", self.groups));
         parts.join("-")
+    }
+
+    /// Every shadow key: with or without shape detail and turbulence, one or two lane groups.
+    pub fn reachable() -> Vec<ShadowKey> {
+        let mut out = Vec::new();
+        for bits in 0..4u32 {
+            for groups in 1..=2 {
+                out.push(ShadowKey {
+                    shape_detail: bits & 1 != 0,
+                    turbulence: bits & 2 != 0,
+                    groups,
+                });
+            }
+        }
+        out
     }
 
     /// The cloud key the density functions are specialised with: this key's erosion stages and

@@ -1,0 +1,35 @@
+//! The reachable keys are every canonical key, each once, and key names tell them apart.
+
+use std::collections::BTreeSet;
+
+use nimbus_clouds::{CloudKey, PhaseKind, PhaseSpec, ShadowKey};
+
+fn spec_of(kind: PhaseKind) -> PhaseSpec {
+    match kind {
+        PhaseKind::HenyeyGreenstein => PhaseSpec::HenyeyGreenstein { g: 0.7 },
+        PhaseKind::DualLobe => PhaseSpec::DualLobe {
+            g1: 0.7,
+            g2: -0.2,
+            weight: 0.5,
+        },
+        PhaseKind::ApproximateMie => PhaseSpec::ApproximateMie {
+            droplet_diameter_um: 10.0,
+        },
+        PhaseKind::Isotropic => PhaseSpec::Isotropic,
+    }
+}
+
+#[test]
+fn reachable_keys_are_canonical_distinct_and_named_apart() {
+    let keys = CloudKey::reachable();
+    assert_eq!(keys.len(), 192 * 12 * 4 * 2);
+    let names: BTreeSet<String> = keys.iter().map(CloudKey::name).collect();
+    assert_eq!(names.len(), keys.len(), "two keys share a name");
+    for k in &keys {
+        // Making the key from its own features gives it back: nothing non-canonical is reachable.
+        assert_eq!(CloudKey::new(k.features, &spec_of(k.phase), k.groups), *k);
+    }
+    let shadows = ShadowKey::reachable();
+    let names: BTreeSet<String> = shadows.iter().map(ShadowKey::name).collect();
+    assert_eq!((shadows.len(), names.len()), (8, 8));
+}
