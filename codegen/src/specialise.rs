@@ -30,6 +30,37 @@ pub fn specialise(module: &mut Module) {
     remove_unreachable(module);
 }
 
+/// `stmt` with the blocks nested in it (an `if`'s arms, a loop's body) passed through `f`.
+fn map_nested(stmt: Stmt, f: &mut impl FnMut(Block) -> Block) -> Stmt {
+    match stmt {
+        Stmt::If {
+            cond,
+            then,
+            otherwise,
+            loc,
+        } => Stmt::If {
+            cond,
+            then: f(then),
+            otherwise: f(otherwise),
+            loc,
+        },
+        Stmt::For {
+            counter,
+            start,
+            end,
+            body,
+            loc,
+        } => Stmt::For {
+            counter,
+            start,
+            end,
+            body: f(body),
+            loc,
+        },
+        other => other,
+    }
+}
+
 /// Folds literal arithmetic and propagates literal `let`s until nothing changes (each round
 /// that continues removed at least one `let`, so this ends).
 fn fold_to_fixed_point(f: &mut Function) {
@@ -71,30 +102,6 @@ fn tidy(f: &mut Function) {
                     init: Some(value),
                     loc,
                 } if !written.contains(&local) => Stmt::Let { local, value, loc },
-                Stmt::If {
-                    cond,
-                    then,
-                    otherwise,
-                    loc,
-                } => Stmt::If {
-                    cond,
-                    then: rewrite(f, then, written),
-                    otherwise: rewrite(f, otherwise, written),
-                    loc,
-                },
-                Stmt::For {
-                    counter,
-                    start,
-                    end,
-                    body,
-                    loc,
-                } => Stmt::For {
-                    counter,
-                    start,
-                    end,
-                    body: rewrite(f, body, written),
-                    loc,
-                },
                 Stmt::Return {
                     value: Some(r),
                     loc,
@@ -114,7 +121,7 @@ fn tidy(f: &mut Function) {
                         loc,
                     },
                 },
-                other => other,
+                other => map_nested(other, &mut |b| rewrite(f, b, written)),
             };
             out.push(stmt);
         }
@@ -157,33 +164,7 @@ fn propagate_literal_lets(f: &mut Function) -> bool {
         block
             .into_iter()
             .filter(|s| !matches!(s, Stmt::Let { local, .. } if gone.contains(local)))
-            .map(|s| match s {
-                Stmt::If {
-                    cond,
-                    then,
-                    otherwise,
-                    loc,
-                } => Stmt::If {
-                    cond,
-                    then: drop_lets(then, gone),
-                    otherwise: drop_lets(otherwise, gone),
-                    loc,
-                },
-                Stmt::For {
-                    counter,
-                    start,
-                    end,
-                    body,
-                    loc,
-                } => Stmt::For {
-                    counter,
-                    start,
-                    end,
-                    body: drop_lets(body, gone),
-                    loc,
-                },
-                other => other,
-            })
+            .map(|s| map_nested(s, &mut |b| drop_lets(b, gone)))
             .collect()
     }
     let mut found = Vec::new();
