@@ -8,9 +8,8 @@ use glam::Vec3;
 use nimbus_clouds::model::march::total_density;
 use nimbus_clouds::model::shadow::altitude_at;
 use nimbus_clouds::{CloudLibrary, load_scene};
-use nimbus_dsl::cpu::Sampler;
 use nimbus_runtime::RuntimeError;
-use nimbus_runtime::density_export::{CpuTextures, Region, density_grid};
+use nimbus_runtime::density_export::{CpuTextures, Region, density_grid, generate_cpu_textures};
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
 fn frame() -> Frame {
@@ -21,7 +20,7 @@ fn frame() -> Frame {
 }
 
 fn textures() -> CpuTextures {
-    CpuTextures::generate(TextureSizes {
+    generate_cpu_textures(TextureSizes {
         weather: 64,
         shape: 16,
         detail: 8,
@@ -78,17 +77,10 @@ fn vol_file_holds_the_models_extinction_at_voxel_centres() {
                 / Vec3::new(12.0, 6.0, 10.0);
         let p = Vec3::new(c.x, c.y - f.camera_altitude, c.z);
         let h = altitude_at(p, f.camera_altitude, u.march.radius);
-        let want = total_density(
-            p,
-            h,
-            u,
-            &t.weather,
-            &t.shape,
-            &t.detail,
-            &t.turbulence,
-            &Sampler::default(),
-            key,
-        ) * sigma;
+        let want = {
+            let _bound = t.bind(u);
+            total_density(p, h, key) * sigma
+        };
         let got = f32_at(&b, 48 + 4 * (((z * 6 + y) * 12 + x) as usize));
         assert_eq!(got, want, "voxel ({x}, {y}, {z})");
     }

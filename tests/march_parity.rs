@@ -4,18 +4,20 @@
 mod common;
 
 use std::path::Path;
+use std::sync::Arc;
 
 use common::{Rng, Tolerance, compare_with};
 use glam::{Vec3, Vec4};
+use nimbus_clouds::model::bindings::{CLOUDS, CloudTextures};
 use nimbus_clouds::model::clouds::CloudVariant;
 use nimbus_clouds::model::march::{CloudUniforms, CloudUniformsShader, march_clouds};
 use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_dsl::Value;
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use nimbus_dsl::cpu::{Texture2d, Texture3d};
 use nimbus_dsl::ir::{ExprId, Scalar, Type};
 use nimbus_dsl::layout::Flatten;
 use nimbus_dsl::shader;
-use nimbus_runtime::GpuResource;
+use nimbus_testkit::parity::cloud_resources;
 
 /// Values on a 1/256 grid, which f16 textures hold exactly.
 fn texels(rng: &mut Rng, n: usize, scale: [f32; 4]) -> Vec<Vec4> {
@@ -36,28 +38,29 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
     let quality = Quality::High;
     let key = CloudVariant::new(genus, quality, quality.features()).key;
     let mut rng = Rng::new(31);
-    let weather = Texture2d {
-        size: [16, 16],
-        texels: texels(&mut rng, 256, [1.0; 4]),
+    let textures = CloudTextures {
+        weather: Arc::new(Texture2d {
+            size: [16, 16],
+            texels: texels(&mut rng, 256, [1.0; 4]),
+        }),
+        shape: Arc::new(Texture3d {
+            size: [16, 16, 16],
+            texels: texels(&mut rng, 4096, [1.0; 4]),
+        }),
+        detail: Arc::new(Texture3d {
+            size: [8, 8, 8],
+            texels: texels(&mut rng, 512, [1.0; 4]),
+        }),
+        turbulence: Arc::new(Texture2d {
+            size: [8, 8],
+            texels: texels(&mut rng, 64, [1.0; 4]),
+        }),
+        // Front depth in metres (integers), mean extinction, max and tail optical depth.
+        shadow: Arc::new(Texture2d {
+            size: [8, 8],
+            texels: texels(&mut rng, 64, [1024.0, 0.0625, 4.0, 0.5]),
+        }),
     };
-    let shape = Texture3d {
-        size: [16, 16, 16],
-        texels: texels(&mut rng, 4096, [1.0; 4]),
-    };
-    let detail = Texture3d {
-        size: [8, 8, 8],
-        texels: texels(&mut rng, 512, [1.0; 4]),
-    };
-    let turbulence = Texture2d {
-        size: [8, 8],
-        texels: texels(&mut rng, 64, [1.0; 4]),
-    };
-    // Front depth in metres (integers), mean extinction, max and tail optical depth.
-    let shadow = Texture2d {
-        size: [8, 8],
-        texels: texels(&mut rng, 64, [1024.0, 0.0625, 4.0, 0.5]),
-    };
-    let smp = Sampler::default();
 
     let mut inputs = Vec::new();
     for altitude in [200.0, 2200.0, 6000.0] {
@@ -79,28 +82,12 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
             inputs.push(w);
         }
     }
-    let resources = [
-        GpuResource::Texture2d(weather.clone()),
-        GpuResource::Texture3d(shape.clone()),
-        GpuResource::Texture3d(detail.clone()),
-        GpuResource::Texture2d(turbulence.clone()),
-        GpuResource::Texture2d(shadow.clone()),
-        GpuResource::Sampler(smp),
-    ];
+    let resources = cloud_resources(&textures);
     let call = move |a: &[ExprId]| {
+        // Each record carries the uniforms of its camera altitude.
         let u = CloudUniformsShader::from_id(a[1]);
-        let r = march_clouds::shader(
-            shader::Vec3::from_id(a[0]),
-            u.jitter,
-            u,
-            shader::Texture2d::from_id(a[2]),
-            shader::Texture3d::from_id(a[3]),
-            shader::Texture3d::from_id(a[4]),
-            shader::Texture2d::from_id(a[5]),
-            shader::Texture2d::from_id(a[6]),
-            shader::Sampler::from_id(a[7]),
-            key,
-        );
+        CLOUDS.feed(u);
+        let r = march_clouds::shader(shader::Vec3::from_id(a[0]), u.jitter, key);
         r.radiance.extend(r.transmittance).id()
     };
     let uniforms_of = |w: &[u32]| -> CloudUniforms {
@@ -116,18 +103,8 @@ fn march_clouds_matches_cpu_over_a_set_of_rays() {
             f32::from_bits(w[2]),
         );
         let u = uniforms_of(w);
-        march_clouds(
-            dir,
-            u.jitter,
-            u,
-            &weather,
-            &shape,
-            &detail,
-            &turbulence,
-            &shadow,
-            &smp,
-            key,
-        )
+        let _bound = textures.bind(u);
+        march_clouds(dir, u.jitter, key)
     };
     compare_with(
         "march_clouds[cumulus.high]",

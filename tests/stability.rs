@@ -85,7 +85,6 @@ fn thin_medium_radiance_is_linear_in_density() {
     use nimbus_clouds::Quality;
     use nimbus_clouds::model::clouds::CloudVariant;
     use nimbus_clouds::model::march::{CloudUniforms, march_clouds, one_minus_exp_over};
-    use nimbus_dsl::cpu::Sampler;
     use nimbus_testkit::stability::{CaseTextures, base_genus};
 
     for x in [
@@ -106,18 +105,8 @@ fn thin_medium_radiance_is_linear_in_density() {
         let q = Quality::Reference;
         let key = CloudVariant::new(&genus, q, q.features()).key;
         let u = CloudUniforms::for_genus(&genus, q, Vec3::new(0.3, 0.8, 0.2), 2.0);
-        let r = march_clouds(
-            Vec3::Y,
-            0.5,
-            u,
-            &t.weather,
-            &t.shape,
-            &t.detail,
-            &t.turbulence,
-            &t.shadow,
-            &Sampler::default(),
-            key,
-        );
+        let _bound = t.bind(u);
+        let r = march_clouds(Vec3::Y, 0.5, key);
         r.radiance.x
     };
     let (one, two) = (radiance(1e-9), radiance(2e-9));

@@ -5,14 +5,13 @@
 mod common;
 
 use glam::{Vec3, Vec4};
+use nimbus_clouds::model::bindings::CLOUDS;
 use nimbus_clouds::model::march::{CloudUniformsShader, MarchResult};
 use nimbus_dsl::Value;
-use nimbus_dsl::cpu::Sampler;
 use nimbus_dsl::ir::{ExprId, Scalar, Type};
 use nimbus_dsl::layout::Flatten;
 use nimbus_dsl::shader;
-use nimbus_runtime::GpuResource;
-use nimbus_testkit::parity::{KernelFn, run_on_gpu};
+use nimbus_testkit::parity::{KernelFn, cloud_resources, run_on_gpu};
 use nimbus_testkit::stability::{
     Case, RayOutcome, RayOutcomeShader, catalogue, check_case, probe_ray, run_case_cpu,
 };
@@ -21,29 +20,12 @@ use nimbus_testkit::stability::{
 fn run_cases_gpu(gpu: &nimbus_runtime::Gpu, cases: &[&Case]) -> Vec<Vec<RayOutcome>> {
     let case = cases[0];
     let t = case.textures.build();
-    let resources = [
-        GpuResource::Texture2d(t.weather),
-        GpuResource::Texture3d(t.shape),
-        GpuResource::Texture3d(t.detail),
-        GpuResource::Texture2d(t.turbulence),
-        GpuResource::Texture2d(t.shadow),
-        GpuResource::Sampler(Sampler::default()),
-    ];
+    let resources = cloud_resources(&t);
     let key = case.key;
     let call = move |a: &[ExprId]| {
-        probe_ray::shader(
-            shader::Vec3::from_id(a[0]),
-            shader::F32::from_id(a[1]),
-            CloudUniformsShader::from_id(a[2]),
-            shader::Texture2d::from_id(a[3]),
-            shader::Texture3d::from_id(a[4]),
-            shader::Texture3d::from_id(a[5]),
-            shader::Texture2d::from_id(a[6]),
-            shader::Texture2d::from_id(a[7]),
-            shader::Sampler::from_id(a[8]),
-            key,
-        )
-        .id()
+        // Each probe has its own uniforms: they travel with its record.
+        CLOUDS.feed(CloudUniformsShader::from_id(a[2]));
+        probe_ray::shader(shader::Vec3::from_id(a[0]), shader::F32::from_id(a[1]), key).id()
     };
     let mut words = Vec::new();
     for p in cases.iter().flat_map(|c| &c.probes) {

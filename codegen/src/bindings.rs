@@ -104,7 +104,9 @@ pub(crate) fn describe(dsl: &Module, validated: &Validated) -> Vec<BindingInfo> 
             (GlobalKind::Handle { .. }, _) => BindingKind::Texture {
                 dimension: TextureDimension::D2,
             },
-            (GlobalKind::Override { .. } | GlobalKind::Const { .. }, _) => continue,
+            (GlobalKind::Override { .. } | GlobalKind::Const { .. } | GlobalKind::Private, _) => {
+                continue;
+            }
         };
         let mut visibility = Vec::new();
         if let Some(h) = handle {

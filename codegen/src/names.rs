@@ -10,6 +10,8 @@
 //!   function *that its own function calls* (it would shadow the call). Otherwise `step`,
 //!   `distance` and `length` stay as written: WGSL lets a local shadow a built-in it never uses.
 //!
+//! - a local or parameter named like a global or function its own function uses.
+//!
 //! A renamed identifier gets a trailing `_` (more if that name is taken).
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -68,16 +70,28 @@ pub(crate) fn rename_for_wgsl(module: &mut Module) {
             ep.function = n.clone();
         }
     }
+    let global_names: Vec<String> = module.globals.iter().map(|g| g.name.clone()).collect();
     for f in &mut module.functions {
         if let Some(n) = renamed.get(&f.name) {
             f.name = n.clone();
         }
         let mut called = BTreeSet::new();
+        // Module-scope names this function reads: a parameter or local of the same name would
+        // hide them (`clouds: MarchResult` beside the `clouds` uniform block).
+        let mut referenced: BTreeSet<String> = BTreeSet::new();
         for e in &mut f.exprs {
             match &mut e.kind {
                 ExprKind::Call(callee, _) => {
                     if let Some(n) = renamed.get(callee) {
                         *callee = n.clone();
+                    }
+                    referenced.insert(callee.clone());
+                }
+                ExprKind::Global(g) => {
+                    // Nodes in the arena that no statement reaches may name a global that
+                    // specialisation removed.
+                    if let Some(name) = global_names.get(g.0 as usize) {
+                        referenced.insert(name.clone());
                     }
                 }
                 ExprKind::Builtin(b, _) => {
@@ -91,6 +105,7 @@ pub(crate) fn rename_for_wgsl(module: &mut Module) {
         }
         let clash = |name: &str| {
             reserved(name)
+                || referenced.contains(name)
                 || (predeclared(name) && (!builtin_fns.contains(name) || called.contains(name)))
         };
         let mut local_taken: BTreeSet<String> = f

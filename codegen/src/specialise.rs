@@ -19,6 +19,8 @@ pub fn specialise(module: &mut Module) {
         fold_to_fixed_point(f);
         let body = std::mem::take(&mut f.body);
         f.body = prune_block(f, body);
+        // Unrolled loops leave their counter a literal `let`: fold it away before tidying.
+        fold_to_fixed_point(f);
         // Pruned branches can leave a `var` never assigned again: as a `let` it may be a literal
         // that folds further.
         tidy(f);
@@ -76,6 +78,7 @@ fn fold_to_fixed_point(f: &mut Function) {
 /// `let` returned by the very next statement is returned directly (`let c = f(); return c;`
 /// prints as `return f();`).
 fn tidy(f: &mut Function) {
+    merge_first_assignment(f);
     fn assigned(block: &Block, out: &mut BTreeSet<LocalId>) {
         for stmt in block {
             match stmt {
@@ -136,6 +139,96 @@ fn tidy(f: &mut Function) {
             l.mutable = false;
         }
     }
+}
+
+/// `var x = a; x = f(x);` with no other assignment of `x` is `var x = f(a);` (then a `let`),
+/// when `a` is cheap to repeat (a literal, a parameter, a `let`, or a place in a uniform): what
+/// a loop over one layer group leaves once unrolled (`var inside = 0.0; inside = inside +
+/// layers_containing(h, 0u);`), and a toggle's `sun *= attenuation` on a copied uniform.
+fn merge_first_assignment(f: &mut Function) {
+    fn count(block: &Block, out: &mut std::collections::BTreeMap<LocalId, usize>) {
+        for stmt in block {
+            match stmt {
+                Stmt::Assign { local, .. } => *out.entry(*local).or_default() += 1,
+                Stmt::If {
+                    then, otherwise, ..
+                } => {
+                    count(then, out);
+                    count(otherwise, out);
+                }
+                Stmt::For { body, .. } => count(body, out),
+                _ => {}
+            }
+        }
+    }
+    fn cheap(f: &Function, id: ExprId) -> bool {
+        match &f.expr(id).kind {
+            ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Global(_) => true,
+            ExprKind::Local(l) => !f.local(*l).mutable,
+            ExprKind::Member(base, _) | ExprKind::Swizzle(base, _) => cheap(f, *base),
+            _ => false,
+        }
+    }
+    fn merge(f: &mut Function, block: Block, once: &BTreeSet<LocalId>) -> Block {
+        let mut out: Block = Vec::with_capacity(block.len());
+        for stmt in block {
+            // The declaration, possibly behind `let`s that do not read the variable.
+            let declaration = match &stmt {
+                Stmt::Assign { local, .. } if once.contains(local) => {
+                    let reads = |e: ExprId| {
+                        let mut hit = false;
+                        walk_expr(f, e, &mut |x| {
+                            hit |= f.expr(x).kind == ExprKind::Local(*local)
+                        });
+                        hit
+                    };
+                    out.iter()
+                        .rposition(|s| !matches!(s, Stmt::Let { value, .. } if !reads(*value)))
+                        .and_then(|at| match &out[at] {
+                            Stmt::Var {
+                                local: l,
+                                init: Some(i),
+                                ..
+                            } if l == local && cheap(f, *i) => Some((at, *i)),
+                            _ => None,
+                        })
+                }
+                _ => None,
+            };
+            if let (Some((at, init)), Stmt::Assign { local, value, loc }) = (declaration, &stmt) {
+                let (local, value, loc) = (*local, *value, *loc);
+                out.remove(at);
+                let mut reads = Vec::new();
+                walk_expr(f, value, &mut |e| {
+                    if f.expr(e).kind == ExprKind::Local(local) {
+                        reads.push(e);
+                    }
+                });
+                let kind = f.expr(init).kind.clone();
+                for e in reads {
+                    f.exprs[e.0 as usize].kind = kind.clone();
+                }
+                out.push(Stmt::Var {
+                    local,
+                    init: Some(value),
+                    loc,
+                });
+                continue;
+            }
+            let stmt = map_nested(stmt, &mut |b| merge(f, b, once));
+            out.push(stmt);
+        }
+        out
+    }
+    let mut counts = std::collections::BTreeMap::new();
+    count(&f.body, &mut counts);
+    let once: BTreeSet<LocalId> = counts
+        .into_iter()
+        .filter(|(_, n)| *n == 1)
+        .map(|(l, _)| l)
+        .collect();
+    let body = std::mem::take(&mut f.body);
+    f.body = merge(f, body, &once);
 }
 
 /// Replaces reads of `let` locals bound to a literal by the literal and drops those `let`s.
@@ -348,6 +441,15 @@ fn fold_constants(f: &mut Function) {
                     identity(f, i, b);
                     None
                 }
+                // `0 + x` and `x ± 0` are `x` (for floats, but for the sign of a zero sum).
+                (Some(zero), _) if is_zero(zero) && op == BinaryOp::Add => {
+                    identity(f, i, b);
+                    None
+                }
+                (_, Some(zero)) if is_zero(zero) && matches!(op, BinaryOp::Add | BinaryOp::Sub) => {
+                    identity(f, i, a);
+                    None
+                }
                 _ => None,
             },
             ExprKind::Convert(s, a) => match lit(f, a) {
@@ -385,6 +487,10 @@ fn is_one(l: Literal) -> bool {
     l == Literal::f32(1.0)
 }
 
+fn is_zero(l: Literal) -> bool {
+    matches!(l, Literal::U32(0) | Literal::I32(0)) || l == Literal::f32(0.0)
+}
+
 /// Makes expression `i` the expression `operand` when their types agree.
 fn identity(f: &mut Function, i: usize, operand: ExprId) {
     if f.expr(operand).ty == f.exprs[i].ty {
@@ -418,13 +524,27 @@ fn prune_block(f: &Function, block: Block) -> Block {
                 end,
                 body,
                 loc,
-            } => vec![Stmt::For {
-                counter,
-                start,
-                end,
-                body: prune_block(f, body),
-                loc,
-            }],
+            } => match trip_count(f, start, end) {
+                // A loop over a generation-time range of one (one layer group) is its body, with
+                // the counter a `let` that folding then turns into the literal; of none, nothing.
+                Some(0) => vec![],
+                Some(1) if !leaves_loop(&body) => {
+                    let mut unrolled = vec![Stmt::Let {
+                        local: counter,
+                        value: start,
+                        loc,
+                    }];
+                    unrolled.extend(prune_block(f, body));
+                    unrolled
+                }
+                _ => vec![Stmt::For {
+                    counter,
+                    start,
+                    end,
+                    body: prune_block(f, body),
+                    loc,
+                }],
+            },
             other => vec![other],
         };
         for s in stmts {
@@ -436,6 +556,28 @@ fn prune_block(f: &Function, block: Block) -> Block {
         }
     }
     out
+}
+
+/// Iterations of `for i in start..end` when both bounds are literals.
+fn trip_count(f: &Function, start: ExprId, end: ExprId) -> Option<i64> {
+    let value = |l: Literal| match l {
+        Literal::U32(v) => Some(i64::from(v)),
+        Literal::I32(v) => Some(i64::from(v)),
+        _ => None,
+    };
+    Some((value(lit(f, end)?)? - value(lit(f, start)?)?).max(0))
+}
+
+/// Whether a `break` or `continue` of the loop whose body is `block` occurs in it (those of
+/// nested loops do not count).
+fn leaves_loop(block: &Block) -> bool {
+    block.iter().any(|s| match s {
+        Stmt::Break { .. } | Stmt::Continue { .. } => true,
+        Stmt::If {
+            then, otherwise, ..
+        } => leaves_loop(then) || leaves_loop(otherwise),
+        _ => false,
+    })
 }
 
 /// Calls `visit` on every expression reachable from the statements of `block`.
@@ -524,12 +666,14 @@ pub fn walk_expr(f: &Function, id: ExprId, visit: &mut impl FnMut(ExprId)) {
 }
 
 fn collect_struct(ty: Type, out: &mut BTreeSet<&'static str>) {
-    if let Type::Struct(def) = ty
-        && out.insert(def.name)
-    {
-        for field in def.fields {
-            collect_struct(field.ty, out);
+    match ty {
+        Type::Struct(def) if out.insert(def.name) => {
+            for field in def.fields {
+                collect_struct(field.ty, out);
+            }
         }
+        Type::Array(elem, _) => collect_struct(*elem, out),
+        _ => {}
     }
 }
 

@@ -201,7 +201,19 @@ impl Printer<'_> {
         if m.globals.is_empty() {
             return;
         }
-        for g in &m.globals {
+        // Constants first, then resources in (group, binding) order, then per-invocation
+        // state: the order a reader scans a hand-written shader's header in, whatever order the
+        // code first used them in.
+        let mut order: Vec<&nimbus_dsl::ir::Global> = m.globals.iter().collect();
+        order.sort_by_key(|g| match g.kind {
+            GlobalKind::Const { .. } => (0, 0, 0),
+            GlobalKind::Override { .. } => (1, 0, 0),
+            GlobalKind::Uniform { group, binding }
+            | GlobalKind::Storage { group, binding, .. }
+            | GlobalKind::Handle { group, binding } => (2, group, binding),
+            GlobalKind::Private => (3, 0, 0),
+        });
+        for g in order {
             self.doc(&g.doc);
             let decl = match &g.kind {
                 GlobalKind::Uniform { group, binding } => format!(
@@ -236,6 +248,7 @@ impl Printer<'_> {
                     g.ty.wgsl(),
                     literal(*value).unwrap_or_else(|| "0.0".into())
                 ),
+                GlobalKind::Private => format!("var<private> {}: {};", g.name, g.ty.wgsl()),
             };
             self.line(&decl);
         }

@@ -173,6 +173,9 @@ pub trait Bind: Sized {
 
 impl<T: Value> Bind for T {
     fn bind(self, name: &str, loc: SourceLoc) -> Self {
+        if crate::record::is_resource_place(self.id()) {
+            return self;
+        }
         let local = new_local(name, T::TYPE, false);
         push_stmt(Stmt::Let {
             local,
@@ -278,6 +281,7 @@ pub fn for_range<R: LoopRange>(
 ) {
     let (start, end) = range.bounds();
     let counter = new_local(name, R::Counter::TYPE, true);
+    crate::record::mark_counter(counter);
     begin_block();
     body(R::Counter::from_id(push_expr(
         ExprKind::Local(counter),

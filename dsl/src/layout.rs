@@ -24,8 +24,20 @@ pub fn align_size(ty: Type) -> (u32, u32) {
             let (align, size, _) = struct_layout(def);
             (align, size)
         }
+        Type::Array(elem, n) => {
+            let (align, stride) = array_stride(*elem);
+            (align, stride * n)
+        }
         _ => (4, 0),
     }
+}
+
+/// `(alignment, stride)` of the elements of a uniform array: both rounded up to 16, as the
+/// uniform address space requires.
+pub fn array_stride(elem: Type) -> (u32, u32) {
+    let (a, s) = align_size(elem);
+    let align = round_up(16, a);
+    (align, round_up(align, s))
 }
 
 /// Alignment, size and member offsets of a struct. Struct members of struct type are aligned
@@ -36,7 +48,7 @@ pub fn struct_layout(def: &StructDef) -> (u32, u32, Vec<u32>) {
     let mut offsets = Vec::with_capacity(def.fields.len());
     for f in def.fields {
         let (a, s) = align_size(f.ty);
-        let a = if matches!(f.ty, Type::Struct(_)) {
+        let a = if matches!(f.ty, Type::Struct(_) | Type::Array(..)) {
             round_up(16, a)
         } else {
             a
@@ -152,6 +164,18 @@ impl UniformBytes for glam::Mat4 {
     }
 }
 
+impl<T: UniformBytes + crate::ShaderType, const N: usize> UniformBytes for [T; N] {
+    fn shader_type() -> Type {
+        <<[T; N] as crate::ShaderType>::Dsl as crate::Value>::TYPE
+    }
+    fn write(&self, out: &mut [u8], offset: usize) {
+        let (_, stride) = array_stride(T::shader_type());
+        for (i, v) in self.iter().enumerate() {
+            v.write(out, offset + i * stride as usize);
+        }
+    }
+}
+
 /// A value as consecutive 32-bit words in declaration order with no padding: how the parity
 /// harness passes arguments through a storage buffer.
 pub trait Flatten {
@@ -210,6 +234,14 @@ impl ComponentArray for glam::Mat4 {
         self.to_cols_array().to_vec()
     }
 }
+impl<T: Flatten, const N: usize> Flatten for [T; N] {
+    fn flatten(&self, out: &mut Vec<u32>) {
+        for v in self {
+            v.flatten(out);
+        }
+    }
+}
+
 flatten_glam!(glam::Vec2, glam::Vec3, glam::Vec4, glam::Mat3, glam::Mat4);
 
 /// The members of a uniform value read back from its buffer bytes, flattened to dotted paths
@@ -266,6 +298,18 @@ fn read_into(ty: Type, bytes: &[u8], offset: u32, path: &str, out: &mut Vec<(Str
                 .map(|a| scalar(Scalar::F32, word(bytes, a)))
                 .collect();
             out.push((path.to_string(), values));
+        }
+        Type::Array(elem, n) => {
+            let (_, stride) = array_stride(*elem);
+            for i in 0..n {
+                read_into(
+                    *elem,
+                    bytes,
+                    offset + i * stride,
+                    &format!("{path}[{i}]"),
+                    out,
+                );
+            }
         }
         Type::RuntimeArray(_) | Type::Texture2d | Type::Texture3d | Type::Sampler => {}
     }

@@ -19,6 +19,7 @@
 
 extern crate self as nimbus_dsl;
 
+mod binding;
 pub mod builtins;
 pub mod constant;
 pub mod control;
@@ -31,6 +32,7 @@ pub mod record;
 pub mod value;
 mod variant;
 
+pub use binding::{Binding, BoundGuard, CpuBindings, ShaderBinding};
 pub use module::{DslError, GlobalRef, ModuleBuilder};
 pub use nimbus_macros::{ShaderStruct, shader_fn};
 pub use value::{Lift, ShaderType, SpecValue, Value, lift};
@@ -39,7 +41,7 @@ pub use variant::ShaderVariant;
 /// The DSL value types (shader twins of `f32`, glam vectors, textures...).
 pub mod shader {
     pub use crate::value::{
-        Bool, F32, I32, IVec2, IVec3, IVec4, Mat3, Mat4, Sampler, StorageArray, Texture2d,
+        Array, Bool, F32, I32, IVec2, IVec3, IVec4, Mat3, Mat4, Sampler, StorageArray, Texture2d,
         Texture3d, U32, UVec2, UVec3, UVec4, Vec2, Vec3, Vec4, ivec2, ivec3, ivec4, uvec2, uvec3,
         uvec4, vec2, vec3, vec4,
     };

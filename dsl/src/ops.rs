@@ -168,3 +168,9 @@ pub fn bitcast_f32(v: U32) -> F32 {
 pub fn bitcast_u32(v: F32) -> U32 {
     U32::from_id(push_expr(ExprKind::Bitcast(Scalar::U32, v.id()), Type::U32))
 }
+
+/// `a[i]`: an index into a recorded array, or into a plain Rust array (see
+/// [`crate::value::Indexable`]). The macro strips the `as usize` a CPU twin needs.
+pub fn index<A: crate::value::Indexable<I>, I>(array: A, i: I) -> A::Output {
+    array.index_at(i)
+}

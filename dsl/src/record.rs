@@ -17,6 +17,8 @@ struct FnFrame {
     function: Function,
     blocks: Vec<Block>,
     used_names: HashSet<String>,
+    /// Loop counters: `var`s that only their `for` changes, between iterations.
+    counters: HashSet<LocalId>,
 }
 
 struct ModuleRecorder {
@@ -172,6 +174,45 @@ pub fn new_local(wanted: &str, ty: Type, mutable: bool) -> LocalId {
     })
 }
 
+/// Marks `local` as the counter of a `for` loop.
+pub(crate) fn mark_counter(local: LocalId) {
+    with_frame(|frame| {
+        frame.counters.insert(local);
+    });
+}
+
+/// Whether `id` names a place in a resource that no statement of the function can change: a
+/// uniform, texture, sampler or constant, a member of one, or an element at an index that
+/// stays put (a literal, a parameter, a `let`, a loop counter). Naming such a place with `let`
+/// aliases it instead of copying it: `let m = CLOUDS.get().march;` reads `clouds.march.x` where
+/// it is used, as a hand-written shader would, and a texture or sampler (which WGSL cannot
+/// hold in a `let`) can be named at all.
+pub(crate) fn is_resource_place(id: ExprId) -> bool {
+    with(|rec| {
+        let frame = rec.frames.last().expect("inside a function");
+        let f = &frame.function;
+        let stable_index = |i: ExprId| match &f.exprs[i.0 as usize].kind {
+            ExprKind::Literal(_) | ExprKind::Arg(_) => true,
+            ExprKind::Local(l) => !f.locals[l.0 as usize].mutable || frame.counters.contains(l),
+            _ => false,
+        };
+        let mut at = id;
+        loop {
+            match &f.exprs[at.0 as usize].kind {
+                ExprKind::Global(g) => {
+                    return !matches!(
+                        rec.module.globals[g.0 as usize].kind,
+                        crate::ir::GlobalKind::Storage { .. } | crate::ir::GlobalKind::Private
+                    );
+                }
+                ExprKind::Member(base, _) => at = *base,
+                ExprKind::Index(base, i) if stable_index(*i) => at = *base,
+                _ => return false,
+            }
+        }
+    })
+}
+
 /// A fresh name for a compiler-introduced temporary (`branch_0`, ...).
 pub fn temp_name(prefix: &str) -> String {
     with(|rec| {
@@ -192,11 +233,26 @@ fn push_struct(structs: &mut Vec<&'static StructDef>, def: &'static StructDef) {
     }
     // Nested structs are declared before the struct that contains them.
     for field in def.fields {
-        if let Type::Struct(inner) = field.ty {
+        let mut ty = field.ty;
+        while let Type::Array(elem, _) = ty {
+            ty = *elem;
+        }
+        if let Type::Struct(inner) = ty {
             push_struct(structs, inner);
         }
     }
     structs.push(def);
+}
+
+/// The index of a global equal to `global`, if the module has one.
+pub(crate) fn find_global(global: &Global) -> Option<crate::ir::GlobalId> {
+    with(|rec| {
+        rec.module
+            .globals
+            .iter()
+            .position(|g| g == global)
+            .map(|i| crate::ir::GlobalId(i as u32))
+    })
 }
 
 /// Declares a module global and returns its index; a repeated name returns the existing one
@@ -276,6 +332,7 @@ pub fn ensure_function(
             function,
             blocks: vec![Block::new()],
             used_names: params.iter().map(|p| p.name.clone()).collect(),
+            counters: HashSet::new(),
         })
     });
     let args: Vec<ExprId> = params

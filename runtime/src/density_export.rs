@@ -17,7 +17,10 @@ use std::path::Path;
 use glam::{Vec3, Vec4};
 use nimbus_clouds::model::march::total_density;
 use nimbus_clouds::model::shadow::altitude_at;
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use std::sync::Arc;
+
+use nimbus_clouds::model::bindings::CloudTextures;
+use nimbus_dsl::cpu::{Texture2d, Texture3d};
 
 use crate::atomic_write::write_atomically;
 use crate::error::RuntimeError;
@@ -44,12 +47,7 @@ pub struct DensityGrid {
 }
 
 /// The CPU twins of the procedural textures.
-pub struct CpuTextures {
-    pub weather: Texture2d,
-    pub shape: Texture3d,
-    pub detail: Texture3d,
-    pub turbulence: Texture2d,
-}
+pub type CpuTextures = CloudTextures;
 
 fn unpack(word: u32) -> Vec4 {
     Vec4::from_array(std::array::from_fn(|c| {
@@ -57,27 +55,27 @@ fn unpack(word: u32) -> Vec4 {
     }))
 }
 
-impl CpuTextures {
-    /// Generates the textures on the CPU, texel for texel as the GPU kernels do.
-    pub fn generate(sizes: TextureSizes) -> CpuTextures {
-        let plane = |kind: NoiseKind, n: u32| Texture2d {
-            size: [n, n],
-            texels: (0..n * n)
-                .map(|i| unpack(kind.cpu_texel(n, i % n, i / n, 0)))
-                .collect(),
-        };
-        let cube = |kind: NoiseKind, n: u32| Texture3d {
-            size: [n, n, n],
-            texels: (0..n * n * n)
-                .map(|i| unpack(kind.cpu_texel(n, i % n, (i / n) % n, i / (n * n))))
-                .collect(),
-        };
-        CpuTextures {
-            weather: plane(NoiseKind::Weather, sizes.weather),
-            shape: cube(NoiseKind::Shape, sizes.shape),
-            detail: cube(NoiseKind::Detail, sizes.detail),
-            turbulence: plane(NoiseKind::Turbulence, sizes.turbulence),
-        }
+/// Generates the textures on the CPU, texel for texel as the GPU kernels do (no shadow map:
+/// density does not read it).
+pub fn generate_cpu_textures(sizes: TextureSizes) -> CloudTextures {
+    let plane = |kind: NoiseKind, n: u32| Texture2d {
+        size: [n, n],
+        texels: (0..n * n)
+            .map(|i| unpack(kind.cpu_texel(n, i % n, i / n, 0)))
+            .collect(),
+    };
+    let cube = |kind: NoiseKind, n: u32| Texture3d {
+        size: [n, n, n],
+        texels: (0..n * n * n)
+            .map(|i| unpack(kind.cpu_texel(n, i % n, (i / n) % n, i / (n * n))))
+            .collect(),
+    };
+    CloudTextures {
+        weather: Arc::new(plane(NoiseKind::Weather, sizes.weather)),
+        shape: Arc::new(cube(NoiseKind::Shape, sizes.shape)),
+        detail: Arc::new(cube(NoiseKind::Detail, sizes.detail)),
+        turbulence: Arc::new(plane(NoiseKind::Turbulence, sizes.turbulence)),
+        shadow: CloudTextures::no_shadow(),
     }
 }
 
@@ -112,7 +110,7 @@ pub fn density_grid(
     }
     let u = Renderer::uniforms(frame);
     let key = frame.variant().key;
-    let smp = Sampler::default();
+    let _bound = textures.bind(u);
     let extent = region.max - region.min;
     let [nx, ny, nz] = size;
     let mut values = Vec::with_capacity((nx * ny * nz) as usize);
@@ -126,17 +124,7 @@ pub fn density_grid(
                 // Camera-relative position; the altitude follows the planet's curvature.
                 let p = Vec3::new(local.x, local.y - frame.camera_altitude, local.z);
                 let h = altitude_at(p, frame.camera_altitude, u.march.radius);
-                let rho = total_density(
-                    p,
-                    h,
-                    u,
-                    &textures.weather,
-                    &textures.shape,
-                    &textures.detail,
-                    &textures.turbulence,
-                    &smp,
-                    key,
-                );
+                let rho = total_density(p, h, key);
                 values.push(rho * sigma);
             }
         }

@@ -246,18 +246,20 @@ impl Gpu {
         &self.queue
     }
 
-    /// Runs compute entry point `entry` of `wgsl` over `input` (bound read-only at binding 0)
-    /// and returns `output_words` words of the read-write buffer at binding 1. One invocation
-    /// per `workgroup_size` words of work: `groups` workgroups are dispatched. `resources` are
-    /// bound from binding 2 on, in order.
+    /// Runs compute entry point `entry` of `wgsl` over `input` (bound read-only at binding
+    /// `input_binding` of group 0) and returns `output_words` words of the read-write buffer at
+    /// the next binding. `groups` workgroups are dispatched. `resources` are bound at their
+    /// binding numbers.
+    #[expect(clippy::too_many_arguments, reason = "one dispatch, described in full")]
     pub fn run_compute(
         &self,
         generated: &Generated,
         entry: &str,
+        input_binding: u32,
         input: &[u32],
         output_words: usize,
         groups: u32,
-        resources: &[GpuResource],
+        resources: &[(u32, GpuResource)],
     ) -> Result<Vec<u32>, RuntimeError> {
         let device = &self.device;
         let (pipeline, layout) = self.compute_pipeline(generated, entry)?;
@@ -286,20 +288,29 @@ impl Gpu {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let views: Vec<GpuBinding> = resources.iter().map(|r| self.upload(r)).collect();
+        let views: Vec<(u32, GpuBinding)> = resources
+            .iter()
+            .filter(|(b, _)| {
+                generated
+                    .bindings
+                    .iter()
+                    .any(|g| g.group == 0 && g.binding == *b)
+            })
+            .map(|(b, r)| (*b, self.upload(r)))
+            .collect();
         let mut entries = vec![
             wgpu::BindGroupEntry {
-                binding: 0,
+                binding: input_binding,
                 resource: input_buf.as_entire_binding(),
             },
             wgpu::BindGroupEntry {
-                binding: 1,
+                binding: input_binding + 1,
                 resource: output_buf.as_entire_binding(),
             },
         ];
-        for (i, v) in views.iter().enumerate() {
+        for (binding, v) in &views {
             entries.push(wgpu::BindGroupEntry {
-                binding: 2 + i as u32,
+                binding: *binding,
                 resource: match v {
                     GpuBinding::View(view) => wgpu::BindingResource::TextureView(view),
                     GpuBinding::Sampler(s) => wgpu::BindingResource::Sampler(s),

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::Vec3;
-use nimbus_runtime::density_export::{CpuTextures, Region, density_grid};
+use nimbus_runtime::density_export::{Region, density_grid, generate_cpu_textures};
 use nimbus_runtime::render::{Frame, TextureSizes};
 
 /// What `nimbus export-density` takes.
@@ -62,7 +62,7 @@ pub(crate) fn run(
         }
     };
     let size = [a.size[0], a.size[1], a.size[2]];
-    let textures = CpuTextures::generate(TextureSizes::default());
+    let textures = generate_cpu_textures(TextureSizes::default());
     let grid = density_grid(&frame, region, size, &textures)?;
     grid.save_mitsuba_vol(&a.out)?;
     let max = grid.values.iter().copied().fold(0.0f32, f32::max);

@@ -14,6 +14,8 @@ use nimbus_runtime::RuntimeError;
 use nimbus_runtime::{Gpu, GpuResource};
 
 const WORKGROUP: u32 = 64;
+/// Binding of the input words (the output words are the next one), in group 0.
+pub const INPUT_BINDING: u32 = 100;
 
 /// 32-bit words per value of `ty`.
 pub fn words_of(ty: Type) -> Result<usize, RuntimeError> {
@@ -21,6 +23,7 @@ pub fn words_of(ty: Type) -> Result<usize, RuntimeError> {
         Type::Scalar(_) => 1,
         Type::Vector(n, _) => usize::from(n),
         Type::Matrix(n) => usize::from(n) * usize::from(n),
+        Type::Array(elem, n) => words_of(*elem)? * n as usize,
         Type::Struct(def) => {
             let mut total = 0;
             for f in def.fields {
@@ -106,6 +109,10 @@ fn load(ty: Type, offset: &mut usize, read: &mut impl FnMut(usize) -> ExprId) ->
                 .collect();
             push_expr(ExprKind::Construct(ty, parts), ty)
         }
+        Type::Array(elem, n) => {
+            let parts = (0..n).map(|_| load(*elem, offset, read)).collect();
+            push_expr(ExprKind::Construct(ty, parts), ty)
+        }
         _ => read(*offset),
     }
 }
@@ -146,21 +153,15 @@ fn store(
     Ok(())
 }
 
-enum Handle {
-    Texture2d(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Texture2d>),
-    Texture3d(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Texture3d>),
-    Sampler(nimbus_dsl::GlobalRef<nimbus_dsl::shader::Sampler>),
-}
-
 /// A function under test: its parameter types, result type and a closure recording a call.
 pub struct KernelFn<'a> {
     pub name: &'a str,
     pub params: Vec<Type>,
     pub result: Type,
     pub call: &'a dyn Fn(&[ExprId]) -> ExprId,
-    /// Textures and samplers, bound from binding 2 on and passed to `call` after the
-    /// buffer-loaded parameters.
-    pub resources: &'a [GpuResource],
+    /// Textures and samplers for the bindings (of group 0) the function reads as globals,
+    /// by binding number.
+    pub resources: &'a [(u32, GpuResource)],
 }
 
 impl KernelFn<'_> {
@@ -184,52 +185,18 @@ fn kernel(f: &KernelFn<'_>) -> Result<Generated, RuntimeError> {
         "CPU/GPU parity kernel: reads argument words, calls the function, writes result words.",
         loc!(),
         |m| {
+            // The harness's own buffers sit above the bindings of the code under test.
             let input = m.storage::<U32>(
                 "inputs",
                 0,
-                0,
+                INPUT_BINDING,
                 false,
                 "Argument words, one record per invocation.",
             );
-            let handles: Vec<Handle> = f
-                .resources
-                .iter()
-                .enumerate()
-                .map(|(i, r)| {
-                    let binding = 2 + i as u32;
-                    let name = format!("resource{i}");
-                    match r {
-                        GpuResource::Texture2d(_) => {
-                            Handle::Texture2d(m.handle::<nimbus_dsl::cpu::Texture2d>(
-                                &name,
-                                0,
-                                binding,
-                                "A texture of the function under test.",
-                            ))
-                        }
-                        GpuResource::Texture3d(_) => {
-                            Handle::Texture3d(m.handle::<nimbus_dsl::cpu::Texture3d>(
-                                &name,
-                                0,
-                                binding,
-                                "A texture of the function under test.",
-                            ))
-                        }
-                        GpuResource::Sampler(_) => {
-                            Handle::Sampler(m.handle::<nimbus_dsl::cpu::Sampler>(
-                                &name,
-                                0,
-                                binding,
-                                "A sampler of the function under test.",
-                            ))
-                        }
-                    }
-                })
-                .collect();
             let output = m.storage::<U32>(
                 "outputs",
                 0,
-                1,
+                INPUT_BINDING + 1,
                 true,
                 "Result words, one record per invocation.",
             );
@@ -244,18 +211,11 @@ fn kernel(f: &KernelFn<'_>) -> Result<Generated, RuntimeError> {
                     let in_base = index * (in_words as u32);
                     let mut read = |offset: usize| inputs.get(in_base + offset as u32).id();
                     let mut offset = 0;
-                    let mut args: Vec<ExprId> = f
+                    let args: Vec<ExprId> = f
                         .params
                         .iter()
                         .map(|t| load(*t, &mut offset, &mut read))
                         .collect();
-                    for h in &handles {
-                        args.push(match h {
-                            Handle::Texture2d(g) => g.get().id(),
-                            Handle::Texture3d(g) => g.get().id(),
-                            Handle::Sampler(g) => g.get().id(),
-                        });
-                    }
                     let result = (f.call)(&args);
                     let outputs = output.array();
                     let out_base = index * (out_words as u32);
@@ -289,10 +249,41 @@ pub fn run_on_gpu(gpu: &Gpu, f: &KernelFn<'_>, inputs: &[u32]) -> Result<Vec<u32
     let out = gpu.run_compute(
         &kernel,
         "parity_main",
+        INPUT_BINDING,
         &padded,
         groups * WORKGROUP as usize * out_words,
         groups as u32,
         f.resources,
     )?;
     Ok(out[..count * out_words].to_vec())
+}
+
+/// The textures and sampler of the cloud passes at their bindings, for a kernel around a cloud
+/// model function (which reads them as globals).
+pub fn cloud_resources(
+    t: &nimbus_clouds::model::bindings::CloudTextures,
+) -> Vec<(u32, GpuResource)> {
+    use nimbus_clouds::model::bindings::{
+        DETAIL, LINEAR_REPEAT, SHADOW_MAP, SHAPE, TURBULENCE, WEATHER,
+    };
+    vec![
+        (
+            WEATHER.slot().1,
+            GpuResource::Texture2d((*t.weather).clone()),
+        ),
+        (SHAPE.slot().1, GpuResource::Texture3d((*t.shape).clone())),
+        (DETAIL.slot().1, GpuResource::Texture3d((*t.detail).clone())),
+        (
+            TURBULENCE.slot().1,
+            GpuResource::Texture2d((*t.turbulence).clone()),
+        ),
+        (
+            SHADOW_MAP.slot().1,
+            GpuResource::Texture2d((*t.shadow).clone()),
+        ),
+        (
+            LINEAR_REPEAT.slot().1,
+            GpuResource::Sampler(nimbus_dsl::cpu::Sampler::default()),
+        ),
+    ]
 }

@@ -101,7 +101,7 @@ pub fn compare_with(
     params: Vec<Type>,
     result: Type,
     call: &dyn Fn(&[ExprId]) -> ExprId,
-    resources: &[nimbus_runtime::GpuResource],
+    resources: &[(u32, nimbus_runtime::GpuResource)],
     inputs: &[Vec<u32>],
     min_inputs: usize,
     cpu: impl Fn(&[u32]) -> Vec<u32>,

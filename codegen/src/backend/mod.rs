@@ -188,7 +188,9 @@ fn manifest_for(
             (GlobalKind::Storage { .. }, _) => "storage",
             (GlobalKind::Handle { .. }, nimbus_dsl::ir::Type::Sampler) => "sampler",
             (GlobalKind::Handle { .. }, _) => "texture",
-            (GlobalKind::Override { .. } | GlobalKind::Const { .. }, _) => continue,
+            (GlobalKind::Override { .. } | GlobalKind::Const { .. } | GlobalKind::Private, _) => {
+                continue;
+            }
         };
         let target_name = names
             .iter()

@@ -374,7 +374,18 @@ impl Transformer {
             Expr::Closure(c) => return Err(unsupported(c, "a closure")),
             Expr::Tuple(t) => return Err(unsupported(t, "a tuple")),
             Expr::Array(a) => return Err(unsupported(a, "an array")),
-            Expr::Index(i) => return Err(unsupported(i, "indexing")),
+            Expr::Index(i) => {
+                let base = self.expr(&i.expr)?;
+                // Rust indexes with `usize`, the shader with `u32`: `a[i as usize]` on the CPU is
+                // `a[i]` in the shader.
+                let index = match &*i.index {
+                    Expr::Cast(c) if matches!(&*c.ty, syn::Type::Path(t) if t.path.is_ident("usize")) => {
+                        self.expr(&c.expr)?
+                    }
+                    other => self.expr(other)?,
+                };
+                quote! { ::nimbus_dsl::ops::index(#base, #index) }
+            }
             Expr::Struct(st) => {
                 if let Some(rest) = &st.rest {
                     return Err(unsupported(rest, "`..` in a struct literal"));

@@ -32,6 +32,9 @@ pub enum GlobalKind {
     Const {
         value: Literal,
     },
+    /// A `var<private>`: one copy per invocation. Parity harnesses turn a binding into one to
+    /// feed it a value per input record ([`crate::Binding::feed`]).
+    Private,
 }
 
 /// A module-scope declaration.
@@ -52,7 +55,7 @@ impl Global {
             GlobalKind::Uniform { group, binding }
             | GlobalKind::Storage { group, binding, .. }
             | GlobalKind::Handle { group, binding } => Some((group, binding)),
-            GlobalKind::Override { .. } | GlobalKind::Const { .. } => None,
+            GlobalKind::Override { .. } | GlobalKind::Const { .. } | GlobalKind::Private => None,
         }
     }
 }

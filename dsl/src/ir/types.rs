@@ -48,6 +48,8 @@ pub enum Type {
     /// `matCxR<f32>`; only square 3×3 and 4×4 are exposed by the DSL.
     Matrix(u8),
     Struct(&'static StructDef),
+    /// `array<T, N>`: a fixed-size array of constructible values.
+    Array(&'static Type, u32),
     /// `array<scalar>` in a storage buffer (runtime sized).
     RuntimeArray(Scalar),
     Texture2d,
@@ -87,6 +89,7 @@ impl Type {
             Type::Vector(n, s) => format!("vec{n}<{}>", s.wgsl()),
             Type::Matrix(n) => format!("mat{n}x{n}<f32>"),
             Type::Struct(def) => def.name.to_string(),
+            Type::Array(elem, n) => format!("array<{}, {n}>", elem.wgsl()),
             Type::RuntimeArray(s) => format!("array<{}>", s.wgsl()),
             Type::Texture2d => "texture_2d<f32>".to_string(),
             Type::Texture3d => "texture_3d<f32>".to_string(),
@@ -98,7 +101,11 @@ impl Type {
     pub fn is_constructible(self) -> bool {
         matches!(
             self,
-            Type::Scalar(_) | Type::Vector(..) | Type::Matrix(_) | Type::Struct(_)
+            Type::Scalar(_)
+                | Type::Vector(..)
+                | Type::Matrix(_)
+                | Type::Struct(_)
+                | Type::Array(..)
         )
     }
 }

@@ -2,6 +2,7 @@
 //! methods of its CPU twin (`f32`, `glam::Vec3`...), with the same meaning, so one function body
 //! type-checks against both. Mixing types that WGSL would reject (`Vec3 + U32`) does not compile.
 
+mod array;
 mod matrix;
 mod resource;
 pub(crate) mod scalar;
@@ -12,6 +13,7 @@ pub mod scalar_ext {
 mod traits;
 mod vector;
 
+pub use array::{Array, Indexable};
 pub use matrix::{Mat3, Mat4};
 pub use resource::{Sampler, StorageArray, StorageElement, Texture2d, Texture3d};
 pub use scalar::{Bool, F32, I32, U32};

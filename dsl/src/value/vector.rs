@@ -37,6 +37,17 @@ macro_rules! vector {
             type Dsl = $name;
         }
 
+        /// `v[i]`: a component chosen at run time (the CPU twin indexes glam's vector).
+        impl<I: Into<U32>> crate::value::Indexable<I> for $name {
+            type Output = $scalar;
+            fn index_at(self, index: I) -> $scalar {
+                $scalar::from_id(push_expr(
+                    ExprKind::Index(self.id, Value::id(index.into())),
+                    Type::Scalar($sk),
+                ))
+            }
+        }
+
         impl Lift for $glam {
             fn lift(self) -> $name {
                 $name::new($(self.$field),+)

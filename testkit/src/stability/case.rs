@@ -1,9 +1,12 @@
 //! What a hard case is: probes (rays with their uniforms), chains and pairs over them, and the
 //! small textures they read.
 
+use std::sync::Arc;
+
 use glam::{Vec3, Vec4};
 
 use nimbus_clouds::CloudKey;
+use nimbus_clouds::model::bindings::CloudTextures;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_dsl::cpu::{Texture2d, Texture3d};
 
@@ -42,18 +45,8 @@ pub enum CaseTextures {
     Constant(f32),
 }
 
-/// The CPU textures of a case.
-pub struct TextureSet {
-    pub weather: Texture2d,
-    pub shape: Texture3d,
-    pub detail: Texture3d,
-    pub turbulence: Texture2d,
-    /// Beer shadow map texels: front depth (m), mean extinction, max optical depth, tail.
-    pub shadow: Texture2d,
-}
-
 impl CaseTextures {
-    pub fn build(self) -> TextureSet {
+    pub fn build(self) -> CloudTextures {
         match self {
             CaseTextures::Random(seed) | CaseTextures::RandomUnshadowed(seed) => {
                 let shadowed = matches!(self, CaseTextures::Random(_));
@@ -71,53 +64,53 @@ impl CaseTextures {
                         })
                         .collect()
                 };
-                TextureSet {
-                    weather: Texture2d {
+                CloudTextures {
+                    weather: Arc::new(Texture2d {
                         size: [16, 16],
                         texels: texels(256, [1.0; 4]),
-                    },
-                    shape: Texture3d {
+                    }),
+                    shape: Arc::new(Texture3d {
                         size: [16, 16, 16],
                         texels: texels(4096, [1.0; 4]),
-                    },
-                    detail: Texture3d {
+                    }),
+                    detail: Arc::new(Texture3d {
                         size: [8, 8, 8],
                         texels: texels(512, [1.0; 4]),
-                    },
-                    turbulence: Texture2d {
+                    }),
+                    turbulence: Arc::new(Texture2d {
                         size: [8, 8],
                         texels: texels(64, [1.0; 4]),
-                    },
-                    shadow: Texture2d {
+                    }),
+                    shadow: Arc::new(Texture2d {
                         size: [8, 8],
                         texels: texels(64, [1024.0, 0.0625, 4.0, 0.5])
                             .into_iter()
                             .map(|t| if shadowed { t } else { Vec4::ZERO })
                             .collect(),
-                    },
+                    }),
                 }
             }
-            CaseTextures::Constant(v) => TextureSet {
-                weather: Texture2d {
+            CaseTextures::Constant(v) => CloudTextures {
+                weather: Arc::new(Texture2d {
                     size: [1, 1],
                     texels: vec![Vec4::splat(v)],
-                },
-                shape: Texture3d {
+                }),
+                shape: Arc::new(Texture3d {
                     size: [1, 1, 1],
                     texels: vec![Vec4::splat(v)],
-                },
-                detail: Texture3d {
+                }),
+                detail: Arc::new(Texture3d {
                     size: [1, 1, 1],
                     texels: vec![Vec4::splat(v)],
-                },
-                turbulence: Texture2d {
+                }),
+                turbulence: Arc::new(Texture2d {
                     size: [1, 1],
                     texels: vec![Vec4::splat(0.5)],
-                },
-                shadow: Texture2d {
+                }),
+                shadow: Arc::new(Texture2d {
                     size: [1, 1],
                     texels: vec![Vec4::new(0.0, 0.0, 0.0, 0.0)],
-                },
+                }),
             },
         }
     }

@@ -3,9 +3,11 @@
 use glam::{Vec3, Vec4};
 
 use nimbus_clouds::CloudKey;
+use nimbus_clouds::model::bindings::CLOUDS;
 use nimbus_clouds::model::march::{CloudUniforms, cloud_phase, sun_attenuation};
 use nimbus_clouds::model::phase::henyey_greenstein;
 use nimbus_clouds::model::sky::sun_disc;
+use nimbus_dsl::CpuBindings;
 
 use super::case::Case;
 use super::probe::RayOutcome;
@@ -31,8 +33,9 @@ impl std::fmt::Display for Violation {
 /// Largest value of the variant's phase function over all angles (it peaks at cos θ = ±1 for
 /// every kind here; a grid with both ends makes sure).
 fn phase_peak(u: &CloudUniforms, key: &CloudKey) -> f32 {
+    let _bound = CpuBindings::new().set(&CLOUDS, *u).bind();
     (0..=2000)
-        .map(|i| cloud_phase(-1.0 + i as f32 / 1000.0, u.light, 1.0, key.phase))
+        .map(|i| cloud_phase(-1.0 + i as f32 / 1000.0, 1.0, key.phase))
         .fold(INV_FOUR_PI, f32::max)
 }
 

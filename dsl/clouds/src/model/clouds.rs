@@ -2,13 +2,14 @@
 //! with exactly the code, bindings and textures its features use.
 
 use crate::{Features, Genus, Quality};
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
-use nimbus_dsl::ir::{Module, SamplerDesc};
-use nimbus_dsl::{DslError, GlobalRef, ModuleBuilder, ShaderType, loc};
+use nimbus_dsl::ir::Module;
+use nimbus_dsl::{DslError, ModuleBuilder, loc};
+
+pub use super::bindings::{CloudBinding, ResolveBinding};
 
 use super::march::{CloudUniforms, cloud_fragment};
 use super::preview::fullscreen_position;
-use super::resolve::{ResolveParams, resolve_fragment};
+use super::resolve::resolve_fragment;
 use super::shadow::shadow_fragment;
 use crate::key::{CloudKey, ShadowKey};
 
@@ -53,175 +54,6 @@ impl CloudVariant {
     }
 }
 
-/// The entry of `all` at `binding` when `group` is the enum's group: binding enums list their
-/// variants in binding order, so a slot is an index.
-fn slot<T: Copy>(all: &[T], own_group: u32, group: u32, binding: u32) -> Option<T> {
-    (group == own_group)
-        .then(|| all.get(binding as usize).copied())
-        .flatten()
-}
-
-/// The bindings of the cloud passes (clouds and shadow), declared once: slot, name, doc and
-/// sampler state. Both passes number them alike; codegen drops those a pass does not read, and
-/// the runtime binds by this enum, looked up by slot in codegen's binding description.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum CloudBinding {
-    /// Layers, media, march, shadow map, light, sky and camera.
-    Uniforms,
-    /// Local weather: coverage per channel.
-    Weather,
-    /// Perlin–Worley shape noise (128³, tileable).
-    Shape,
-    /// Worley detail noise (32³, tileable).
-    Detail,
-    /// Curl noise for turbulent displacement.
-    Turbulence,
-    /// Beer shadow map atlas: front depth, mean extinction, max and tail optical depth.
-    ShadowMap,
-    /// Trilinear, repeat.
-    Sampler,
-}
-
-impl CloudBinding {
-    pub const GROUP: u32 = 0;
-    pub const ALL: [CloudBinding; 7] = [
-        CloudBinding::Uniforms,
-        CloudBinding::Weather,
-        CloudBinding::Shape,
-        CloudBinding::Detail,
-        CloudBinding::Turbulence,
-        CloudBinding::ShadowMap,
-        CloudBinding::Sampler,
-    ];
-
-    /// The binding index in [`Self::GROUP`].
-    pub fn binding(self) -> u32 {
-        self as u32
-    }
-
-    /// The binding at `(group, binding)`.
-    pub fn at(group: u32, binding: u32) -> Option<CloudBinding> {
-        slot(&Self::ALL, Self::GROUP, group, binding)
-    }
-
-    fn name(self) -> &'static str {
-        match self {
-            CloudBinding::Uniforms => "clouds",
-            CloudBinding::Weather => "weather_texture",
-            CloudBinding::Shape => "shape_texture",
-            CloudBinding::Detail => "detail_texture",
-            CloudBinding::Turbulence => "turbulence_texture",
-            CloudBinding::ShadowMap => "shadow_map",
-            CloudBinding::Sampler => "linear_sampler",
-        }
-    }
-
-    fn doc(self) -> &'static str {
-        match self {
-            CloudBinding::Uniforms => "Layers, media, march, shadow map, light, sky and camera.",
-            CloudBinding::Weather => "Local weather: coverage per channel.",
-            CloudBinding::Shape => "Perlin–Worley shape noise (128³, tileable).",
-            CloudBinding::Detail => "Worley detail noise (32³, tileable).",
-            CloudBinding::Turbulence => "Curl noise for turbulent displacement.",
-            CloudBinding::ShadowMap => {
-                "Beer shadow map atlas: front depth, mean extinction, max and tail optical depth."
-            }
-            CloudBinding::Sampler => "Trilinear, repeat.",
-        }
-    }
-}
-
-type Handle<T> = GlobalRef<<T as ShaderType>::Dsl>;
-
-/// The declared handles of [`CloudBinding`].
-struct CloudBindings {
-    clouds: Handle<CloudUniforms>,
-    weather: Handle<Texture2d>,
-    shape: Handle<Texture3d>,
-    detail: Handle<Texture3d>,
-    turbulence: Handle<Texture2d>,
-    shadow: Handle<Texture2d>,
-    sampler: Handle<Sampler>,
-}
-
-impl CloudBindings {
-    fn declare(m: &mut ModuleBuilder) -> CloudBindings {
-        use CloudBinding as B;
-        let g = B::GROUP;
-        CloudBindings {
-            clouds: m.uniform::<CloudUniforms>(
-                B::Uniforms.name(),
-                g,
-                B::Uniforms.binding(),
-                B::Uniforms.doc(),
-            ),
-            weather: m.handle::<Texture2d>(
-                B::Weather.name(),
-                g,
-                B::Weather.binding(),
-                B::Weather.doc(),
-            ),
-            shape: m.handle::<Texture3d>(B::Shape.name(), g, B::Shape.binding(), B::Shape.doc()),
-            detail: m.handle::<Texture3d>(
-                B::Detail.name(),
-                g,
-                B::Detail.binding(),
-                B::Detail.doc(),
-            ),
-            turbulence: m.handle::<Texture2d>(
-                B::Turbulence.name(),
-                g,
-                B::Turbulence.binding(),
-                B::Turbulence.doc(),
-            ),
-            shadow: m.handle::<Texture2d>(
-                B::ShadowMap.name(),
-                g,
-                B::ShadowMap.binding(),
-                B::ShadowMap.doc(),
-            ),
-            sampler: m.sampler(
-                B::Sampler.name(),
-                g,
-                B::Sampler.binding(),
-                SamplerDesc::LINEAR_REPEAT,
-                B::Sampler.doc(),
-            ),
-        }
-    }
-}
-
-/// The bindings of the temporal resolve pass, declared once.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ResolveBinding {
-    /// Offsets, weights, reprojection.
-    Params,
-    /// This frame's clouds.
-    Current,
-    /// Last resolved frame.
-    History,
-    /// Nearest, clamp.
-    Nearest,
-    /// Bilinear, clamp.
-    Linear,
-}
-
-impl ResolveBinding {
-    pub const GROUP: u32 = 0;
-    pub const ALL: [ResolveBinding; 5] = [
-        ResolveBinding::Params,
-        ResolveBinding::Current,
-        ResolveBinding::History,
-        ResolveBinding::Nearest,
-        ResolveBinding::Linear,
-    ];
-
-    /// The binding at `(group, binding)`.
-    pub fn at(group: u32, binding: u32) -> Option<ResolveBinding> {
-        slot(&Self::ALL, Self::GROUP, group, binding)
-    }
-}
-
 /// Records the cloud module of `key`.
 pub fn cloud_module(key: &CloudKey) -> Result<Module, DslError> {
     let key = *key;
@@ -233,7 +65,6 @@ pub fn cloud_module(key: &CloudKey) -> Result<Module, DslError> {
         ),
         loc!(),
         |m| {
-            let b = CloudBindings::declare(m);
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
@@ -241,19 +72,7 @@ pub fn cloud_module(key: &CloudKey) -> Result<Module, DslError> {
                 "fs_main",
                 "Clouds, sky and haze for one pixel.",
                 loc!(),
-                |frag_coord| {
-                    cloud_fragment::shader(
-                        frag_coord,
-                        b.clouds.get(),
-                        b.weather.get(),
-                        b.shape.get(),
-                        b.detail.get(),
-                        b.turbulence.get(),
-                        b.shadow.get(),
-                        b.sampler.get(),
-                        key,
-                    )
-                },
+                |frag_coord| cloud_fragment::shader(frag_coord, key),
             );
         },
     )
@@ -280,7 +99,7 @@ impl CloudUniforms {
         camera_altitude: f32,
     ) -> Self {
         let st = quality.settings();
-        let [group0, group1] = LayerGroup::from_genus(genus);
+        let groups = LayerGroup::from_genus(genus);
         let enabled = genus.layers.iter().filter(|l| l.is_enabled());
         let (mut min_h, mut max_h, mut shadow_top) = (f32::MAX, 0.0f32, 0.0f32);
         for l in enabled {
@@ -308,8 +127,7 @@ impl CloudUniforms {
             0.5 * (min_h.min(max_h) + max_h),
         );
         CloudUniforms {
-            group0,
-            group1,
+            groups,
             media: MediaParams {
                 coverage: genus.coverage,
                 ..MediaParams::default()
@@ -424,8 +242,6 @@ pub fn shadow_module(key: &ShadowKey) -> Result<Module, DslError> {
         &format!("Beer shadow map atlas, key `{name}`."),
         loc!(),
         |m| {
-            // The shadow map binding is declared too, and dropped: nothing here reads it.
-            let b = CloudBindings::declare(m);
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
@@ -433,18 +249,7 @@ pub fn shadow_module(key: &ShadowKey) -> Result<Module, DslError> {
                 "fs_shadow",
                 "One texel of the shadow atlas.",
                 loc!(),
-                |frag_coord| {
-                    shadow_fragment::shader(
-                        frag_coord,
-                        b.clouds.get(),
-                        b.weather.get(),
-                        b.shape.get(),
-                        b.detail.get(),
-                        b.turbulence.get(),
-                        b.sampler.get(),
-                        key,
-                    )
-                },
+                |frag_coord| shadow_fragment::shader(frag_coord, key),
             );
         },
     )
@@ -457,52 +262,11 @@ pub fn resolve_module() -> Result<Module, DslError> {
         "Temporal resolve: upscaling and accumulation with reprojection and history clipping.",
         loc!(),
         |m| {
-            use ResolveBinding as B;
-            let g = B::GROUP;
-            let r = m.uniform::<ResolveParams>(
-                "resolve",
-                g,
-                B::Params as u32,
-                "Offsets, weights, reprojection.",
-            );
-            let current = m.handle::<Texture2d>(
-                "current_texture",
-                g,
-                B::Current as u32,
-                "This frame's clouds.",
-            );
-            let history = m.handle::<Texture2d>(
-                "history_texture",
-                g,
-                B::History as u32,
-                "Last resolved frame.",
-            );
-            let nearest = m.sampler(
-                "nearest_sampler",
-                g,
-                B::Nearest as u32,
-                SamplerDesc::NEAREST_CLAMP,
-                "Nearest, clamp.",
-            );
-            let linear = m.sampler(
-                "linear_sampler",
-                g,
-                B::Linear as u32,
-                SamplerDesc::LINEAR_CLAMP,
-                "Bilinear, clamp.",
-            );
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
             m.fragment("fs_resolve", "One resolved pixel.", loc!(), |frag_coord| {
-                resolve_fragment::shader(
-                    frag_coord,
-                    r.get(),
-                    current.get(),
-                    history.get(),
-                    nearest.get(),
-                    linear.get(),
-                )
+                resolve_fragment::shader(frag_coord)
             });
         },
     )

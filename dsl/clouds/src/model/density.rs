@@ -6,9 +6,9 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use nimbus_dsl::SpecValue;
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::prelude::*;
 
+use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER};
 use super::layers::LayerGroup;
 
 /// Which erosion stages a density sample runs; decided per variant.
@@ -125,18 +125,14 @@ pub fn profile4(eta: Vec4, layers: LayerGroup) -> Vec4 {
     layers.profile_a * (layers.profile_b * eta).exp() + layers.profile_c * eta + layers.profile_d
 }
 
-/// Coverage-stage density of each layer at a point: what the weather allows before erosion.
+/// Coverage-stage density of each layer of group `group` at a point (in noise space): what the
+/// weather allows before erosion.
 #[shader_fn]
-pub fn weather_density(
-    position: Vec3,
-    altitude: f32,
-    layers: LayerGroup,
-    media: MediaParams,
-    weather_tex: &Texture2d,
-    smp: &Sampler,
-) -> Vec4 {
+pub fn weather_density(position: Vec3, altitude: f32, group: u32) -> Vec4 {
+    let layers = CLOUDS.get().groups[group as usize];
+    let media = CLOUDS.get().media;
     let uv = vec2(position.x, position.z) * media.weather_repeat + media.weather_offset;
-    let rgba = weather_tex.sample_level(smp, uv, 0.0);
+    let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
     let weather = (layers.channel_matrix * rgba)
         .saturate()
         .pow(layers.weather_exponent);
@@ -145,42 +141,38 @@ pub fn weather_density(
     coverage_remap(weather, media.coverage, shape, layers.coverage_filter_width)
 }
 
-/// Density of each layer at `position` (camera-relative metres in the local tangent frame,
-/// y up) and `altitude` (m above the ground), with the erosion stages of `features`.
+/// Density of each layer of group `group` at `position` (noise space: camera-relative metres in
+/// the local tangent frame, y up, plus the camera's offset) and `altitude` (m above the ground),
+/// with the erosion stages of `features`.
 #[shader_fn]
-#[expect(
-    clippy::too_many_arguments,
-    reason = "WGSL cannot put textures in a struct; each texture is its own parameter"
-)]
 pub fn layer_density(
     position: Vec3,
     altitude: f32,
-    layers: LayerGroup,
-    media: MediaParams,
-    weather_tex: &Texture2d,
-    shape_tex: &Texture3d,
-    detail_tex: &Texture3d,
-    turbulence_tex: &Texture2d,
-    smp: &Sampler,
+    group: u32,
     #[spec] features: DensityFeatures,
 ) -> Vec4 {
-    let coverage = weather_density(position, altitude, layers, media, weather_tex, smp);
+    let layers = CLOUDS.get().groups[group as usize];
+    let media = CLOUDS.get().media;
+    let smp = LINEAR_REPEAT.get();
+    let coverage = weather_density(position, altitude, group);
     let eta = height_fraction(altitude, layers);
     let mut p = position;
     if features.turbulence {
         let uv = vec2(position.x, position.z) * media.weather_repeat * media.turbulence_repeat;
-        let curl = turbulence_tex.sample_level(smp, uv, 0.0).xyz() * 2.0 - Vec3::ONE;
+        let curl = TURBULENCE.get().sample_level(&smp, uv, 0.0).xyz() * 2.0 - Vec3::ONE;
         // Strongest at the base, gone by η = 0.3, weighted by how much cloud is there.
         let fade = ((Vec4::splat(0.3) - eta) / 0.3).saturate();
         p += curl * (media.turbulence_displacement * coverage.dot(fade));
     }
-    let s = shape_tex
-        .sample_level(smp, p * media.shape_repeat + media.shape_offset, 0.0)
+    let s = SHAPE
+        .get()
+        .sample_level(&smp, p * media.shape_repeat + media.shape_offset, 0.0)
         .x;
     let mut density = shape_erosion(coverage, s, layers.shape_amount);
     if features.shape_detail {
-        let d = detail_tex
-            .sample_level(smp, p * media.detail_repeat + media.detail_offset, 0.0)
+        let d = DETAIL
+            .get()
+            .sample_level(&smp, p * media.detail_repeat + media.detail_offset, 0.0)
             .x;
         density = detail_erosion(density, d, eta, layers.shape_detail_amount);
     }

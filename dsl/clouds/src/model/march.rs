@@ -9,9 +9,9 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::key::{CloudKey, PhaseKind};
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::prelude::*;
 
+use super::bindings::CLOUDS;
 use super::density::{MediaParams, layer_density, weather_density};
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
@@ -81,8 +81,8 @@ pub struct HazeParams {
 /// All uniforms of the cloud pass.
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
 pub struct CloudUniforms {
-    pub group0: LayerGroup,
-    pub group1: LayerGroup,
+    /// Four layers per group; a variant reads the first `key.groups` of them.
+    pub groups: [LayerGroup; 2],
     pub media: MediaParams,
     pub march: MarchParams,
     pub light: LightParams,
@@ -136,12 +136,8 @@ pub fn altitude_along(camera_altitude: f32, mu: f32, t: f32, radius: f32) -> f32
 
 /// Phase function with the anisotropy scaled by `g_scale` (the octave attenuation `cᵏ`).
 #[shader_fn]
-pub fn cloud_phase(
-    cos_theta: f32,
-    light: LightParams,
-    g_scale: f32,
-    #[spec] kind: PhaseKind,
-) -> f32 {
+pub fn cloud_phase(cos_theta: f32, g_scale: f32, #[spec] kind: PhaseKind) -> f32 {
+    let light = CLOUDS.get().light;
     match kind {
         PhaseKind::HenyeyGreenstein => henyey_greenstein(cos_theta, light.g1 * g_scale),
         PhaseKind::DualLobe => mix(
@@ -166,7 +162,6 @@ pub fn cloud_phase(
 pub fn multiple_scattering(
     optical_depth: f32,
     cos_theta: f32,
-    light: LightParams,
     #[spec] kind: PhaseKind,
     #[spec] octaves: u32,
 ) -> f32 {
@@ -175,9 +170,8 @@ pub fn multiple_scattering(
     let mut depth_scale = 1.0f32;
     let mut g_scale = 1.0f32;
     for _octave in 0u32..octaves {
-        sum += weight
-            * (-optical_depth * depth_scale).exp()
-            * cloud_phase(cos_theta, light, g_scale, kind);
+        sum +=
+            weight * (-optical_depth * depth_scale).exp() * cloud_phase(cos_theta, g_scale, kind);
         weight *= 0.5;
         depth_scale *= 0.5;
         g_scale *= 0.5;
@@ -185,48 +179,13 @@ pub fn multiple_scattering(
     sum
 }
 
-/// Density (summed over every layer group) at a camera-relative position.
+/// Density (summed over the layer groups of the key) at a camera-relative position.
 #[shader_fn]
-#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
-pub fn total_density(
-    position: Vec3,
-    altitude: f32,
-    u: CloudUniforms,
-    weather_tex: &Texture2d,
-    shape_tex: &Texture3d,
-    detail_tex: &Texture3d,
-    turbulence_tex: &Texture2d,
-    smp: &Sampler,
-    #[spec] key: CloudKey,
-) -> f32 {
-    let p = position + u.camera_offset;
-    let mut sum = layer_density(
-        p,
-        altitude,
-        u.group0,
-        u.media,
-        weather_tex,
-        shape_tex,
-        detail_tex,
-        turbulence_tex,
-        smp,
-        key.density_features(),
-    )
-    .dot(Vec4::ONE);
-    if key.groups > 1u32 {
-        sum += layer_density(
-            p,
-            altitude,
-            u.group1,
-            u.media,
-            weather_tex,
-            shape_tex,
-            detail_tex,
-            turbulence_tex,
-            smp,
-            key.density_features(),
-        )
-        .dot(Vec4::ONE);
+pub fn total_density(position: Vec3, altitude: f32, #[spec] key: CloudKey) -> f32 {
+    let p = position + CLOUDS.get().camera_offset;
+    let mut sum = 0.0f32;
+    for group in 0u32..key.groups {
+        sum += layer_density(p, altitude, group, key.density_features()).dot(Vec4::ONE);
     }
     sum
 }
@@ -234,40 +193,25 @@ pub fn total_density(
 /// Optical depth along `direction` from a sample, by `steps` geometrically growing steps
 /// (first `min_step / steps`, then ×`step_scale`). With 0 steps it is 0: no fudge constant.
 #[shader_fn]
-#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
 pub fn secondary_optical_depth(
     position: Vec3,
     altitude: f32,
     direction: Vec3,
     steps: u32,
-    u: CloudUniforms,
-    weather_tex: &Texture2d,
-    shape_tex: &Texture3d,
-    detail_tex: &Texture3d,
-    turbulence_tex: &Texture2d,
-    smp: &Sampler,
     #[spec] key: CloudKey,
 ) -> f32 {
+    let m = CLOUDS.get().march;
+    let l = CLOUDS.get().light;
     let mut tau = 0.0f32;
-    let mut step = u.march.min_secondary_step / (steps.max(1u32) as f32);
+    let mut step = m.min_secondary_step / (steps.max(1u32) as f32);
     let mut t = 0.5 * step;
     for _i in 0u32..steps {
-        let h = altitude_along(altitude, direction.y, t, u.march.radius);
-        let rho = total_density(
-            position + direction * t,
-            h,
-            u,
-            weather_tex,
-            shape_tex,
-            detail_tex,
-            turbulence_tex,
-            smp,
-            key,
-        );
-        let sigma_t = rho * (u.light.scattering_coefficient + u.light.absorption_coefficient);
+        let h = altitude_along(altitude, direction.y, t, m.radius);
+        let rho = total_density(position + direction * t, h, key);
+        let sigma_t = rho * (l.scattering_coefficient + l.absorption_coefficient);
         tau += sigma_t * step;
         t += step;
-        step *= u.march.secondary_step_scale;
+        step *= m.secondary_step_scale;
     }
     tau
 }
@@ -291,7 +235,9 @@ pub fn shadow_optical_depth(texel: Vec4, distance: f32, offset: f32) -> f32 {
 /// the gap ([`next_boundary`]) rather than stopping at the first exit, so the result does not
 /// jump when the ray, or the camera, crosses a shell.
 #[shader_fn]
-pub fn cloud_range(camera_altitude: f32, mu: f32, march: MarchParams) -> Vec2 {
+pub fn cloud_range(mu: f32) -> Vec2 {
+    let camera_altitude = CLOUDS.get().camera_altitude;
+    let march = CLOUDS.get().march;
     let bottom = ray_shell(camera_altitude, mu, march.min_height, march.radius);
     let top = ray_shell(camera_altitude, mu, march.max_height, march.radius);
     let ground = ground_hit(camera_altitude, mu, march.radius);
@@ -353,7 +299,9 @@ pub fn sun_attenuation(altitude: f32, camera_altitude: f32, sun_cos: f32) -> f32
 /// `1 − e^(−τ)`, `τ = ρ₀ e^(−k h_c) (1 − e^(−kμL)) / (kμ)`, with μ kept off 0 so horizontal rays
 /// stay finite (the limit is `ρ₀ e^(−k h_c) L`).
 #[shader_fn]
-pub fn haze_opacity(camera_altitude: f32, mu: f32, distance: f32, haze: HazeParams) -> f32 {
+pub fn haze_opacity(mu: f32, distance: f32) -> f32 {
+    let haze = CLOUDS.get().haze;
+    let camera_altitude = CLOUDS.get().camera_altitude;
     let rho0 = haze.density * (-haze.exponent * camera_altitude).exp();
     let k_mu = haze.exponent * select(mu.max(1e-5), mu.min(-1e-5), mu < 0.0);
     let tau = rho0 * (1.0 - (-k_mu * distance).exp()) / k_mu;
@@ -363,14 +311,8 @@ pub fn haze_opacity(camera_altitude: f32, mu: f32, distance: f32, haze: HazePara
 /// Length of the view ray's path that lies in cloud shadow (m), by marching the beer shadow
 /// map: each step adds its shadowed fraction `1 − e^(−τ_BSM)`.
 #[shader_fn]
-pub fn shadow_length(
-    direction: Vec3,
-    distance: f32,
-    jitter: f32,
-    u: CloudUniforms,
-    shadow_tex: &Texture2d,
-    smp: &Sampler,
-) -> f32 {
+pub fn shadow_length(direction: Vec3, distance: f32, jitter: f32) -> f32 {
+    let u = CLOUDS.get();
     let m = u.march;
     let mut length = 0.0f32;
     let mut step = m.min_step;
@@ -381,7 +323,7 @@ pub fn shadow_length(
         }
         let p = direction * t;
         let h = altitude_along(u.camera_altitude, direction.y, t, m.radius);
-        let texel = shadow_texel(p, u.shadow, shadow_tex, smp);
+        let texel = shadow_texel(p);
         let to_top = (m.shadow_top_height - h).max(0.0) / u.light.sun_direction.y.max(0.01);
         length += (1.0 - (-shadow_optical_depth(texel, to_top, 0.0)).exp()) * step;
         // Steps grow with distance (coarser where a pixel covers more), up to the maximum step.
@@ -394,11 +336,12 @@ pub fn shadow_length(
 const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
 const INV_FOUR_PI: f32 = 0.079_577_47;
 
-/// How many of a group's layers contain `altitude`, give or take 1 cm: a sample placed on a
-/// boundary must not read as outside because its altitude rounded the wrong way (the march
-/// would then jump past the layer). A zero-height layer contains nothing.
+/// How many of the layers of group `group` contain `altitude`, give or take 1 cm: a sample
+/// placed on a boundary must not read as outside because its altitude rounded the wrong way
+/// (the march would then jump past the layer). A zero-height layer contains nothing.
 #[shader_fn]
-pub fn layers_containing(altitude: f32, group: LayerGroup) -> f32 {
+pub fn layers_containing(altitude: f32, group: u32) -> f32 {
+    let group = CLOUDS.get().groups[group as usize];
     let h = Vec4::splat(altitude);
     let tolerance = Vec4::splat(1e-2);
     let inside = step(group.min_height - tolerance, h)
@@ -412,7 +355,8 @@ pub fn layers_containing(altitude: f32, group: LayerGroup) -> f32 {
 /// jumps a gap between layers resumes with the step it would have had, and a camera either
 /// side of a shell samples the layer beyond alike.
 #[shader_fn]
-pub fn march_step(t: f32, march: MarchParams) -> f32 {
+pub fn march_step(t: f32) -> f32 {
+    let march = CLOUDS.get().march;
     (march.min_step + (march.perspective_step_scale - 1.0) * t.max(0.0)).min(march.max_step)
 }
 
@@ -423,27 +367,38 @@ pub fn earliest_after(t: f32, roots: Vec2, best: f32) -> f32 {
     select(a, a.min(roots.y), roots.y > t)
 }
 
-/// Distance to the next crossing of any layer boundary of `group` beyond `t` (or `best`).
+/// Distance to the next crossing of any layer boundary of group `group` beyond `t` (or
+/// `best`): the bottoms of its four layers, then their tops.
 #[shader_fn]
-pub fn next_boundary(
-    camera_altitude: f32,
-    mu: f32,
-    t: f32,
-    group: LayerGroup,
-    radius: f32,
-    best: f32,
-) -> f32 {
-    let lo = group.min_height;
-    let hi = group.max_height;
+pub fn next_boundary(mu: f32, t: f32, group: u32, best: f32) -> f32 {
+    let camera_altitude = CLOUDS.get().camera_altitude;
+    let radius = CLOUDS.get().march.radius;
+    let layers = CLOUDS.get().groups[group as usize];
     let mut b = best;
-    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.x, radius), b);
-    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.y, radius), b);
-    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.z, radius), b);
-    b = earliest_after(t, ray_shell(camera_altitude, mu, lo.w, radius), b);
-    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.x, radius), b);
-    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.y, radius), b);
-    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.z, radius), b);
-    b = earliest_after(t, ray_shell(camera_altitude, mu, hi.w, radius), b);
+    for lane in 0u32..4u32 {
+        b = earliest_after(
+            t,
+            ray_shell(
+                camera_altitude,
+                mu,
+                layers.min_height[lane as usize],
+                radius,
+            ),
+            b,
+        );
+    }
+    for lane in 0u32..4u32 {
+        b = earliest_after(
+            t,
+            ray_shell(
+                camera_altitude,
+                mu,
+                layers.max_height[lane as usize],
+                radius,
+            ),
+            b,
+        );
+    }
     b
 }
 
@@ -453,30 +408,20 @@ pub fn next_boundary(
 /// the maximum step by 100 km, where a pixel covers that much anyway (as @takram/three-clouds'
 /// weather-mip ramp `mix(step, maxStepSize, min(1, mip))`, with `mip = log2(1 + t·1e-5)`).
 #[shader_fn]
-pub fn empty_step(t: f32, step: f32, march: MarchParams) -> f32 {
+pub fn empty_step(t: f32, step: f32) -> f32 {
+    let march = CLOUDS.get().march;
     let far = (1.0 + t.max(0.0) * 1e-5).log2().min(1.0);
     mix(step, march.max_step.max(step), far)
 }
 
 /// Marches one view ray (unit `direction`, local frame) through the clouds.
 #[shader_fn]
-#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
-pub fn march_clouds(
-    direction: Vec3,
-    jitter: f32,
-    u: CloudUniforms,
-    weather_tex: &Texture2d,
-    shape_tex: &Texture3d,
-    detail_tex: &Texture3d,
-    turbulence_tex: &Texture2d,
-    shadow_tex: &Texture2d,
-    smp: &Sampler,
-    #[spec] key: CloudKey,
-) -> MarchResult {
+pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> MarchResult {
+    let u = CLOUDS.get();
     let m = u.march;
     let l = u.light;
     let mu = direction.y;
-    let range = cloud_range(u.camera_altitude, mu, m);
+    let range = cloud_range(mu);
     let cos_theta = direction.dot(l.sun_direction);
     let sigma_ratio = l.scattering_coefficient + l.absorption_coefficient;
     let mut radiance = Vec3::ZERO;
@@ -484,7 +429,7 @@ pub fn march_clouds(
     let mut depth_sum = 0.0f32;
     let mut weight_sum = 0.0f32;
     let mut samples = 0.0f32;
-    let mut step = march_step(range.x, m);
+    let mut step = march_step(range.x);
     let mut t = range.x.max(0.0) + step * jitter;
     for _i in 0u32..m.max_iterations {
         if t > range.y {
@@ -492,70 +437,44 @@ pub fn march_clouds(
         }
         let h = altitude_along(u.camera_altitude, mu, t, m.radius);
         // Between layers: jump to the next layer boundary instead of stepping through the gap.
-        let mut inside = layers_containing(h, u.group0);
-        if key.groups > 1u32 {
-            inside += layers_containing(h, u.group1);
+        let mut inside = 0.0f32;
+        for group in 0u32..key.groups {
+            inside += layers_containing(h, group);
         }
         if inside < 0.5 {
-            let mut next = next_boundary(u.camera_altitude, mu, t, u.group0, m.radius, 1e30);
-            if key.groups > 1u32 {
-                next = next_boundary(u.camera_altitude, mu, t, u.group1, m.radius, next);
+            let mut next = 1e30f32;
+            for group in 0u32..key.groups {
+                next = next_boundary(mu, t, group, next);
             }
             if next > 1e29 {
                 break;
             }
             // Resume inside the next layer as a march starting there would: same step, same
             // jitter.
-            step = march_step(next, m);
+            step = march_step(next);
             t = next + step * jitter;
             continue;
         }
         let p = direction * t;
         // Cheap coverage test before the full density: no weather here, take a long step.
-        let mut coverage =
-            weather_density(p + u.camera_offset, h, u.group0, u.media, weather_tex, smp)
-                .dot(Vec4::ONE);
-        if key.groups > 1u32 {
-            coverage +=
-                weather_density(p + u.camera_offset, h, u.group1, u.media, weather_tex, smp)
-                    .dot(Vec4::ONE);
+        let mut coverage = 0.0f32;
+        for group in 0u32..key.groups {
+            coverage += weather_density(p + u.camera_offset, h, group).dot(Vec4::ONE);
         }
         if coverage <= m.min_density {
-            t += empty_step(t, step, m);
-            step = march_step(t, m);
+            t += empty_step(t, step);
+            step = march_step(t);
             continue;
         }
-        let rho = total_density(
-            p,
-            h,
-            u,
-            weather_tex,
-            shape_tex,
-            detail_tex,
-            turbulence_tex,
-            smp,
-            key,
-        );
+        let rho = total_density(p, h, key);
         samples += 1.0;
         let sigma_s = rho * l.scattering_coefficient;
         let sigma_t = rho * sigma_ratio;
         if sigma_t > m.min_extinction {
             samples += m.sun_steps as f32;
-            let mut tau_sun = secondary_optical_depth(
-                p,
-                h,
-                l.sun_direction,
-                m.sun_steps,
-                u,
-                weather_tex,
-                shape_tex,
-                detail_tex,
-                turbulence_tex,
-                smp,
-                key,
-            );
+            let mut tau_sun = secondary_optical_depth(p, h, l.sun_direction, m.sun_steps, key);
             if key.features.shadows {
-                let texel = shadow_texel(p, u.shadow, shadow_tex, smp);
+                let texel = shadow_texel(p);
                 let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
                 let reach =
                     secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale);
@@ -566,22 +485,11 @@ pub fn march_clouds(
                 sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
             }
             let mut light =
-                sun * multiple_scattering(tau_sun, cos_theta, l, key.phase, key.features.octaves);
+                sun * multiple_scattering(tau_sun, cos_theta, key.phase, key.features.octaves);
             if key.features.ground_bounce {
                 samples += m.ground_steps as f32;
-                let tau_ground = secondary_optical_depth(
-                    p,
-                    h,
-                    vec3(0.0, -1.0, 0.0),
-                    m.ground_steps,
-                    u,
-                    weather_tex,
-                    shape_tex,
-                    detail_tex,
-                    turbulence_tex,
-                    smp,
-                    key,
-                );
+                let tau_ground =
+                    secondary_optical_depth(p, h, vec3(0.0, -1.0, 0.0), m.ground_steps, key);
                 let ground_irradiance = l.sky_irradiance
                     + l.sun_irradiance * ((1.0 - u.media.coverage) * l.sun_direction.y.max(0.0));
                 let bounce = l.ground_albedo
@@ -613,7 +521,7 @@ pub fn march_clouds(
             }
         }
         t += step;
-        step = march_step(t, m);
+        step = march_step(t);
     }
     MarchResult {
         radiance,
@@ -626,18 +534,8 @@ pub fn march_clouds(
 /// Colour of one pixel: its ray marched through the clouds, then composited
 /// ([`composite`]). The instrumented variant puts the march's density samples in alpha.
 #[shader_fn]
-#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
-pub fn cloud_fragment(
-    frag_coord: Vec4,
-    u: CloudUniforms,
-    weather_tex: &Texture2d,
-    shape_tex: &Texture3d,
-    detail_tex: &Texture3d,
-    turbulence_tex: &Texture2d,
-    shadow_tex: &Texture2d,
-    smp: &Sampler,
-    #[spec] key: CloudKey,
-) -> Vec4 {
+pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
+    let u = CLOUDS.get();
     let pixel = vec2(frag_coord.x, frag_coord.y).floor() * u.pixel_scale
         + u.pixel_offset
         + Vec2::splat(0.5);
@@ -648,19 +546,8 @@ pub fn cloud_fragment(
     let clip = u.inverse_view_projection * vec4(ndc.x, ndc.y, 1.0, 1.0);
     let direction = (clip.xyz() / clip.w).normalize();
     let jitter = (interleaved_gradient_noise(pixel, u.frame) + u.jitter).fract_gl();
-    let clouds = march_clouds(
-        direction,
-        jitter,
-        u,
-        weather_tex,
-        shape_tex,
-        detail_tex,
-        turbulence_tex,
-        shadow_tex,
-        smp,
-        key,
-    );
-    let color = composite(direction, jitter, clouds, u, shadow_tex, smp, key);
+    let clouds = march_clouds(direction, jitter, key);
+    let color = composite(direction, jitter, clouds, key);
     if key.count_samples {
         return color.xyz().extend(clouds.samples);
     }
@@ -672,15 +559,8 @@ pub fn cloud_fragment(
 /// camera and the clouds in front; then haze, lit by the sun only where the light-shaft march
 /// finds no cloud shadow. Alpha is the clouds' opacity.
 #[shader_fn]
-pub fn composite(
-    direction: Vec3,
-    jitter: f32,
-    clouds: MarchResult,
-    u: CloudUniforms,
-    shadow_tex: &Texture2d,
-    smp: &Sampler,
-    #[spec] key: CloudKey,
-) -> Vec4 {
+pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key: CloudKey) -> Vec4 {
+    let u = CLOUDS.get();
     let sun = u.light.sun_direction;
     let radius = u.march.radius;
     let cos_theta = direction.dot(sun);
@@ -700,7 +580,7 @@ pub fn composite(
         if key.features.shadows {
             let ground = direction * -behind;
             let to_top = u.march.shadow_top_height / sun.y.max(0.01);
-            let texel = shadow_texel(ground, u.shadow, shadow_tex, smp);
+            let texel = shadow_texel(ground);
             sunlit = (-shadow_optical_depth(texel, to_top, 0.0)).exp();
         }
         background += air.transmittance
@@ -731,18 +611,16 @@ pub fn composite(
         // Haze and shafts end at the clouds' front, the ground, or the march's reach.
         let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
         let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
-        let opacity = haze_opacity(u.camera_altitude, direction.y, distance, u.haze);
+        let opacity = haze_opacity(direction.y, distance);
         let mut sunlit = 1.0f32;
         if key.features.light_shafts {
-            sunlit = 1.0
-                - (shadow_length(direction, distance, jitter, u, shadow_tex, smp)
-                    / distance.max(1.0))
-                .saturate();
+            sunlit =
+                1.0 - (shadow_length(direction, distance, jitter) / distance.max(1.0)).saturate();
         }
         let albedo = u.haze.scattering_coefficient
             / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
         let haze_light = (u.light.sun_irradiance
-            * (cloud_phase(cos_theta, u.light, 1.0, key.phase) * sunlit)
+            * (cloud_phase(cos_theta, 1.0, key.phase) * sunlit)
             + u.light.sky_irradiance * INV_FOUR_PI)
             * albedo;
         color = color + (haze_light - color) * opacity;

@@ -12,8 +12,9 @@
 
 use glam::{Mat4, Vec2, Vec4};
 
-use nimbus_dsl::cpu::{Sampler, Texture2d};
 use nimbus_dsl::prelude::*;
+
+use super::bindings::{CURRENT, HISTORY, LINEAR_CLAMP, NEAREST_CLAMP, RESOLVE};
 
 /// Uniforms of the resolve pass.
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
@@ -57,25 +58,21 @@ pub const BAYER_OFFSETS: [[u32; 2]; 16] = [
 
 /// One pixel of the resolved image.
 #[shader_fn]
-pub fn resolve_fragment(
-    frag_coord: Vec4,
-    r: ResolveParams,
-    current_tex: &Texture2d,
-    history_tex: &Texture2d,
-    nearest: &Sampler,
-    linear: &Sampler,
-) -> Vec4 {
+pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {
+    let r = RESOLVE.get();
+    let current_tex = CURRENT.get();
+    let nearest = NEAREST_CLAMP.get();
     let pixel = vec2(frag_coord.x, frag_coord.y).floor();
     let block = (pixel / r.pixel_scale).floor();
     let texel = Vec2::ONE / r.low_resolution;
-    let current = current_tex.sample_level(nearest, (block + Vec2::splat(0.5)) * texel, 0.0);
+    let current = current_tex.sample_level(&nearest, (block + Vec2::splat(0.5)) * texel, 0.0);
     // Mean and spread of the current samples around this block.
     let mut sum = Vec4::ZERO;
     let mut sum_sq = Vec4::ZERO;
     for dy in -1i32..2i32 {
         for dx in -1i32..2i32 {
             let uv = (block + vec2(dx as f32, dy as f32) + Vec2::splat(0.5)) * texel;
-            let c = current_tex.sample_level(nearest, uv, 0.0);
+            let c = current_tex.sample_level(&nearest, uv, 0.0);
             sum += c;
             sum_sq += c * c;
         }
@@ -98,7 +95,7 @@ pub fn resolve_fragment(
     if !on_screen {
         return current;
     }
-    let history = history_tex.sample_level(linear, uv, 0.0);
+    let history = HISTORY.get().sample_level(&LINEAR_CLAMP.get(), uv, 0.0);
     let clipped = history.clamp(
         mean - sigma * r.variance_gamma,
         mean + sigma * r.variance_gamma,

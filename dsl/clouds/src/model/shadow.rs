@@ -11,10 +11,10 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::prelude::*;
 
-use super::march::{CloudUniforms, total_density};
+use super::bindings::{CLOUDS, LINEAR_REPEAT, SHADOW_MAP};
+use super::march::total_density;
 use crate::key::CloudKey;
 
 /// Cascades and the shadow march (uniforms: changing them needs no new pipeline).
@@ -49,20 +49,11 @@ pub fn altitude_at(p: Vec3, camera_altitude: f32, radius: f32) -> f32 {
     y + d2 / ((r * r + d2).sqrt() + r)
 }
 
-/// Side of cascade `k` relative to cascade 0.
-#[shader_fn]
-pub fn cascade_scale(scales: Vec4, k: f32) -> f32 {
-    select(
-        select(select(scales.w, scales.z, k < 2.5), scales.y, k < 1.5),
-        scales.x,
-        k < 0.5,
-    )
-}
-
 /// The atlas texel of the finest cascade that holds camera-relative `p`; an empty texel (no
 /// optical depth) outside every cascade.
 #[shader_fn]
-pub fn shadow_texel(p: Vec3, s: ShadowParams, shadow_tex: &Texture2d, smp: &Sampler) -> Vec4 {
+pub fn shadow_texel(p: Vec3) -> Vec4 {
+    let s = CLOUDS.get().shadow;
     let base = (s.matrix * p.extend(1.0)).xy() - Vec2::splat(0.5);
     let extent = base.x.abs().max(base.y.abs());
     // One texel of margin, so bilinear filtering never reads the neighbouring tile.
@@ -75,31 +66,26 @@ pub fn shadow_texel(p: Vec3, s: ShadowParams, shadow_tex: &Texture2d, smp: &Samp
         return Vec4::ZERO;
     }
     let k = count - n;
-    let local = base / cascade_scale(s.cascade_scales, k) + Vec2::splat(0.5);
-    shadow_tex.sample_level(smp, vec2((k + local.x) / count, local.y), 0.0)
+    let local = base / s.cascade_scales[k as u32 as usize] + Vec2::splat(0.5);
+    SHADOW_MAP.get().sample_level(
+        &LINEAR_REPEAT.get(),
+        vec2((k + local.x) / count, local.y),
+        0.0,
+    )
 }
 
 /// One texel of the shadow atlas: march along the sun's rays, down from the top of the
 /// shadow-casting layers, and store front depth (transmittance-weighted mean distance, m),
 /// mean extinction, maximum optical depth and the tail beyond an early termination.
 #[shader_fn]
-#[expect(clippy::too_many_arguments, reason = "one parameter per texture")]
-pub fn shadow_fragment(
-    frag_coord: Vec4,
-    u: CloudUniforms,
-    weather_tex: &Texture2d,
-    shape_tex: &Texture3d,
-    detail_tex: &Texture3d,
-    turbulence_tex: &Texture2d,
-    smp: &Sampler,
-    #[spec] key: CloudKey,
-) -> Vec4 {
+pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
+    let u = CLOUDS.get();
     let s = u.shadow;
     let m = u.march;
     let sun = u.light.sun_direction;
     let k = (frag_coord.x / s.map_size).floor();
     let local = vec2(frag_coord.x - k * s.map_size, frag_coord.y) / s.map_size - Vec2::splat(0.5);
-    let base = local * cascade_scale(s.cascade_scales, k) + Vec2::splat(0.5);
+    let base = local * s.cascade_scales[k as u32 as usize] + Vec2::splat(0.5);
     let top = (s.inverse_matrix * vec4(base.x, base.y, 0.0, 1.0)).xyz();
     let sigma_ratio = u.light.scattering_coefficient + u.light.absorption_coefficient;
     // Through the whole slab of shadow-casting layers, however low the sun.
@@ -119,18 +105,7 @@ pub fn shadow_fragment(
         }
         let p = top - sun * t;
         let h = altitude_at(p, u.camera_altitude, m.radius);
-        let rho = total_density(
-            p,
-            h,
-            u,
-            weather_tex,
-            shape_tex,
-            detail_tex,
-            turbulence_tex,
-            smp,
-            key,
-        );
-        let sigma_t = rho * sigma_ratio;
+        let sigma_t = total_density(p, h, key) * sigma_ratio;
         if sigma_t > s.min_extinction {
             extinction_sum += sigma_t;
             samples += 1.0;

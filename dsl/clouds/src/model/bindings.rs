@@ -1,0 +1,212 @@
+//! The resources of the cloud passes, each declared once as a [`Binding`] that `#[shader_fn]`s
+//! read by name (`CLOUDS.get().march`, `WEATHER.get().sample_level(..)`): no function passes
+//! the uniform block or a texture around. A module declares the bindings its code reads, so a
+//! variant without shadows has no shadow map. The clouds and shadow passes share the numbering;
+//! the runtime binds by [`CloudBinding`], found by slot in codegen's binding description.
+
+use std::sync::Arc;
+
+use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
+use nimbus_dsl::ir::SamplerDesc;
+use nimbus_dsl::{Binding, BoundGuard, CpuBindings};
+
+use super::march::CloudUniforms;
+use super::resolve::ResolveParams;
+
+/// Layers, media, march, shadow map, light, sky and camera.
+pub static CLOUDS: Binding<CloudUniforms> = Binding::uniform(
+    "clouds",
+    0,
+    0,
+    "Layers, media, march, shadow map, light, sky and camera.",
+);
+/// Local weather: coverage per channel.
+pub static WEATHER: Binding<Texture2d> = Binding::texture(
+    "weather_texture",
+    0,
+    1,
+    "Local weather: coverage per channel.",
+);
+/// Perlin–Worley shape noise (128³, tileable).
+pub static SHAPE: Binding<Texture3d> = Binding::texture(
+    "shape_texture",
+    0,
+    2,
+    "Perlin–Worley shape noise (128³, tileable).",
+);
+/// Worley detail noise (32³, tileable).
+pub static DETAIL: Binding<Texture3d> = Binding::texture(
+    "detail_texture",
+    0,
+    3,
+    "Worley detail noise (32³, tileable).",
+);
+/// Curl noise for turbulent displacement.
+pub static TURBULENCE: Binding<Texture2d> = Binding::texture(
+    "turbulence_texture",
+    0,
+    4,
+    "Curl noise for turbulent displacement.",
+);
+/// Beer shadow map atlas.
+pub static SHADOW_MAP: Binding<Texture2d> = Binding::texture(
+    "shadow_map",
+    0,
+    5,
+    "Beer shadow map atlas: front depth, mean extinction, max and tail optical depth.",
+);
+/// Trilinear, repeat.
+pub static LINEAR_REPEAT: Binding<Sampler> = Binding::sampler(
+    "linear_sampler",
+    0,
+    6,
+    SamplerDesc::LINEAR_REPEAT,
+    "Trilinear, repeat.",
+);
+
+/// Offsets, weights, reprojection.
+pub static RESOLVE: Binding<ResolveParams> =
+    Binding::uniform("resolve", 0, 0, "Offsets, weights, reprojection.");
+/// This frame's clouds.
+pub static CURRENT: Binding<Texture2d> =
+    Binding::texture("current_texture", 0, 1, "This frame's clouds.");
+/// Last resolved frame.
+pub static HISTORY: Binding<Texture2d> =
+    Binding::texture("history_texture", 0, 2, "Last resolved frame.");
+/// Nearest, clamp.
+pub static NEAREST_CLAMP: Binding<Sampler> = Binding::sampler(
+    "nearest_sampler",
+    0,
+    3,
+    SamplerDesc::NEAREST_CLAMP,
+    "Nearest, clamp.",
+);
+/// Bilinear, clamp.
+pub static LINEAR_CLAMP: Binding<Sampler> = Binding::sampler(
+    "linear_sampler",
+    0,
+    4,
+    SamplerDesc::LINEAR_CLAMP,
+    "Bilinear, clamp.",
+);
+
+/// What the runtime binds at each slot of the cloud passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum CloudBinding {
+    Uniforms,
+    Weather,
+    Shape,
+    Detail,
+    Turbulence,
+    ShadowMap,
+    Sampler,
+}
+
+impl CloudBinding {
+    pub const GROUP: u32 = 0;
+    pub const ALL: [CloudBinding; 7] = [
+        CloudBinding::Uniforms,
+        CloudBinding::Weather,
+        CloudBinding::Shape,
+        CloudBinding::Detail,
+        CloudBinding::Turbulence,
+        CloudBinding::ShadowMap,
+        CloudBinding::Sampler,
+    ];
+
+    /// `(group, binding)`, from the binding's one declaration.
+    pub fn slot(self) -> (u32, u32) {
+        match self {
+            CloudBinding::Uniforms => CLOUDS.slot(),
+            CloudBinding::Weather => WEATHER.slot(),
+            CloudBinding::Shape => SHAPE.slot(),
+            CloudBinding::Detail => DETAIL.slot(),
+            CloudBinding::Turbulence => TURBULENCE.slot(),
+            CloudBinding::ShadowMap => SHADOW_MAP.slot(),
+            CloudBinding::Sampler => LINEAR_REPEAT.slot(),
+        }
+    }
+
+    /// The binding index in [`Self::GROUP`].
+    pub fn binding(self) -> u32 {
+        self.slot().1
+    }
+
+    /// The binding at `(group, binding)`.
+    pub fn at(group: u32, binding: u32) -> Option<CloudBinding> {
+        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
+    }
+}
+
+/// What the runtime binds at each slot of the temporal resolve pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ResolveBinding {
+    Params,
+    Current,
+    History,
+    Nearest,
+    Linear,
+}
+
+impl ResolveBinding {
+    pub const GROUP: u32 = 0;
+    pub const ALL: [ResolveBinding; 5] = [
+        ResolveBinding::Params,
+        ResolveBinding::Current,
+        ResolveBinding::History,
+        ResolveBinding::Nearest,
+        ResolveBinding::Linear,
+    ];
+
+    /// `(group, binding)`, from the binding's one declaration.
+    pub fn slot(self) -> (u32, u32) {
+        match self {
+            ResolveBinding::Params => RESOLVE.slot(),
+            ResolveBinding::Current => CURRENT.slot(),
+            ResolveBinding::History => HISTORY.slot(),
+            ResolveBinding::Nearest => NEAREST_CLAMP.slot(),
+            ResolveBinding::Linear => LINEAR_CLAMP.slot(),
+        }
+    }
+
+    /// The binding at `(group, binding)`.
+    pub fn at(group: u32, binding: u32) -> Option<ResolveBinding> {
+        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
+    }
+}
+
+/// The textures of the cloud passes on the CPU, shared (not copied) with every binding.
+#[derive(Clone, Debug)]
+pub struct CloudTextures {
+    pub weather: Arc<Texture2d>,
+    pub shape: Arc<Texture3d>,
+    pub detail: Arc<Texture3d>,
+    pub turbulence: Arc<Texture2d>,
+    /// Beer shadow map texels: front depth (m), mean extinction, max optical depth, tail.
+    pub shadow: Arc<Texture2d>,
+}
+
+impl CloudTextures {
+    /// A shadow map that shadows nothing (one texel, no optical depth), for callers that do not
+    /// march shadows.
+    pub fn no_shadow() -> Arc<Texture2d> {
+        Arc::new(Texture2d {
+            size: [1, 1],
+            texels: vec![glam::Vec4::ZERO],
+        })
+    }
+
+    /// Binds `uniforms`, these textures and the repeating sampler for the CPU twins of the
+    /// cloud model on this thread, as the runtime's bind group does for the GPU.
+    pub fn bind(&self, uniforms: CloudUniforms) -> BoundGuard {
+        CpuBindings::new()
+            .set(&CLOUDS, uniforms)
+            .set(&WEATHER, self.weather.clone())
+            .set(&SHAPE, self.shape.clone())
+            .set(&DETAIL, self.detail.clone())
+            .set(&TURBULENCE, self.turbulence.clone())
+            .set(&SHADOW_MAP, self.shadow.clone())
+            .set(&LINEAR_REPEAT, Sampler::default())
+            .bind()
+    }
+}
