@@ -166,6 +166,31 @@ pub fn branch<A, B, C: Condition<A, B>>(
     cond.branch(loc, then, otherwise)
 }
 
+/// A condition that is either fixed at generation time or read at run time: what a choice of a
+/// specialised shader becomes in an uber-shader. `Fixed` records only the taken arm (like a Rust
+/// `bool`); `Dynamic` records a run-time `if` with both arms.
+#[derive(Clone, Copy, Debug)]
+pub enum Switch {
+    Fixed(bool),
+    Dynamic(Bool),
+}
+
+impl<A: BranchValue, B: BranchValue<Merged = A::Merged>> Condition<A, B> for Switch {
+    type Out = A::Merged;
+    fn branch(
+        self,
+        loc: SourceLoc,
+        then: impl FnOnce() -> A,
+        otherwise: impl FnOnce() -> B,
+    ) -> A::Merged {
+        match self {
+            Switch::Fixed(true) => then().into_merged(),
+            Switch::Fixed(false) => otherwise().into_merged(),
+            Switch::Dynamic(c) => c.branch(loc, then, otherwise),
+        }
+    }
+}
+
 /// A value `let` can name: DSL values are recorded as `let`, Rust values pass through.
 pub trait Bind: Sized {
     fn bind(self, name: &str, loc: SourceLoc) -> Self;
@@ -173,7 +198,13 @@ pub trait Bind: Sized {
 
 impl<T: Value> Bind for T {
     fn bind(self, name: &str, loc: SourceLoc) -> Self {
-        if crate::record::is_resource_place(self.id()) {
+        // A texture, sampler or a scalar/vector in a uniform is named, not copied; a struct
+        // (`let s = LIGHTS.get().key_light;`) is copied once: one load that the code after it
+        // reads from, as a hand-written shader would (drivers without load hoisting re-read
+        // uniform memory at every use otherwise).
+        if !matches!(T::TYPE, Type::Struct(_) | Type::Array(..))
+            && crate::record::is_resource_place(self.id())
+        {
             return self;
         }
         let local = new_local(name, T::TYPE, false);

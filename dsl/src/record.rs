@@ -184,7 +184,7 @@ pub(crate) fn mark_counter(local: LocalId) {
 /// Whether `id` names a place in a resource that no statement of the function can change: a
 /// uniform, texture, sampler or constant, a member of one, or an element at an index that
 /// stays put (a literal, a parameter, a `let`, a loop counter). Naming such a place with `let`
-/// aliases it instead of copying it: `let m = CLOUDS.get().march;` reads `clouds.march.x` where
+/// aliases it instead of copying it: `let e = LIGHTS.get().exposure;` reads `lights.exposure` where
 /// it is used, as a hand-written shader would, and a texture or sampler (which WGSL cannot
 /// hold in a `let`) can be named at all.
 pub(crate) fn is_resource_place(id: ExprId) -> bool {

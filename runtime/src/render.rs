@@ -15,7 +15,9 @@ use std::collections::{BTreeMap, HashMap};
 
 use glam::{Mat4, Vec2, Vec3};
 use half::f16;
+use nimbus_clouds::CloudKey;
 use nimbus_clouds::catalog::ShaderKey;
+use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
@@ -306,6 +308,11 @@ pub struct Renderer<'g> {
     passes: Vec<&'static str>,
     /// GPU time of the passes of the last `render` call, where the adapter has timestamps.
     gpu_time_ms: Option<f64>,
+    /// Render the cloud pass with the uber-shader (every key choice a run-time branch).
+    uber: bool,
+    /// The uber-shader's key uniforms, and the stand-in shadow map it binds when the frame
+    /// has no shadow pass.
+    uber_resources: Option<(wgpu::Buffer, Target)>,
 }
 
 /// The procedural texture a cloud binding samples, if it is one.
@@ -315,7 +322,10 @@ fn noise_of(b: CloudBinding) -> Option<NoiseKind> {
         CloudBinding::Shape => Some(NoiseKind::Shape),
         CloudBinding::Detail => Some(NoiseKind::Detail),
         CloudBinding::Turbulence => Some(NoiseKind::Turbulence),
-        CloudBinding::Uniforms | CloudBinding::ShadowMap | CloudBinding::Sampler => None,
+        CloudBinding::Uniforms
+        | CloudBinding::ShadowMap
+        | CloudBinding::Sampler
+        | CloudBinding::Key => None,
     }
 }
 
@@ -410,6 +420,18 @@ impl<'g> Renderer<'g> {
             epoch: 0,
             passes: Vec::new(),
             gpu_time_ms: None,
+            uber: false,
+            uber_resources: None,
+        }
+    }
+
+    /// Renders the cloud pass with the uber-shader: the same model with every generation-time
+    /// choice (toggles, octaves, phase kind, layer groups) read from uniforms and branched on
+    /// at run time, to measure what specialisation buys. Images match the specialised shaders'.
+    pub fn set_uber_shader(&mut self, on: bool) {
+        if self.uber != on {
+            self.uber = on;
+            self.epoch += 1;
         }
     }
 
@@ -524,7 +546,13 @@ impl<'g> Renderer<'g> {
                 CloudBinding::ShadowMap => self
                     .shadow
                     .as_ref()
-                    .map(|s| wgpu::BindingResource::TextureView(&s.atlas.view)),
+                    .map(|s| &s.atlas.view)
+                    .or_else(|| self.uber_resources.as_ref().map(|(_, t)| &t.view))
+                    .map(wgpu::BindingResource::TextureView),
+                CloudBinding::Key => self
+                    .uber_resources
+                    .as_ref()
+                    .map(|(b, _)| b.as_entire_binding()),
                 CloudBinding::Sampler => self.sampler(b),
                 CloudBinding::Weather
                 | CloudBinding::Shape
@@ -676,7 +704,11 @@ impl<'g> Renderer<'g> {
         self.ensure_readback(frame.width, frame.height);
         let frames = frame.frames.max(1);
         let variant = frame.variant();
-        let clouds_key = ShaderKey::Clouds(variant.key);
+        let clouds_key = ShaderKey::Clouds(if self.uber {
+            CloudKey::uber()
+        } else {
+            variant.key
+        });
         let shadow_key = variant.key.shadow_key().map(ShaderKey::Shadow);
         self.passes.clear();
         self.gpu_time_ms = None;
@@ -686,6 +718,21 @@ impl<'g> Renderer<'g> {
 
         // Pipelines first: their bindings decide which textures and samplers exist.
         self.prepare(clouds_key)?;
+        if self.uber {
+            if self.uber_resources.is_none() {
+                let key = uniform_buffer(
+                    self.gpu,
+                    "uber key uniforms",
+                    align_size(KeyUniforms::shader_type()).1 as usize,
+                );
+                self.uber_resources = Some((key, target(self.gpu, "no shadow", 1, 1)));
+                self.epoch += 1;
+            }
+            if let Some((b, _)) = &self.uber_resources {
+                let bytes = KeyUniforms::of(&variant.key).to_uniform_bytes();
+                self.gpu.queue().write_buffer(b, 0, &bytes);
+            }
+        }
         if let Some(k) = shadow_key {
             self.prepare(k)?;
         }

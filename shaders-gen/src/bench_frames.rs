@@ -44,6 +44,7 @@ pub(crate) fn run(
     data: Option<&Path>,
     args: &RenderArgs,
     iterations: u32,
+    uber: bool,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let base = frame(data, args)?;
     let gpu = Gpu::new()?;
@@ -93,6 +94,49 @@ pub(crate) fn run(
             full / high_full,
             up / high_up,
             full / up
+        );
+    }
+    if uber {
+        compare_uber(&mut renderer, &base, iterations, |q| ms_of(&rows, q))?;
+    }
+    Ok(())
+}
+
+fn ms_of(rows: &[(Quality, bool, f64)], q: Quality) -> f64 {
+    rows.iter()
+        .find(|(rq, ru, _)| *rq == q && !*ru)
+        .map_or(f64::NAN, |r| r.2)
+}
+
+/// Each preset at full resolution through the uber-shader (the same model with every key
+/// choice a uniform and a run-time branch), against its specialised shader timed above.
+fn compare_uber(
+    renderer: &mut Renderer<'_>,
+    base: &Frame,
+    iterations: u32,
+    specialised: impl Fn(Quality) -> f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    renderer.set_uber_shader(true);
+    let mut rows = Vec::new();
+    for quality in Quality::ALL {
+        let mut f = base.clone();
+        f.quality = quality;
+        f.features = quality.features();
+        f.upscale = false;
+        f.frames = 1;
+        f.continue_history = false;
+        rows.push((quality, time_frames(renderer, &f, iterations)?));
+    }
+    renderer.set_uber_shader(false);
+    println!();
+    println!("| preset | specialised ms/frame | uber-shader ms/frame | uber / specialised |");
+    println!("|---|---:|---:|---:|");
+    for (q, uber) in rows {
+        let spec = specialised(q);
+        println!(
+            "| {} | {spec:.1} | {uber:.1} | {:.2}× |",
+            q.name(),
+            uber / spec
         );
     }
     Ok(())

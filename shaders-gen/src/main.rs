@@ -159,6 +159,10 @@ enum Command {
         /// Timed frames per row (the median is reported).
         #[arg(short = 'n', long, default_value_t = 5)]
         iterations: u32,
+        /// Also time each preset through the uber-shader (every generation-time choice a
+        /// uniform and a run-time branch) against its specialised shader.
+        #[arg(long)]
+        uber: bool,
     },
     /// Time per frame of each example scene's derived variant against its all-effects
     /// variant, as a ratio.
@@ -228,9 +232,11 @@ fn main() -> ExitCode {
             no_external,
         } => check::run(data, &variants.selection(), !no_external),
         Command::Render(args) => render::run(data, args),
-        Command::BenchFrames { render, iterations } => {
-            bench_frames::run(data, render, (*iterations).max(1))
-        }
+        Command::BenchFrames {
+            render,
+            iterations,
+            uber,
+        } => bench_frames::run(data, render, (*iterations).max(1), *uber),
         Command::BenchScenes {
             resolution,
             iterations,

@@ -36,6 +36,18 @@ impl PhaseKind {
     }
 
     /// The tag in key names.
+    /// Position in [`PhaseKind::ALL`] (the uber-shader's uniform value).
+    pub fn index(self) -> u32 {
+        self as u32
+    }
+
+    pub const ALL: [PhaseKind; 4] = [
+        PhaseKind::HenyeyGreenstein,
+        PhaseKind::DualLobe,
+        PhaseKind::ApproximateMie,
+        PhaseKind::Isotropic,
+    ];
+
     pub fn tag(self) -> &'static str {
         match self {
             PhaseKind::HenyeyGreenstein => "hg",
@@ -74,6 +86,10 @@ pub struct CloudKey {
     /// The instrumented shader: the pixel's alpha carries the number of density samples its
     /// march took instead of the cloud opacity (for `nimbus tradeoff`).
     pub count_samples: bool,
+    /// The uber-shader: every choice above is read at run time from the key uniforms
+    /// ([`crate::model::choices`]) instead of being fixed in the code; the fields then give the
+    /// most the shader can do (every toggle on, two groups).
+    pub uber: bool,
 }
 
 impl CloudKey {
@@ -90,6 +106,7 @@ impl CloudKey {
             phase,
             groups: groups.clamp(1, 2),
             count_samples: false,
+            uber: false,
         }
     }
 
@@ -97,6 +114,9 @@ impl CloudKey {
     /// toggles that are on (table order), the octaves, the phase kind, the lane groups, and
     /// `count` for the instrumented shader.
     pub fn name(&self) -> String {
+        if self.uber {
+            return "uber".into();
+        }
         let mut parts: Vec<String> = Toggle::ALL
             .iter()
             .filter(|t| t.get(&self.features))
@@ -109,6 +129,25 @@ impl CloudKey {
             parts.push("count".into());
         }
         parts.join("-")
+    }
+
+    /// The uber-shader's key: one shader for every genus, preset and toggle, branching at run
+    /// time on the key uniforms (for measuring what specialisation buys, not for shipping).
+    pub fn uber() -> CloudKey {
+        let mut features = Features {
+            octaves: 12,
+            ..Features::default()
+        };
+        for &t in Toggle::ALL {
+            t.set(&mut features, t != Toggle::AccuratePhaseFunction);
+        }
+        CloudKey {
+            features,
+            phase: PhaseKind::DualLobe,
+            groups: 2,
+            count_samples: false,
+            uber: true,
+        }
     }
 
     /// Every canonical key the model can be asked for: each combination of the toggles (light
@@ -149,6 +188,7 @@ impl CloudKey {
                             phase,
                             groups,
                             count_samples: false,
+                            uber: false,
                         });
                     }
                 }
@@ -247,6 +287,7 @@ impl ShadowKey {
             phase: PhaseKind::Isotropic,
             groups: self.groups,
             count_samples: false,
+            uber: false,
         }
     }
 }

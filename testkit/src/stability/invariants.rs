@@ -35,7 +35,7 @@ impl std::fmt::Display for Violation {
 fn phase_peak(u: &CloudUniforms, key: &CloudKey) -> f32 {
     let _bound = CpuBindings::new().set(&CLOUDS, *u).bind();
     (0..=2000)
-        .map(|i| cloud_phase(-1.0 + i as f32 / 1000.0, 1.0, key.phase))
+        .map(|i| cloud_phase(-1.0 + i as f32 / 1000.0, 1.0, *key))
         .fold(INV_FOUR_PI, f32::max)
 }
 

@@ -100,11 +100,13 @@ pub enum CloudBinding {
     Turbulence,
     ShadowMap,
     Sampler,
+    /// The uber-shader's key uniforms ([`super::choices::KEY`]).
+    Key,
 }
 
 impl CloudBinding {
     pub const GROUP: u32 = 0;
-    pub const ALL: [CloudBinding; 7] = [
+    pub const ALL: [CloudBinding; 8] = [
         CloudBinding::Uniforms,
         CloudBinding::Weather,
         CloudBinding::Shape,
@@ -112,6 +114,7 @@ impl CloudBinding {
         CloudBinding::Turbulence,
         CloudBinding::ShadowMap,
         CloudBinding::Sampler,
+        CloudBinding::Key,
     ];
 
     /// `(group, binding)`, from the binding's one declaration.
@@ -124,6 +127,7 @@ impl CloudBinding {
             CloudBinding::Turbulence => TURBULENCE.slot(),
             CloudBinding::ShadowMap => SHADOW_MAP.slot(),
             CloudBinding::Sampler => LINEAR_REPEAT.slot(),
+            CloudBinding::Key => super::choices::KEY.slot(),
         }
     }
 

@@ -9,7 +9,9 @@ use nimbus_dsl::SpecValue;
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER};
+use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, gate};
 use super::layers::LayerGroup;
+use crate::key::CloudKey;
 
 /// Which erosion stages a density sample runs; decided per variant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -143,21 +145,16 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32) -> Vec4 {
 
 /// Density of each layer of group `group` at `position` (noise space: camera-relative metres in
 /// the local tangent frame, y up, plus the camera's offset) and `altitude` (m above the ground),
-/// with the erosion stages of `features`.
+/// with the erosion stages of `key`.
 #[shader_fn]
-pub fn layer_density(
-    position: Vec3,
-    altitude: f32,
-    group: u32,
-    #[spec] features: DensityFeatures,
-) -> Vec4 {
+pub fn layer_density(position: Vec3, altitude: f32, group: u32, #[spec] key: CloudKey) -> Vec4 {
     let layers = CLOUDS.get().groups[group as usize];
     let media = CLOUDS.get().media;
     let smp = LINEAR_REPEAT.get();
     let coverage = weather_density(position, altitude, group);
     let eta = height_fraction(altitude, layers);
     let mut p = position;
-    if features.turbulence {
+    if gate(key, TURBULENCE_ON) {
         let uv = vec2(position.x, position.z) * media.weather_repeat * media.turbulence_repeat;
         let curl = TURBULENCE.get().sample_level(&smp, uv, 0.0).xyz() * 2.0 - Vec3::ONE;
         // Strongest at the base, gone by η = 0.3, weighted by how much cloud is there.
@@ -169,7 +166,7 @@ pub fn layer_density(
         .sample_level(&smp, p * media.shape_repeat + media.shape_offset, 0.0)
         .x;
     let mut density = shape_erosion(coverage, s, layers.shape_amount);
-    if features.shape_detail {
+    if gate(key, SHAPE_DETAIL) {
         let d = DETAIL
             .get()
             .sample_level(&smp, p * media.detail_repeat + media.detail_offset, 0.0)

@@ -8,10 +8,14 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::key::{CloudKey, PhaseKind};
+use crate::key::CloudKey;
 use nimbus_dsl::prelude::*;
 
 use super::bindings::CLOUDS;
+use super::choices::{
+    APPROXIMATE_MIE, DUAL_LOBE, GROUND_BOUNCE, GROUPS, HAZE, HENYEY_GREENSTEIN, LIGHT_SHAFTS,
+    OCTAVES, POWDER, SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
+};
 use super::density::{MediaParams, layer_density, weather_density};
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
@@ -136,42 +140,40 @@ pub fn altitude_along(camera_altitude: f32, mu: f32, t: f32, radius: f32) -> f32
 
 /// Phase function with the anisotropy scaled by `g_scale` (the octave attenuation `cᵏ`).
 #[shader_fn]
-pub fn cloud_phase(cos_theta: f32, g_scale: f32, #[spec] kind: PhaseKind) -> f32 {
+pub fn cloud_phase(cos_theta: f32, g_scale: f32, #[spec] key: CloudKey) -> f32 {
     let light = CLOUDS.get().light;
-    match kind {
-        PhaseKind::HenyeyGreenstein => henyey_greenstein(cos_theta, light.g1 * g_scale),
-        PhaseKind::DualLobe => mix(
+    if phase_is(key, HENYEY_GREENSTEIN) {
+        return henyey_greenstein(cos_theta, light.g1 * g_scale);
+    }
+    if phase_is(key, DUAL_LOBE) {
+        return mix(
             henyey_greenstein(cos_theta, light.g1 * g_scale),
             henyey_greenstein(cos_theta, light.g2 * g_scale),
             light.lobe_weight,
-        ),
+        );
+    }
+    if phase_is(key, APPROXIMATE_MIE) {
         // The Mie fit has no single anisotropy to attenuate; later octaves blend it towards
         // isotropic by the same factor.
-        PhaseKind::ApproximateMie => mix(
+        return mix(
             isotropic_phase(cos_theta),
             approximate_mie(cos_theta, light.droplet_diameter),
             g_scale,
-        ),
-        PhaseKind::Isotropic => isotropic_phase(cos_theta),
+        );
     }
+    isotropic_phase(cos_theta)
 }
 
 /// Multiple scattering by octaves (Wrenninge et al. 2013, "Oz"): `Σ aᵏ e^(−τbᵏ) p(μ; cᵏg)` with
 /// a = b = c = 1/2.
 #[shader_fn]
-pub fn multiple_scattering(
-    optical_depth: f32,
-    cos_theta: f32,
-    #[spec] kind: PhaseKind,
-    #[spec] octaves: u32,
-) -> f32 {
+pub fn multiple_scattering(optical_depth: f32, cos_theta: f32, #[spec] key: CloudKey) -> f32 {
     let mut sum = 0.0f32;
     let mut weight = 1.0f32;
     let mut depth_scale = 1.0f32;
     let mut g_scale = 1.0f32;
-    for _octave in 0u32..octaves {
-        sum +=
-            weight * (-optical_depth * depth_scale).exp() * cloud_phase(cos_theta, g_scale, kind);
+    for _octave in 0u32..key_count(key, OCTAVES) {
+        sum += weight * (-optical_depth * depth_scale).exp() * cloud_phase(cos_theta, g_scale, key);
         weight *= 0.5;
         depth_scale *= 0.5;
         g_scale *= 0.5;
@@ -184,8 +186,8 @@ pub fn multiple_scattering(
 pub fn total_density(position: Vec3, altitude: f32, #[spec] key: CloudKey) -> f32 {
     let p = position + CLOUDS.get().camera_offset;
     let mut sum = 0.0f32;
-    for group in 0u32..key.groups {
-        sum += layer_density(p, altitude, group, key.density_features()).dot(Vec4::ONE);
+    for group in 0u32..key_count(key, GROUPS) {
+        sum += layer_density(p, altitude, group, key).dot(Vec4::ONE);
     }
     sum
 }
@@ -438,12 +440,12 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
         let h = altitude_along(u.camera_altitude, mu, t, m.radius);
         // Between layers: jump to the next layer boundary instead of stepping through the gap.
         let mut inside = 0.0f32;
-        for group in 0u32..key.groups {
+        for group in 0u32..key_count(key, GROUPS) {
             inside += layers_containing(h, group);
         }
         if inside < 0.5 {
             let mut next = 1e30f32;
-            for group in 0u32..key.groups {
+            for group in 0u32..key_count(key, GROUPS) {
                 next = next_boundary(mu, t, group, next);
             }
             if next > 1e29 {
@@ -458,7 +460,7 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
         let p = direction * t;
         // Cheap coverage test before the full density: no weather here, take a long step.
         let mut coverage = 0.0f32;
-        for group in 0u32..key.groups {
+        for group in 0u32..key_count(key, GROUPS) {
             coverage += weather_density(p + u.camera_offset, h, group).dot(Vec4::ONE);
         }
         if coverage <= m.min_density {
@@ -473,7 +475,7 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
         if sigma_t > m.min_extinction {
             samples += m.sun_steps as f32;
             let mut tau_sun = secondary_optical_depth(p, h, l.sun_direction, m.sun_steps, key);
-            if key.features.shadows {
+            if gate(key, SHADOWS) {
                 let texel = shadow_texel(p);
                 let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
                 let reach =
@@ -481,12 +483,11 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
                 tau_sun += shadow_optical_depth(texel, to_top, reach);
             }
             let mut sun = l.sun_irradiance;
-            if key.features.accurate_sun_sky_light {
+            if gate(key, SUN_SKY_LIGHT) {
                 sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
             }
-            let mut light =
-                sun * multiple_scattering(tau_sun, cos_theta, key.phase, key.features.octaves);
-            if key.features.ground_bounce {
+            let mut light = sun * multiple_scattering(tau_sun, cos_theta, key);
+            if gate(key, GROUND_BOUNCE) {
                 samples += m.ground_steps as f32;
                 let tau_ground =
                     secondary_optical_depth(p, h, vec3(0.0, -1.0, 0.0), m.ground_steps, key);
@@ -505,7 +506,7 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
             light += l.sky_irradiance
                 * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
             let mut source = light * sigma_s;
-            if key.features.powder {
+            if gate(key, POWDER) {
                 source *= 1.0 - l.powder_scale * (-sigma_t * l.powder_exponent).exp();
             }
             // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
@@ -577,7 +578,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     let mut background = air.inscatter;
     if behind < 0.0 {
         let mut sunlit = 1.0f32;
-        if key.features.shadows {
+        if gate(key, SHADOWS) {
             let ground = direction * -behind;
             let to_top = u.march.shadow_top_height / sun.y.max(0.01);
             let texel = shadow_texel(ground);
@@ -607,20 +608,19 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         color +=
             near.inscatter * (1.0 - clouds.transmittance) + clouds.radiance * near.transmittance;
     }
-    if key.features.haze {
+    if gate(key, HAZE) {
         // Haze and shafts end at the clouds' front, the ground, or the march's reach.
         let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
         let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
         let opacity = haze_opacity(direction.y, distance);
         let mut sunlit = 1.0f32;
-        if key.features.light_shafts {
+        if gate(key, LIGHT_SHAFTS) {
             sunlit =
                 1.0 - (shadow_length(direction, distance, jitter) / distance.max(1.0)).saturate();
         }
         let albedo = u.haze.scattering_coefficient
             / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
-        let haze_light = (u.light.sun_irradiance
-            * (cloud_phase(cos_theta, 1.0, key.phase) * sunlit)
+        let haze_light = (u.light.sun_irradiance * (cloud_phase(cos_theta, 1.0, key) * sunlit)
             + u.light.sky_irradiance * INV_FOUR_PI)
             * albedo;
         color = color + (haze_light - color) * opacity;

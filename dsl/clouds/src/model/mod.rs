@@ -2,6 +2,7 @@
 //! reference renders) and is recorded into shader modules for every target.
 
 pub mod bindings;
+pub mod choices;
 pub mod clouds;
 pub mod density;
 pub mod layers;
