@@ -160,6 +160,38 @@ fn each_toggle_off_removes_its_code_and_bindings_from_every_target() {
     }
 }
 
+/// The uber-shader reads every generation-time choice from the key uniforms: it validates on
+/// every target, declares the `key` binding, loops to run-time bounds and keeps every effect's
+/// code; a specialised shader has none of that.
+#[test]
+fn the_uber_shader_branches_at_run_time_on_every_target() {
+    let uber = cloud_module(&CloudKey::uber()).expect("records");
+    let g = generate(uber, "uber", &Target::ALL).unwrap_or_else(|e| panic!("uber: {e}"));
+    // One WGSL module, and a vertex and a fragment file for each of the five other targets.
+    assert_eq!(g.files.len(), 1 + 2 * (Target::ALL.len() - 1));
+    let w = &g.wgsl;
+    assert!(w.contains("var<uniform> key: KeyUniforms"), "{w}");
+    for marker in [
+        "key.toggles",
+        "_octave < key.octaves",
+        "group < key.groups",
+        "key.phase == 1u",
+        "fn shadow_length",
+        "fn haze_opacity",
+        "fn sun_attenuation",
+        "fn approximate_mie",
+    ] {
+        assert!(w.contains(marker), "uber lacks `{marker}`");
+    }
+    let lib = library();
+    let specialised = build(&lib, "cumulus", Quality::High, Quality::High.features());
+    let code = code_of(&specialised.wgsl);
+    assert!(
+        !code.contains("var<uniform> key") && !code.contains("key.toggles"),
+        "a specialised shader reads no key uniform"
+    );
+}
+
 #[test]
 fn octave_count_bounds_the_loop() {
     let lib = library();

@@ -5,11 +5,12 @@
 use std::path::Path;
 
 use glam::Vec3;
+use nimbus_clouds::model::bindings::CloudTextures;
 use nimbus_clouds::model::march::total_density;
 use nimbus_clouds::model::shadow::altitude_at;
 use nimbus_clouds::{CloudLibrary, load_scene};
 use nimbus_runtime::RuntimeError;
-use nimbus_runtime::density_export::{CpuTextures, Region, density_grid, generate_cpu_textures};
+use nimbus_runtime::density_export::{Region, density_grid, generate_cpu_textures};
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
 fn frame() -> Frame {
@@ -19,7 +20,7 @@ fn frame() -> Frame {
     Frame::from_scene(&scene, lib.genus(&scene.genus).expect("genus"), 1, 1)
 }
 
-fn textures() -> CpuTextures {
+fn textures() -> CloudTextures {
     generate_cpu_textures(TextureSizes {
         weather: 64,
         shape: 16,

@@ -19,16 +19,20 @@ fn frame(quality: Quality) -> Frame {
     )
 }
 
-#[test]
-fn renders_clouds_deterministically_and_caches_pipelines() {
-    let Some(gpu) = common::gpu() else { return };
-    let sizes = TextureSizes {
+/// Small procedural textures: enough detail for clouds, quick to build on llvmpipe.
+fn small_textures() -> TextureSizes {
+    TextureSizes {
         weather: 128,
         shape: 32,
         detail: 16,
         turbulence: 32,
-    };
-    let mut r = Renderer::new(gpu, sizes);
+    }
+}
+
+#[test]
+fn renders_clouds_deterministically_and_caches_pipelines() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut r = Renderer::new(gpu, small_textures());
     let a = r.render(&frame(Quality::Low)).expect("render");
     assert_eq!(a.pixels.len(), 96 * 54);
     assert!(
@@ -87,13 +91,7 @@ fn a_bad_resolution_is_an_error_not_a_panic() {
 #[test]
 fn the_uber_shader_renders_what_the_specialised_shaders_render() {
     let Some(gpu) = common::gpu() else { return };
-    let sizes = TextureSizes {
-        weather: 128,
-        shape: 32,
-        detail: 16,
-        turbulence: 32,
-    };
-    let mut r = Renderer::new(gpu, sizes);
+    let mut r = Renderer::new(gpu, small_textures());
     let worst = |a: &nimbus_runtime::render::Image, b: &nimbus_runtime::render::Image| {
         a.pixels
             .iter()

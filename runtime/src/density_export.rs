@@ -46,9 +46,6 @@ pub struct DensityGrid {
     pub albedo: f32,
 }
 
-/// The CPU twins of the procedural textures.
-pub type CpuTextures = CloudTextures;
-
 fn unpack(word: u32) -> Vec4 {
     Vec4::from_array(std::array::from_fn(|c| {
         ((word >> (8 * c)) & 0xff) as f32 / 255.0
@@ -84,7 +81,7 @@ pub fn density_grid(
     frame: &Frame,
     region: Region,
     size: [u32; 3],
-    textures: &CpuTextures,
+    textures: &CloudTextures,
 ) -> Result<DensityGrid, RuntimeError> {
     let bad = |field, reason| RuntimeError::Region { field, reason };
     if size.iter().any(|n| *n == 0 || *n > 1024) {

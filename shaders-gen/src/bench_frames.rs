@@ -57,12 +57,7 @@ pub(crate) fn run(
     let mut rows = Vec::new();
     for quality in Quality::ALL {
         for upscale in [false, true] {
-            let mut f = base.clone();
-            f.quality = quality;
-            f.features = quality.features();
-            f.upscale = upscale;
-            f.frames = 1;
-            f.continue_history = upscale;
+            let f = preset_frame(&base, quality, upscale);
             rows.push((
                 quality,
                 upscale,
@@ -70,24 +65,17 @@ pub(crate) fn run(
             ));
         }
     }
-    let high = |upscale: bool| {
-        rows.iter()
-            .find(|(q, u, _)| *q == Quality::High && *u == upscale)
-            .map_or(f64::NAN, |r| r.2)
-    };
-    let (high_full, high_up) = (high(false), high(true));
+    let (high_full, high_up) = (
+        ms_of(&rows, Quality::High, false),
+        ms_of(&rows, Quality::High, true),
+    );
     println!();
     println!(
         "| preset | full res ms/frame | ×high | upscaled ms/frame | ×high | upscaling speed-up |"
     );
     println!("|---|---:|---:|---:|---:|---:|");
     for q in Quality::ALL {
-        let ms = |u: bool| {
-            rows.iter()
-                .find(|(rq, ru, _)| *rq == q && *ru == u)
-                .map_or(f64::NAN, |r| r.2)
-        };
-        let (full, up) = (ms(false), ms(true));
+        let (full, up) = (ms_of(&rows, q, false), ms_of(&rows, q, true));
         println!(
             "| {} | {full:.1} | {:.2} | {up:.1} | {:.2} | {:.2}× |",
             q.name(),
@@ -97,15 +85,28 @@ pub(crate) fn run(
         );
     }
     if uber {
-        compare_uber(&mut renderer, &base, iterations, |q| ms_of(&rows, q))?;
+        compare_uber(&mut renderer, &base, iterations, |q| ms_of(&rows, q, false))?;
     }
     Ok(())
 }
 
-fn ms_of(rows: &[(Quality, bool, f64)], q: Quality) -> f64 {
+/// The time of `q` (upscaled or not) among `rows`.
+fn ms_of(rows: &[(Quality, bool, f64)], q: Quality, upscale: bool) -> f64 {
     rows.iter()
-        .find(|(rq, ru, _)| *rq == q && !*ru)
+        .find(|(rq, ru, _)| *rq == q && *ru == upscale)
         .map_or(f64::NAN, |r| r.2)
+}
+
+/// `base` at preset `quality` with its features, one frame per call; upscaled frames continue
+/// the history, as a game loop's do.
+fn preset_frame(base: &Frame, quality: Quality, upscale: bool) -> Frame {
+    let mut f = base.clone();
+    f.quality = quality;
+    f.features = quality.features();
+    f.upscale = upscale;
+    f.frames = 1;
+    f.continue_history = upscale;
+    f
 }
 
 /// Each preset at full resolution through the uber-shader (the same model with every key
@@ -119,12 +120,7 @@ fn compare_uber(
     renderer.set_uber_shader(true);
     let mut rows = Vec::new();
     for quality in Quality::ALL {
-        let mut f = base.clone();
-        f.quality = quality;
-        f.features = quality.features();
-        f.upscale = false;
-        f.frames = 1;
-        f.continue_history = false;
+        let f = preset_frame(base, quality, false);
         rows.push((quality, time_frames(renderer, &f, iterations)?));
     }
     renderer.set_uber_shader(false);

@@ -11,7 +11,6 @@ use nimbus_dsl::SpecValue;
 
 use crate::features::{Features, Toggle};
 use crate::genus::PhaseSpec;
-use crate::model::density::DensityFeatures;
 
 /// Phase function of a shader (the genus decides it, `accurate-phase-function` forces Mie).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -159,12 +158,6 @@ impl CloudKey {
             .copied()
             .filter(|t| *t != Toggle::AccuratePhaseFunction)
             .collect();
-        let phases = [
-            PhaseKind::HenyeyGreenstein,
-            PhaseKind::DualLobe,
-            PhaseKind::ApproximateMie,
-            PhaseKind::Isotropic,
-        ];
         let mut out = Vec::new();
         for bits in 0u32..(1 << toggles.len()) {
             let mut features = Features {
@@ -178,7 +171,7 @@ impl CloudKey {
                 continue;
             }
             for octaves in 1..=12 {
-                for phase in phases {
+                for phase in PhaseKind::ALL {
                     for groups in 1..=2 {
                         out.push(CloudKey {
                             features: Features {
@@ -211,14 +204,6 @@ impl CloudKey {
             turbulence: self.features.turbulence,
             groups: self.groups,
         })
-    }
-
-    /// The erosion stages the density sample runs.
-    pub fn density_features(&self) -> DensityFeatures {
-        DensityFeatures {
-            shape_detail: self.features.shape_detail,
-            turbulence: self.features.turbulence,
-        }
     }
 }
 

@@ -10,6 +10,7 @@ use nimbus_dsl::cpu::{Sampler, Texture2d, Texture3d};
 use nimbus_dsl::ir::SamplerDesc;
 use nimbus_dsl::{Binding, BoundGuard, CpuBindings};
 
+use super::choices::KeyUniforms;
 use super::march::CloudUniforms;
 use super::resolve::ResolveParams;
 
@@ -64,6 +65,14 @@ pub static LINEAR_REPEAT: Binding<Sampler> = Binding::sampler(
     "Trilinear, repeat.",
 );
 
+/// The uber-shader's key uniforms; only the uber-shader declares it.
+pub static KEY: Binding<KeyUniforms> = Binding::uniform(
+    "key",
+    0,
+    7,
+    "The uber-shader's generation-time choices, read at run time.",
+);
+
 /// Offsets, weights, reprojection.
 pub static RESOLVE: Binding<ResolveParams> =
     Binding::uniform("resolve", 0, 0, "Offsets, weights, reprojection.");
@@ -100,7 +109,7 @@ pub enum CloudBinding {
     Turbulence,
     ShadowMap,
     Sampler,
-    /// The uber-shader's key uniforms ([`super::choices::KEY`]).
+    /// The uber-shader's key uniforms ([`KEY`]).
     Key,
 }
 
@@ -127,7 +136,7 @@ impl CloudBinding {
             CloudBinding::Turbulence => TURBULENCE.slot(),
             CloudBinding::ShadowMap => SHADOW_MAP.slot(),
             CloudBinding::Sampler => LINEAR_REPEAT.slot(),
-            CloudBinding::Key => super::choices::KEY.slot(),
+            CloudBinding::Key => KEY.slot(),
         }
     }
 

@@ -5,13 +5,15 @@
 //! `phase_is(key, DUAL_LOBE)`. Each is a hand-written twin pair (the shape `#[shader_fn]`
 //! generates): the CPU twin answers from the key; the shader twin answers with a Rust value,
 //! so only the taken arm is recorded, unless the key is the uber key, where it reads
-//! [`KEY`] and the `if` becomes a run-time branch. One model source thus gives both shaders
+//! [`KEY`](super::bindings::KEY) and the `if` becomes a run-time branch. One model source thus gives both shaders
 //! that `bench-frames --uber` compares.
 
 use nimbus_dsl::control::Switch;
+use nimbus_dsl::ops;
 use nimbus_dsl::prelude::*;
 use nimbus_dsl::shader::{Bool, U32};
-use nimbus_dsl::{Binding, ops};
+
+use super::bindings::KEY;
 
 use crate::Toggle;
 use crate::key::{CloudKey, PhaseKind};
@@ -43,14 +45,6 @@ impl KeyUniforms {
         }
     }
 }
-
-/// The key uniforms; only the uber-shader declares it.
-pub static KEY: Binding<KeyUniforms> = Binding::uniform(
-    "key",
-    0,
-    7,
-    "The uber-shader's generation-time choices, read at run time.",
-);
 
 pub const SHAPE_DETAIL: Toggle = Toggle::ShapeDetail;
 pub const TURBULENCE: Toggle = Toggle::Turbulence;

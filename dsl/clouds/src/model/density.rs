@@ -5,35 +5,12 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use nimbus_dsl::SpecValue;
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER};
 use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, gate};
 use super::layers::LayerGroup;
 use crate::key::CloudKey;
-
-/// Which erosion stages a density sample runs; decided per variant.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct DensityFeatures {
-    pub shape_detail: bool,
-    pub turbulence: bool,
-}
-
-impl SpecValue for DensityFeatures {
-    fn suffix(&self) -> String {
-        match (self.shape_detail, self.turbulence) {
-            (true, true) => "detail_turbulence".into(),
-            (true, false) => "detail".into(),
-            (false, true) => "turbulence".into(),
-            (false, false) => "base".into(),
-        }
-    }
-
-    fn label(&self) -> String {
-        self.suffix()
-    }
-}
 
 /// Sampling frequencies and offsets of the textures, and the coverage.
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]

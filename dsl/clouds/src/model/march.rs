@@ -370,7 +370,7 @@ pub fn earliest_after(t: f32, roots: Vec2, best: f32) -> f32 {
 }
 
 /// Distance to the next crossing of any layer boundary of group `group` beyond `t` (or
-/// `best`): the bottoms of its four layers, then their tops.
+/// `best`): the bottom and the top of each of its four layers.
 #[shader_fn]
 pub fn next_boundary(mu: f32, t: f32, group: u32, best: f32) -> f32 {
     let camera_altitude = CLOUDS.get().camera_altitude;
@@ -378,28 +378,10 @@ pub fn next_boundary(mu: f32, t: f32, group: u32, best: f32) -> f32 {
     let layers = CLOUDS.get().groups[group as usize];
     let mut b = best;
     for lane in 0u32..4u32 {
-        b = earliest_after(
-            t,
-            ray_shell(
-                camera_altitude,
-                mu,
-                layers.min_height[lane as usize],
-                radius,
-            ),
-            b,
-        );
-    }
-    for lane in 0u32..4u32 {
-        b = earliest_after(
-            t,
-            ray_shell(
-                camera_altitude,
-                mu,
-                layers.max_height[lane as usize],
-                radius,
-            ),
-            b,
-        );
+        let bottom = layers.min_height[lane as usize];
+        let top = layers.max_height[lane as usize];
+        b = earliest_after(t, ray_shell(camera_altitude, mu, bottom, radius), b);
+        b = earliest_after(t, ray_shell(camera_altitude, mu, top, radius), b);
     }
     b
 }
