@@ -14,6 +14,7 @@ pub mod manifest;
 mod names;
 pub mod specialise;
 mod target;
+mod uniform_copy;
 mod validate;
 pub mod wgsl;
 
@@ -25,6 +26,7 @@ pub use generate::{
     Generated, OutputFile, VariantStats, file_name, generate, print_and_validate, shader_id,
 };
 pub use target::Target;
+pub use uniform_copy::copy_uniforms_per_invocation;
 pub use validate::{Validated, validate};
 
 use nimbus_dsl::ShaderVariant;

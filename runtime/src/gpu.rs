@@ -16,6 +16,9 @@ pub struct GpuInfo {
     pub backend: String,
     pub device_type: String,
     pub driver: String,
+    /// A CPU implementation (llvmpipe, lavapipe, WARP): pipelines get the tuning of
+    /// [`nimbus_codegen::copy_uniforms_per_invocation`].
+    pub cpu: bool,
 }
 
 impl std::fmt::Display for GpuInfo {
@@ -84,6 +87,7 @@ impl Gpu {
             name: ai.name.clone(),
             backend: format!("{:?}", ai.backend),
             device_type: format!("{:?}", ai.device_type),
+            cpu: ai.device_type == wgpu::DeviceType::Cpu,
             driver: format!("{} {}", ai.driver, ai.driver_info)
                 .trim()
                 .to_string(),
