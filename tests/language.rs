@@ -145,3 +145,65 @@ fn shade_matches_cpu() {
         },
     );
 }
+
+/// Shader functions reached through a module path, as a crate organises them.
+mod helpers {
+    use nimbus_dsl::prelude::*;
+
+    /// Pulls a value towards one.
+    #[shader_fn]
+    pub fn bias(x: f32, b: f32) -> f32 {
+        x / ((1.0 / b - 2.0) * (1.0 - x) + 1.0)
+    }
+}
+
+/// Calls through every form the macro resolves by declaration, not by spelling: a
+/// `#[shader_fn]` by module path, associated functions of glam types and of `f32`, a glam
+/// constant, a `std` constant, and a matrix constructor.
+#[shader_fn]
+fn resolved_calls(v: Vec3, s: f32) -> Vec4 {
+    let b = helpers::bias(s.clamp(0.05, 0.95), 0.3);
+    let m = Mat3::from_cols(Vec3::X, Vec3::new(0.0, b, 0.0), Vec3::splat(0.5));
+    let w = f32::max(v.x, std::f32::consts::PI * s) + f32::min(b, 0.25);
+    (m * v + Vec3::ZERO).extend(w)
+}
+
+#[test]
+fn calls_resolve_by_declaration_and_match_cpu() {
+    let m = ModuleBuilder::build("resolved", "", loc!(), |m| {
+        m.fragment("fs_main", "", loc!(), |frag| {
+            resolved_calls::shader(frag.xyz(), frag.w)
+        });
+    })
+    .expect("records");
+    let g = generate(m, "default", &Target::ALL).expect("every target validates");
+    for want in [
+        "fn bias(",
+        "const PI: f32 = 3.1415927;",
+        "PI * s",
+        "mat3x3<f32>(",
+    ] {
+        assert!(g.wgsl.contains(want), "missing `{want}` in:\n{}", g.wgsl);
+    }
+    let mut rng = Rng::new(13);
+    let mut inputs = Vec::new();
+    while inputs.len() < MIN_INPUTS {
+        inputs.push((0..4).map(|_| rng.range(-2.0, 2.0).to_bits()).collect());
+    }
+    compare(
+        "resolved_calls",
+        vec![Type::Vector(3, Scalar::F32), Type::F32],
+        resolved_calls::RESULT,
+        &resolved_calls::call_ids,
+        &inputs,
+        |w| {
+            let f = |i: usize| f32::from_bits(w[i]);
+            let out = resolved_calls(Vec3::new(f(0), f(1), f(2)), f(3));
+            out.to_array().iter().map(|c| c.to_bits()).collect()
+        },
+        Tolerance {
+            abs: 1e-5,
+            rel: 1e-5,
+        },
+    );
+}

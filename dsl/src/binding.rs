@@ -230,7 +230,7 @@ impl<T: Send + Sync + 'static> Binding<T> {
 }
 
 /// The macro's constant probe, for an item that is a binding: the shader twin reads the global.
-impl<T: ShaderType> NamedConst for &ConstProbe<Binding<T>> {
+impl<T: ShaderType> NamedConst for &&ConstProbe<Binding<T>> {
     type Out = ShaderBinding<T>;
     fn shader_value(&self) -> ShaderBinding<T> {
         ShaderBinding(self.1)

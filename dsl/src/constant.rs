@@ -1,23 +1,33 @@
-//! Named module constants. A Rust `const` that a `#[shader_fn]` reads by name (`INV_FOUR_PI`)
-//! prints as a WGSL `const` of that name, not as a bare number at each use. The macro knows the
-//! name is not a local or a parameter (it tracks those), so it is a constant item; which kind of
-//! value it holds is decided by the type, not the spelling: `f32`, `i32` and `u32` constants
-//! become named constants, anything else (a `bool` or an enum a generation-time branch tests)
-//! stays the plain Rust value it is.
+//! Named module constants. A Rust `const` that a `#[shader_fn]` reads by name (`INV_FOUR_PI`,
+//! `f32::consts::PI`) prints as a WGSL `const` of that name, not as a bare number at each use.
+//! The macro knows the path is not a local or a parameter (it tracks those), so it is an item;
+//! what it becomes is decided by its type, not its spelling:
 //!
-//! The dispatch is by method resolution on a probe (`(&&ConstProbe(name, value)).shader_value()`):
-//! [`NamedConst`] is implemented one reference deeper than [`PlainConst`], so it wins where it
-//! applies. The CPU twin reads the Rust constant itself.
+//! - `f32`, `i32` and `u32` constants become named constants ([`NamedConst`]), and a
+//!   [`Binding`](crate::Binding) static becomes a module binding;
+//! - glam vectors and matrices (`Vec3::ZERO`) become DSL values ([`LiftedConst`]);
+//! - anything else (a `bool` or an enum a generation-time branch tests) stays the plain Rust
+//!   value it is ([`PlainConst`]).
+//!
+//! The dispatch is by method resolution on a probe
+//! (`(&&&ConstProbe(name, value)).shader_value()`): each tier is implemented one reference
+//! deeper than the next, so the first that applies wins. The CPU twin reads the Rust item itself.
 
 use crate::ir::{ExprKind, Global, GlobalKind, Literal};
 use crate::record::{self, push_expr};
-use crate::value::{F32, I32, U32, Value};
+use crate::value::{F32, I32, Lift, ShaderType, U32, Value};
 
 /// A constant the macro met in a `#[shader_fn]` body: its Rust name and value.
 pub struct ConstProbe<T>(pub &'static str, pub T);
 
 /// Constants that print as named WGSL constants.
 pub trait NamedConst {
+    type Out;
+    fn shader_value(&self) -> Self::Out;
+}
+
+/// Vector and matrix constants: the DSL value of the same components.
+pub trait LiftedConst {
     type Out;
     fn shader_value(&self) -> Self::Out;
 }
@@ -55,7 +65,7 @@ fn named<V: Value>(name: &'static str, value: Literal) -> V {
 
 macro_rules! named_const {
     ($($t:ty => $dsl:ty, $lit:expr;)*) => {$(
-        impl NamedConst for &ConstProbe<$t> {
+        impl NamedConst for &&ConstProbe<$t> {
             type Out = $dsl;
             fn shader_value(&self) -> $dsl {
                 named(self.0, $lit(self.1))
@@ -70,9 +80,34 @@ named_const! {
     u32 => U32, Literal::U32;
 }
 
+macro_rules! lifted_const {
+    ($($t:ty),*) => {$(
+        impl LiftedConst for &ConstProbe<$t> {
+            type Out = <$t as ShaderType>::Dsl;
+            fn shader_value(&self) -> Self::Out {
+                self.1.lift()
+            }
+        }
+    )*};
+}
+
+lifted_const!(
+    glam::Vec2,
+    glam::Vec3,
+    glam::Vec4,
+    glam::IVec2,
+    glam::IVec3,
+    glam::IVec4,
+    glam::UVec2,
+    glam::UVec3,
+    glam::UVec4,
+    glam::Mat3,
+    glam::Mat4
+);
+
 #[cfg(test)]
 mod tests {
-    use super::{ConstProbe, NamedConst as _, PlainConst as _};
+    use super::{ConstProbe, LiftedConst as _, NamedConst as _, PlainConst as _};
 
     #[test]
     #[allow(
@@ -81,8 +116,8 @@ mod tests {
     )]
     fn plain_values_stay_plain() {
         // Outside a recording only the plain dispatch can run: bools and enums keep their value.
-        assert!((&&ConstProbe("FLAG", true)).shader_value());
-        assert_eq!((&&ConstProbe("N", 3usize)).shader_value(), 3);
+        assert!((&&&ConstProbe("FLAG", true)).shader_value());
+        assert_eq!((&&&ConstProbe("N", 3usize)).shader_value(), 3);
     }
 
     #[test]
@@ -95,7 +130,9 @@ mod tests {
         fn out_type<T>(_: &dyn Fn() -> T) -> &'static str {
             std::any::type_name::<T>()
         }
-        let ty = out_type(&|| (&&ConstProbe("X", 1.0f32)).shader_value());
+        let ty = out_type(&|| (&&&ConstProbe("X", 1.0f32)).shader_value());
         assert!(ty.ends_with("F32"), "{ty}");
+        let ty = out_type(&|| (&&&ConstProbe("ZERO", glam::Vec3::ZERO)).shader_value());
+        assert!(ty.ends_with("Vec3") && ty.contains("nimbus_dsl"), "{ty}");
     }
 }

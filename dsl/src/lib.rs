@@ -29,6 +29,7 @@ pub mod layout;
 mod module;
 pub mod ops;
 pub mod record;
+pub mod twin;
 pub mod value;
 mod variant;
 

@@ -11,14 +11,6 @@ use quote::{quote, quote_spanned};
 use syn::spanned::Spanned;
 use syn::{BinOp, Block, Expr, Lit, Pat, Stmt, UnOp};
 
-/// Free functions that are the same generic function in both twins.
-const SHARED_BUILTINS: &[&str] = &["smoothstep", "step", "mix", "select", "pack4x8unorm"];
-/// glam's free constructors, which have DSL counterparts of the same name.
-const CONSTRUCTORS: &[&str] = &[
-    "vec2", "vec3", "vec4", "ivec2", "ivec3", "ivec4", "uvec2", "uvec3", "uvec4",
-];
-const PRIMITIVES: &[&str] = &["f32", "i32", "u32", "bool"];
-
 fn unsupported(node: impl quote::ToTokens, what: &str) -> syn::Error {
     syn::Error::new_spanned(node, format!("{what} is not supported in a #[shader_fn]"))
 }
@@ -201,11 +193,6 @@ impl Transformer {
         ))
     }
 
-    fn is_type_segment(seg: &syn::PathSegment) -> bool {
-        let s = seg.ident.to_string();
-        s.starts_with(|c: char| c.is_ascii_uppercase()) || PRIMITIVES.contains(&s.as_str())
-    }
-
     pub(crate) fn expr(&mut self, e: &Expr) -> syn::Result<TokenStream> {
         Ok(match e {
             Expr::Lit(lit) => match &lit.lit {
@@ -222,36 +209,32 @@ impl Transformer {
                 if p.qself.is_some() {
                     return Err(unsupported(p, "a qualified path"));
                 }
-                if let Some(id) = p.path.get_ident() {
-                    let name = id.to_string();
-                    if self.is_mutable(&name) {
-                        quote! { #id.get() }
-                    } else if self.is_declared(&name) {
-                        quote! { #p }
-                    } else {
-                        // A constant item: named in the shader when it is a scalar, its plain
-                        // value otherwise (see `nimbus_dsl::constant`).
+                let local = p.path.get_ident().map(|id| (id, id.to_string()));
+                match local {
+                    Some((id, name)) if self.is_mutable(&name) => quote! { #id.get() },
+                    Some((_, name)) if self.is_declared(&name) => quote! { #p },
+                    _ => {
+                        // Not a local: a constant (`INV_PI`, `f32::consts::PI`, `Vec3::ZERO`,
+                        // `Toggle::Shadows`). What it becomes is decided by its type, not its
+                        // spelling: see `nimbus_dsl::constant`.
+                        let name = p
+                            .path
+                            .segments
+                            .last()
+                            .map(|s| s.ident.to_string())
+                            .unwrap_or_default();
                         quote! {
                             {
                                 #[allow(unused_imports)]
-                                use ::nimbus_dsl::constant::{NamedConst as _, PlainConst as _};
+                                use ::nimbus_dsl::constant::{
+                                    LiftedConst as _, NamedConst as _, PlainConst as _,
+                                };
                                 #[allow(clippy::needless_borrow)]
-                                let value = (&&::nimbus_dsl::constant::ConstProbe(
-                                    ::core::stringify!(#id),
-                                    #id,
-                                ))
+                                let value = (&&&::nimbus_dsl::constant::ConstProbe(#name, #p))
                                     .shader_value();
                                 value
                             }
                         }
-                    }
-                } else {
-                    let segs = &p.path.segments;
-                    let n = segs.len();
-                    if n >= 2 && Self::is_type_segment(&segs[n - 2]) {
-                        quote! { ::nimbus_dsl::lift(#p) }
-                    } else {
-                        quote! { #p }
                     }
                 }
             }
@@ -469,30 +452,18 @@ impl Transformer {
         if p.qself.is_some() {
             return Err(unsupported(p, "a qualified path call"));
         }
-        let segs = &p.path.segments;
-        let n = segs.len();
-        let last = segs[n - 1].ident.to_string();
-        if n == 1 && SHARED_BUILTINS.contains(&last.as_str()) {
-            return Ok(quote! { #p(#(#args),*) });
+        // Resolved by declaration (see `nimbus_dsl::twin`): a single name's twin is the module
+        // of that name, a path's is `__shader_twin_<last>` beside it, whether the path names a
+        // module or a type. rustc resolves either; a function without a twin fails at this call.
+        let mut path = p.path.clone();
+        if path.segments.len() == 1 {
+            return Ok(quote! { #path::shader(#(#args),*) });
         }
-        if n == 1 && CONSTRUCTORS.contains(&last.as_str()) {
-            let f = &segs[0].ident;
-            return Ok(quote! { ::nimbus_dsl::shader::#f(#(#args),*) });
+        if let Some(last) = path.segments.last_mut() {
+            last.ident =
+                syn::Ident::new(&format!("__shader_twin_{}", last.ident), last.ident.span());
         }
-        if n >= 2 && Self::is_type_segment(&segs[n - 2]) {
-            // `Vec3::new(..)`, `f32::max(a, b)`: the same associated function on the twin type.
-            let mut ty = p.path.clone();
-            let method = ty.segments.pop().map(|pair| pair.into_value());
-            if let Some(pair) = ty.segments.pop() {
-                ty.segments.push_value(pair.into_value());
-            }
-            let method = method.map(|m| m.ident);
-            return Ok(quote! {
-                <#ty as ::nimbus_dsl::ShaderType>::Dsl::#method(#(#args),*)
-            });
-        }
-        // Another #[shader_fn]: its twin lives in the module of the same name.
-        Ok(quote! { #p::shader(#(#args),*) })
+        Ok(quote! { #path(#(#args),*) })
     }
 
     fn if_expr(&mut self, i: &syn::ExprIf) -> syn::Result<TokenStream> {

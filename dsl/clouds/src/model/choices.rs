@@ -90,6 +90,9 @@ fn bit_set(word: U32, bit: u32) -> Bool {
     ops::ne(word & (1u32 << bit), 0u32)
 }
 
+#[doc(hidden)]
+pub use gate::shader as __shader_twin_gate;
+
 /// Shader twin of [`gate()`](fn@gate).
 pub mod gate {
     use super::*;
@@ -102,6 +105,9 @@ pub mod gate {
         Switch::Dynamic(bit_set(KEY.read().toggles, bit))
     }
 }
+
+#[doc(hidden)]
+pub use key_count::shader as __shader_twin_key_count;
 
 /// Shader twin of [`key_count()`](fn@key_count).
 pub mod key_count {
@@ -118,6 +124,9 @@ pub mod key_count {
         }
     }
 }
+
+#[doc(hidden)]
+pub use phase_is::shader as __shader_twin_phase_is;
 
 /// Shader twin of [`phase_is()`](fn@phase_is).
 pub mod phase_is {
