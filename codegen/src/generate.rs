@@ -10,6 +10,7 @@ use crate::bindings::{BindingInfo, describe};
 use crate::error::CodegenError;
 use crate::manifest::BindingManifest;
 use crate::names::rename_for_wgsl;
+use crate::share::share_repeated_subexpressions;
 use crate::specialise::{specialise, walk_block};
 use crate::target::Target;
 use crate::validate::{Validated, validate};
@@ -162,6 +163,7 @@ pub fn print_and_validate(
     variant: &str,
 ) -> Result<(Module, String, SpanTable, Validated), CodegenError> {
     specialise(&mut module);
+    share_repeated_subexpressions(&mut module);
     rename_for_wgsl(&mut module);
     let (wgsl, spans) = print_module(&module, variant)?;
     let validated = validate(&wgsl, &spans, &module.name, variant)?;

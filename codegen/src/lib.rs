@@ -1,6 +1,6 @@
 //! nimbus-codegen: from a recorded DSL module to validated shaders for every target.
 //!
-//! The chain is `specialise` → `wgsl` (readable printer + span table) → `validate` (naga, the
+//! The chain is `specialise` → `share` (repeated sub-expressions bound once) → `wgsl` (readable printer + span table) → `validate` (naga, the
 //! single gate) → `backend` (GLSL ES 3.00, GLSL 4.50, HLSL, MSL, SPIR-V via naga) → `emit`.
 //! Codegen knows nothing of wgpu.
 
@@ -12,6 +12,7 @@ pub mod external;
 mod generate;
 pub mod manifest;
 mod names;
+mod share;
 pub mod specialise;
 mod target;
 mod uniform_copy;

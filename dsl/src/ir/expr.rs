@@ -234,7 +234,7 @@ pub enum SampleKind {
 }
 
 /// One expression node.
-#[derive(Clone, PartialEq, Debug)]
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
 pub enum ExprKind {
     Literal(Literal),
     /// The n-th parameter of the function being recorded.

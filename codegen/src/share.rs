@@ -1,0 +1,330 @@
+//! Repeated sub-expressions bound once.
+//!
+//! The recorder builds expressions as a graph: a DSL helper such as `mix(a, b, t)` on vectors
+//! records `a + (b - a) * t` with one `a`, and a printer that walks the graph as a tree prints
+//! `a` (and computes it, on a driver that does not merge the copies) at every use. This pass
+//! finds, within each statement, every expression the statement reaches more than once and binds
+//! it to a `let` just before the statement, so it is written and evaluated once, as a careful
+//! hand-written shader would.
+//!
+//! Only uses within one statement are merged: all of them are evaluated at the same moment, so
+//! they have the same value (expressions have no side effects). The same expression reached
+//! from two statements may read a `var` that changed in between and is left alone, as are a
+//! loop's bounds (the header is printed once per loop, and moving its `end` out would change
+//! when it is read). Cheap accesses (`u.march.radius`, `v.x`, `a[i]` on names, literals,
+//! constant vectors) are re-read rather than named: naming them would make the code longer, not
+//! clearer.
+
+use std::collections::{HashMap, HashSet};
+
+use nimbus_dsl::ir::{Block, Expr, ExprId, ExprKind, Function, Local, LocalId, Stmt, Type};
+
+/// Binds, in every function of the module, what a statement computes more than once.
+pub fn share_repeated_subexpressions(module: &mut nimbus_dsl::ir::Module) {
+    for f in &mut module.functions {
+        let mut reached_by = HashMap::new();
+        count_statements(f, &f.body, &mut reached_by);
+        let body = std::mem::take(&mut f.body);
+        f.body = share_block(f, body, &reached_by);
+    }
+}
+
+/// How many statements reach each expression (a loop or an `if` counts for its header only).
+fn count_statements(f: &Function, block: &Block, out: &mut HashMap<ExprId, u32>) {
+    for stmt in block {
+        let mut seen = HashSet::new();
+        let mut visit = |root: ExprId| reach(f, root, &mut seen);
+        match stmt {
+            Stmt::Let { value, .. } | Stmt::Assign { value, .. } => visit(*value),
+            Stmt::Var { init, .. } => init.iter().for_each(|i| visit(*i)),
+            Stmt::Store { target, value, .. } => {
+                visit(*target);
+                visit(*value);
+            }
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                ..
+            } => {
+                visit(*cond);
+                count_statements(f, then, out);
+                count_statements(f, otherwise, out);
+            }
+            Stmt::For {
+                start, end, body, ..
+            } => {
+                visit(*start);
+                visit(*end);
+                count_statements(f, body, out);
+            }
+            Stmt::Return { value, .. } => value.iter().for_each(|v| visit(*v)),
+            Stmt::Break { .. } | Stmt::Continue { .. } => {}
+        }
+        for id in seen {
+            *out.entry(id).or_insert(0) += 1;
+        }
+    }
+}
+
+fn reach(f: &Function, id: ExprId, seen: &mut HashSet<ExprId>) {
+    if seen.insert(id) {
+        for_each_operand(&f.expr(id).kind, |c| reach(f, c, seen));
+    }
+}
+
+fn share_block(f: &mut Function, block: Block, reached_by: &HashMap<ExprId, u32>) -> Block {
+    let mut out = Vec::with_capacity(block.len());
+    for stmt in block {
+        let stmt = match stmt {
+            Stmt::If {
+                cond,
+                then,
+                otherwise,
+                loc,
+            } => Stmt::If {
+                cond,
+                then: share_block(f, then, reached_by),
+                otherwise: share_block(f, otherwise, reached_by),
+                loc,
+            },
+            Stmt::For {
+                counter,
+                start,
+                end,
+                body,
+                loc,
+            } => Stmt::For {
+                counter,
+                start,
+                end,
+                body: share_block(f, body, reached_by),
+                loc,
+            },
+            other => other,
+        };
+        let (roots, base): (Vec<ExprId>, String) = match &stmt {
+            Stmt::Let { local, value, .. } | Stmt::Assign { local, value, .. } => {
+                (vec![*value], f.local(*local).name.clone())
+            }
+            Stmt::Var {
+                local,
+                init: Some(i),
+                ..
+            } => (vec![*i], f.local(*local).name.clone()),
+            Stmt::Store { target, value, .. } => (vec![*target, *value], "stored".into()),
+            Stmt::If { cond, .. } => (vec![*cond], "cond".into()),
+            Stmt::Return { value: Some(v), .. } => (vec![*v], "result".into()),
+            _ => (Vec::new(), String::new()),
+        };
+        for ids in repeated(f, &roots, reached_by) {
+            let local = bind(f, &ids, &base);
+            out.push(Stmt::Let {
+                local: local.0,
+                value: local.1,
+                loc: stmt.loc(),
+            });
+        }
+        out.push(stmt);
+    }
+    out
+}
+
+/// The values the statement rooted at `roots` computes more than once and that are worth a
+/// name, each as the expressions that compute it, innermost first (so an outer one, bound
+/// later, prints with the inner one's name). Two expressions are one value when they have the
+/// same operation on the same operand values: `Vec4::splat(w)` written twice is one value.
+fn repeated(f: &Function, roots: &[ExprId], reached_by: &HashMap<ExprId, u32>) -> Vec<Vec<ExprId>> {
+    let mut numbering = Numbering::default();
+    let roots: Vec<ExprId> = roots.iter().map(|&r| numbering.number(f, r)).collect();
+    // Uses are counted on the graph of values: `f(g(x))` written twice uses `f(..)` twice and
+    // `g(x)` once (inside the one `f(..)`), so only `f(..)` is named.
+    let mut uses: HashMap<ExprId, u32> = HashMap::new();
+    let mut order = Vec::new();
+    for r in roots {
+        numbering.count_uses(r, &mut uses, &mut order);
+    }
+    order
+        .into_iter()
+        .filter(|rep| uses.get(rep).copied().unwrap_or(0) > 1)
+        .filter_map(|rep| numbering.members.get(&rep))
+        .filter(|ids| ids.iter().all(|id| reached_by.get(id) == Some(&1)))
+        .filter(|ids| !is_cheap(f, ids[0]))
+        .cloned()
+        .collect()
+}
+
+/// Value numbering of one statement's expressions.
+#[derive(Default)]
+struct Numbering {
+    /// Each expression's representative: the first expression of its value.
+    rep: HashMap<ExprId, ExprId>,
+    /// Representatives by their operation over representative operands.
+    by_value: HashMap<(ExprKind, Type), ExprId>,
+    /// Per representative: its operation over representative operands.
+    canonical: HashMap<ExprId, ExprKind>,
+    /// Per representative: the expressions that compute its value.
+    members: HashMap<ExprId, Vec<ExprId>>,
+}
+
+impl Numbering {
+    fn number(&mut self, f: &Function, id: ExprId) -> ExprId {
+        if let Some(&rep) = self.rep.get(&id) {
+            return rep;
+        }
+        let e = f.expr(id);
+        let mut kind = e.kind.clone();
+        for_each_operand_mut(&mut kind, |op| *op = self.number(f, *op));
+        let rep = match self.by_value.get(&(kind.clone(), e.ty)) {
+            Some(&rep) => rep,
+            None => {
+                self.by_value.insert((kind.clone(), e.ty), id);
+                self.canonical.insert(id, kind);
+                id
+            }
+        };
+        self.rep.insert(id, rep);
+        self.members.entry(rep).or_default().push(id);
+        rep
+    }
+
+    /// Counts each value's uses, and lists the values in post-order of first use.
+    fn count_uses(&self, rep: ExprId, uses: &mut HashMap<ExprId, u32>, order: &mut Vec<ExprId>) {
+        let n = uses.entry(rep).or_insert(0);
+        *n += 1;
+        if *n > 1 {
+            return;
+        }
+        if let Some(kind) = self.canonical.get(&rep) {
+            for_each_operand(kind, |op| self.count_uses(op, uses, order));
+        }
+        order.push(rep);
+    }
+}
+
+/// Whether re-reading `id` costs nothing worth a name: a name, a literal, a field, component or
+/// element of one, or a constant vector.
+fn is_cheap(f: &Function, id: ExprId) -> bool {
+    match &f.expr(id).kind {
+        ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => true,
+        ExprKind::Member(a, _) | ExprKind::Swizzle(a, _) => is_cheap(f, *a),
+        ExprKind::Index(a, i) => is_cheap(f, *a) && is_cheap(f, *i),
+        ExprKind::Construct(_, args) => args
+            .iter()
+            .all(|a| matches!(f.expr(*a).kind, ExprKind::Literal(_))),
+        _ => false,
+    }
+}
+
+/// Moves the computation of `ids` (one value) into a new `let` local and makes each of them
+/// read it; returns the local and the expression the `let` binds.
+fn bind(f: &mut Function, ids: &[ExprId], base: &str) -> (LocalId, ExprId) {
+    let original = f.expr(ids[0]).clone();
+    let ty = original.ty;
+    let value = ExprId(f.exprs.len() as u32);
+    f.exprs.push(original);
+    let name = unique_name(f, base);
+    let local = LocalId(f.locals.len() as u32);
+    f.locals.push(Local {
+        name,
+        ty,
+        mutable: false,
+    });
+    for id in ids {
+        f.exprs[id.0 as usize] = Expr {
+            kind: ExprKind::Local(local),
+            ty,
+        };
+    }
+    (local, value)
+}
+
+fn unique_name(f: &Function, base: &str) -> String {
+    let taken = |n: &str| f.locals.iter().any(|l| l.name == n);
+    (1..)
+        .map(|i| format!("{base}_part{i}"))
+        .find(|n| !taken(n))
+        .unwrap_or_else(|| format!("{base}_part"))
+}
+
+/// Calls `visit` on each operand of an expression.
+fn for_each_operand(kind: &ExprKind, mut visit: impl FnMut(ExprId)) {
+    match kind {
+        ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
+        ExprKind::Unary(_, a)
+        | ExprKind::Swizzle(a, _)
+        | ExprKind::Member(a, _)
+        | ExprKind::Convert(_, a)
+        | ExprKind::Bitcast(_, a) => visit(*a),
+        ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
+            visit(*a);
+            visit(*b);
+        }
+        ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
+            args.iter().for_each(|a| visit(*a));
+        }
+        ExprKind::Select {
+            if_false,
+            if_true,
+            cond,
+        } => {
+            visit(*if_false);
+            visit(*if_true);
+            visit(*cond);
+        }
+        ExprKind::Sample {
+            texture,
+            sampler,
+            coords,
+            kind,
+        } => {
+            visit(*texture);
+            visit(*sampler);
+            visit(*coords);
+            if let nimbus_dsl::ir::SampleKind::Level(l) = kind {
+                visit(*l);
+            }
+        }
+    }
+}
+
+/// Calls `visit` on each operand of an expression, which it may replace.
+fn for_each_operand_mut(kind: &mut ExprKind, mut visit: impl FnMut(&mut ExprId)) {
+    match kind {
+        ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
+        ExprKind::Unary(_, a)
+        | ExprKind::Swizzle(a, _)
+        | ExprKind::Member(a, _)
+        | ExprKind::Convert(_, a)
+        | ExprKind::Bitcast(_, a) => visit(a),
+        ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
+            visit(a);
+            visit(b);
+        }
+        ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
+            args.iter_mut().for_each(visit);
+        }
+        ExprKind::Select {
+            if_false,
+            if_true,
+            cond,
+        } => {
+            visit(if_false);
+            visit(if_true);
+            visit(cond);
+        }
+        ExprKind::Sample {
+            texture,
+            sampler,
+            coords,
+            kind,
+        } => {
+            visit(texture);
+            visit(sampler);
+            visit(coords);
+            if let nimbus_dsl::ir::SampleKind::Level(l) = kind {
+                visit(l);
+            }
+        }
+    }
+}
