@@ -27,10 +27,10 @@ fn predeclared(name: &str) -> bool {
     BUILTIN_IDENTIFIER_SET.contains(name)
 }
 
-/// `name_`, `name__`, ... whichever is not in `taken`.
-fn fresh(name: &str, taken: &BTreeSet<String>) -> String {
+/// `name_`, `name__`, ... whichever is not `taken`.
+fn fresh(name: &str, taken: impl Fn(&str) -> bool) -> String {
     let mut n = format!("{name}_");
-    while taken.contains(&n) || reserved(&n) || predeclared(&n) {
+    while taken(&n) || reserved(&n) || predeclared(&n) {
         n.push('_');
     }
     n
@@ -55,7 +55,7 @@ pub(crate) fn rename_for_wgsl(module: &mut Module) {
     let mut renamed: BTreeMap<String, String> = BTreeMap::new();
     for name in declared {
         if reserved(&name) || predeclared(&name) {
-            let new = fresh(&name, &taken);
+            let new = fresh(&name, |n| taken.contains(n));
             taken.insert(new.clone());
             renamed.insert(name, new);
         }
@@ -108,23 +108,18 @@ pub(crate) fn rename_for_wgsl(module: &mut Module) {
                 || referenced.contains(name)
                 || (predeclared(name) && (!builtin_fns.contains(name) || called.contains(name)))
         };
-        let mut local_taken: BTreeSet<String> = f
-            .params
-            .iter()
-            .map(|p| p.name.clone())
-            .chain(f.locals.iter().map(|l| l.name.clone()))
-            .chain(taken.iter().cloned())
-            .collect();
+        // Names given here, beside every name of the module (which includes this function's).
+        let mut given: BTreeSet<String> = BTreeSet::new();
         for p in &mut f.params {
             if clash(&p.name) {
-                p.name = fresh(&p.name, &local_taken);
-                local_taken.insert(p.name.clone());
+                p.name = fresh(&p.name, |n| taken.contains(n) || given.contains(n));
+                given.insert(p.name.clone());
             }
         }
         for l in &mut f.locals {
             if clash(&l.name) {
-                l.name = fresh(&l.name, &local_taken);
-                local_taken.insert(l.name.clone());
+                l.name = fresh(&l.name, |n| taken.contains(n) || given.contains(n));
+                given.insert(l.name.clone());
             }
         }
     }

@@ -15,24 +15,24 @@
 //! constant vectors) are re-read rather than named: naming them would make the code longer, not
 //! clearer.
 
-use std::collections::{HashMap, HashSet};
+use naga::{FastHashMap, FastHashSet};
 
-use nimbus_dsl::ir::{Block, Expr, ExprId, ExprKind, Function, Local, LocalId, Stmt, Type};
+use nimbus_dsl::ir::{Block, Expr, ExprId, ExprKind, Function, Local, LocalId, Stmt};
 
 /// Binds, in every function of the module, what a statement computes more than once.
 pub fn share_repeated_subexpressions(module: &mut nimbus_dsl::ir::Module) {
     for f in &mut module.functions {
-        let mut reached_by = HashMap::new();
+        let mut reached_by = FastHashMap::default();
         count_statements(f, &f.body, &mut reached_by);
         let body = std::mem::take(&mut f.body);
-        f.body = share_block(f, body, &reached_by);
+        f.body = share_block(f, body, &reached_by, &mut Numbering::default());
     }
 }
 
 /// How many statements reach each expression (a loop or an `if` counts for its header only).
-fn count_statements(f: &Function, block: &Block, out: &mut HashMap<ExprId, u32>) {
+fn count_statements(f: &Function, block: &Block, out: &mut FastHashMap<ExprId, u32>) {
     for stmt in block {
-        let mut seen = HashSet::new();
+        let mut seen = FastHashSet::default();
         let mut visit = |root: ExprId| reach(f, root, &mut seen);
         match stmt {
             Stmt::Let { value, .. } | Stmt::Assign { value, .. } => visit(*value),
@@ -67,13 +67,18 @@ fn count_statements(f: &Function, block: &Block, out: &mut HashMap<ExprId, u32>)
     }
 }
 
-fn reach(f: &Function, id: ExprId, seen: &mut HashSet<ExprId>) {
+fn reach(f: &Function, id: ExprId, seen: &mut FastHashSet<ExprId>) {
     if seen.insert(id) {
         for_each_operand(&f.expr(id).kind, |c| reach(f, c, seen));
     }
 }
 
-fn share_block(f: &mut Function, block: Block, reached_by: &HashMap<ExprId, u32>) -> Block {
+fn share_block(
+    f: &mut Function,
+    block: Block,
+    reached_by: &FastHashMap<ExprId, u32>,
+    numbering: &mut Numbering,
+) -> Block {
     let mut out = Vec::with_capacity(block.len());
     for stmt in block {
         let stmt = match stmt {
@@ -84,8 +89,8 @@ fn share_block(f: &mut Function, block: Block, reached_by: &HashMap<ExprId, u32>
                 loc,
             } => Stmt::If {
                 cond,
-                then: share_block(f, then, reached_by),
-                otherwise: share_block(f, otherwise, reached_by),
+                then: share_block(f, then, reached_by, numbering),
+                otherwise: share_block(f, otherwise, reached_by, numbering),
                 loc,
             },
             Stmt::For {
@@ -98,7 +103,7 @@ fn share_block(f: &mut Function, block: Block, reached_by: &HashMap<ExprId, u32>
                 counter,
                 start,
                 end,
-                body: share_block(f, body, reached_by),
+                body: share_block(f, body, reached_by, numbering),
                 loc,
             },
             other => other,
@@ -117,7 +122,7 @@ fn share_block(f: &mut Function, block: Block, reached_by: &HashMap<ExprId, u32>
             Stmt::Return { value: Some(v), .. } => (vec![*v], "result".into()),
             _ => (Vec::new(), String::new()),
         };
-        for ids in repeated(f, &roots, reached_by) {
+        for ids in repeated(f, &roots, reached_by, numbering) {
             let local = bind(f, &ids, &base);
             out.push(Stmt::Let {
                 local: local.0,
@@ -134,51 +139,74 @@ fn share_block(f: &mut Function, block: Block, reached_by: &HashMap<ExprId, u32>
 /// name, each as the expressions that compute it, innermost first (so an outer one, bound
 /// later, prints with the inner one's name). Two expressions are one value when they have the
 /// same operation on the same operand values: `Vec4::splat(w)` written twice is one value.
-fn repeated(f: &Function, roots: &[ExprId], reached_by: &HashMap<ExprId, u32>) -> Vec<Vec<ExprId>> {
-    let mut numbering = Numbering::default();
+fn repeated(
+    f: &Function,
+    roots: &[ExprId],
+    reached_by: &FastHashMap<ExprId, u32>,
+    numbering: &mut Numbering,
+) -> Vec<Vec<ExprId>> {
+    numbering.clear();
     let roots: Vec<ExprId> = roots.iter().map(|&r| numbering.number(f, r)).collect();
     // Uses are counted on the graph of values: `f(g(x))` written twice uses `f(..)` twice and
     // `g(x)` once (inside the one `f(..)`), so only `f(..)` is named.
-    let mut uses: HashMap<ExprId, u32> = HashMap::new();
-    let mut order = Vec::new();
     for r in roots {
-        numbering.count_uses(r, &mut uses, &mut order);
+        numbering.count_uses(r);
     }
+    let Numbering {
+        order,
+        uses,
+        members,
+        ..
+    } = numbering;
     order
-        .into_iter()
-        .filter(|rep| uses.get(rep).copied().unwrap_or(0) > 1)
-        .filter_map(|rep| numbering.members.get(&rep))
+        .iter()
+        .filter(|rep| uses.get(*rep).copied().unwrap_or(0) > 1)
+        .filter_map(|rep| members.get(rep))
         .filter(|ids| ids.iter().all(|id| reached_by.get(id) == Some(&1)))
         .filter(|ids| !is_cheap(f, ids[0]))
         .cloned()
         .collect()
 }
 
-/// Value numbering of one statement's expressions.
+/// Value numbering of one statement's expressions (the maps are reused from statement to
+/// statement).
 #[derive(Default)]
 struct Numbering {
     /// Each expression's representative: the first expression of its value.
-    rep: HashMap<ExprId, ExprId>,
-    /// Representatives by their operation over representative operands.
-    by_value: HashMap<(ExprKind, Type), ExprId>,
+    rep: FastHashMap<ExprId, ExprId>,
+    /// Representatives by their operation over representative operands. The type is not part
+    /// of the key: the operation and its operands decide it (a constructor names its type).
+    by_value: FastHashMap<ExprKind, ExprId>,
     /// Per representative: its operation over representative operands.
-    canonical: HashMap<ExprId, ExprKind>,
+    canonical: FastHashMap<ExprId, ExprKind>,
     /// Per representative: the expressions that compute its value.
-    members: HashMap<ExprId, Vec<ExprId>>,
+    members: FastHashMap<ExprId, Vec<ExprId>>,
+    /// Per representative: how many times the statement uses the value.
+    uses: FastHashMap<ExprId, u32>,
+    /// Representatives in post-order of first use.
+    order: Vec<ExprId>,
 }
 
 impl Numbering {
+    fn clear(&mut self) {
+        self.rep.clear();
+        self.by_value.clear();
+        self.canonical.clear();
+        self.members.clear();
+        self.uses.clear();
+        self.order.clear();
+    }
+
     fn number(&mut self, f: &Function, id: ExprId) -> ExprId {
         if let Some(&rep) = self.rep.get(&id) {
             return rep;
         }
-        let e = f.expr(id);
-        let mut kind = e.kind.clone();
+        let mut kind = f.expr(id).kind.clone();
         for_each_operand_mut(&mut kind, |op| *op = self.number(f, *op));
-        let rep = match self.by_value.get(&(kind.clone(), e.ty)) {
+        let rep = match self.by_value.get(&kind) {
             Some(&rep) => rep,
             None => {
-                self.by_value.insert((kind.clone(), e.ty), id);
+                self.by_value.insert(kind.clone(), id);
                 self.canonical.insert(id, kind);
                 id
             }
@@ -189,16 +217,20 @@ impl Numbering {
     }
 
     /// Counts each value's uses, and lists the values in post-order of first use.
-    fn count_uses(&self, rep: ExprId, uses: &mut HashMap<ExprId, u32>, order: &mut Vec<ExprId>) {
-        let n = uses.entry(rep).or_insert(0);
+    fn count_uses(&mut self, rep: ExprId) {
+        let n = self.uses.entry(rep).or_insert(0);
         *n += 1;
         if *n > 1 {
             return;
         }
+        let mut operands = Vec::new();
         if let Some(kind) = self.canonical.get(&rep) {
-            for_each_operand(kind, |op| self.count_uses(op, uses, order));
+            for_each_operand(kind, |op| operands.push(op));
         }
-        order.push(rep);
+        for op in operands {
+            self.count_uses(op);
+        }
+        self.order.push(rep);
     }
 }
 
