@@ -121,7 +121,26 @@ fn write_all(
         manifest.push('\n');
     }
     for (name, bytes) in &extras.files {
-        let path = tmp.join(name);
+        // Names are relative paths inside the folder (`textures/shape.rgba8`), never outside it.
+        let relative = Path::new(name);
+        if relative.is_absolute()
+            || relative
+                .components()
+                .any(|c| !matches!(c, std::path::Component::Normal(_)))
+        {
+            return Err(CodegenError::Output {
+                action: "write outside the output folder",
+                path: relative.to_path_buf(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    "an extra file's name must be a relative path inside the folder",
+                ),
+            });
+        }
+        let path = tmp.join(relative);
+        if let Some(parent) = path.parent() {
+            fs::create_dir_all(parent).map_err(io("create", parent))?;
+        }
         fs::write(&path, bytes).map_err(io("write", &path))?;
         names.push(name.clone());
     }

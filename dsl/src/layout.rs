@@ -41,10 +41,12 @@ pub fn array_stride(elem: Type) -> (u32, u32) {
 }
 
 /// Alignment, size and member offsets of a struct. Struct members of struct type are aligned
-/// to 16, as the uniform address space requires.
+/// to 16, as the uniform address space requires; the struct itself is as aligned as its most
+/// aligned member (WGSL's AlignOf), so `{vec2, f32, f32, f32}` is 24 bytes, as naga lays it out.
+/// (A std140 host, WebGL's, rounds a block up to 16 bytes: engine packages pad for it.)
 pub fn struct_layout(def: &StructDef) -> (u32, u32, Vec<u32>) {
     let mut offset = 0;
-    let mut align = 16;
+    let mut align = 4;
     let mut offsets = Vec::with_capacity(def.fields.len());
     for f in def.fields {
         let (a, s) = align_size(f.ty);
@@ -249,6 +251,28 @@ flatten_glam!(glam::Vec2, glam::Vec3, glam::Vec4, glam::Mat3, glam::Mat4);
 /// that sets uniforms member by member, or a manifest, needs. Integers and booleans are exact
 /// in `f64`.
 pub fn read_members(ty: Type, bytes: &[u8]) -> Vec<(String, Vec<f64>)> {
+    member_layout(ty, bytes)
+        .into_iter()
+        .map(|m| (m.path, m.value))
+        .collect()
+}
+
+/// One leaf member of a uniform block: where it lives in the buffer and what it holds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MemberLayout {
+    /// Dotted path with array indices (`groups[1].min_height`).
+    pub path: String,
+    /// Byte offset from the start of the block.
+    pub offset: u32,
+    /// Its shader type (a scalar, vector or matrix).
+    pub ty: Type,
+    /// Its scalar components read from `bytes` (matrices column by column).
+    pub value: Vec<f64>,
+}
+
+/// Every leaf member of a uniform block of type `ty` with its offset, type and the value it
+/// has in `bytes`: a layout an engine can fill member by member, or write as raw bytes.
+pub fn member_layout(ty: Type, bytes: &[u8]) -> Vec<MemberLayout> {
     let mut out = Vec::new();
     read_into(ty, bytes, 0, "", &mut out);
     out
@@ -269,7 +293,7 @@ fn scalar(s: Scalar, w: u32) -> f64 {
     }
 }
 
-fn read_into(ty: Type, bytes: &[u8], offset: u32, path: &str, out: &mut Vec<(String, Vec<f64>)>) {
+fn read_into(ty: Type, bytes: &[u8], offset: u32, path: &str, out: &mut Vec<MemberLayout>) {
     let at = offset as usize;
     match ty {
         Type::Struct(def) => {
@@ -283,13 +307,20 @@ fn read_into(ty: Type, bytes: &[u8], offset: u32, path: &str, out: &mut Vec<(Str
                 read_into(f.ty, bytes, offset + o, &p, out);
             }
         }
-        Type::Scalar(s) => out.push((path.to_string(), vec![scalar(s, word(bytes, at))])),
-        Type::Vector(n, s) => out.push((
-            path.to_string(),
-            (0..usize::from(n))
+        Type::Scalar(s) => out.push(MemberLayout {
+            path: path.to_string(),
+            offset,
+            ty,
+            value: vec![scalar(s, word(bytes, at))],
+        }),
+        Type::Vector(n, s) => out.push(MemberLayout {
+            path: path.to_string(),
+            offset,
+            ty,
+            value: (0..usize::from(n))
                 .map(|i| scalar(s, word(bytes, at + 4 * i)))
                 .collect(),
-        )),
+        }),
         Type::Matrix(n) => {
             let (col_align, col_size) = align_size(Type::Vector(n, Scalar::F32));
             let stride = round_up(col_align, col_size) as usize;
@@ -297,7 +328,12 @@ fn read_into(ty: Type, bytes: &[u8], offset: u32, path: &str, out: &mut Vec<(Str
                 .flat_map(|c| (0..usize::from(n)).map(move |r| at + c * stride + 4 * r))
                 .map(|a| scalar(Scalar::F32, word(bytes, a)))
                 .collect();
-            out.push((path.to_string(), values));
+            out.push(MemberLayout {
+                path: path.to_string(),
+                offset,
+                ty,
+                value: values,
+            });
         }
         Type::Array(elem, n) => {
             let (_, stride) = array_stride(*elem);

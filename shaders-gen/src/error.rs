@@ -11,6 +11,34 @@ pub(crate) enum CliError {
     #[error(transparent)]
     Data(#[from] DataError),
 
+    #[error(
+        "an engine package is made for genus × preset pairs: name a genus (--genus, with or \
+         without --quality) or a scene (--scene), not a catalogue entry"
+    )]
+    NoPairs,
+
+    #[error(
+        "--engine {engine}: {what} is {size} px, beyond the {limit} px the engine's API \
+         guarantees on every device ({basis}); choose a lower --quality"
+    )]
+    EngineLimit {
+        engine: &'static str,
+        what: String,
+        size: u32,
+        limit: u32,
+        basis: &'static str,
+    },
+
+    #[error("{tool} rejects {file}:\n{output}")]
+    External {
+        tool: &'static str,
+        file: String,
+        output: String,
+    },
+
+    #[error("the package's noise textures could not be made: {0}")]
+    Textures(String),
+
     #[error("unknown {kind} `{given}`; known: {known}")]
     Unknown {
         kind: &'static str,

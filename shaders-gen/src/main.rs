@@ -6,10 +6,13 @@ mod check;
 mod data;
 mod diff;
 mod emit;
+mod engine;
 mod error;
 mod explain;
 mod export_density;
 mod list;
+mod package;
+mod package_textures;
 mod plot;
 mod render;
 mod tradeoff;
@@ -136,6 +139,11 @@ enum Command {
             default_value = "all"
         )]
         targets: Vec<TargetChoice>,
+        /// Write a package that engine runs with no Nimbus code: every pass in its language,
+        /// the noise textures, uniform layouts and values, and a JSON pass graph (instead of
+        /// plain shader files for --targets).
+        #[arg(long, value_enum, conflicts_with = "targets")]
+        engine: Option<engine::Engine>,
         /// Output folder (created; replaced only if it is empty or a previous Nimbus output).
         #[arg(short, long, default_value = "nimbus-out")]
         out: PathBuf,
@@ -218,7 +226,15 @@ fn main() -> ExitCode {
         Command::Emit {
             variants,
             scene,
+            targets: _,
+            engine: Some(engine),
+            out,
+        } => package::run(data, &variants.selection(), scene.as_deref(), *engine, out),
+        Command::Emit {
+            variants,
+            scene,
             targets,
+            engine: None,
             out,
         } => emit::run(
             data,

@@ -80,9 +80,9 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
-    // 2 previews + resolve + 6 cloud keys + 3 shadow keys, for 11 genera × 4 presets.
+    // 2 previews + resolve + display + 6 cloud keys + 3 shadow keys, for 11 genera × 4 presets.
     assert!(
-        s.contains("12 shader(s),") && s.contains("0 failure(s)"),
+        s.contains("13 shader(s),") && s.contains("0 failure(s)"),
         "{s}"
     );
     assert!(

@@ -10,7 +10,9 @@ use nimbus_dsl::ir::Module;
 use nimbus_dsl::{DslError, ShaderVariant, SpecValue};
 
 use crate::key::{CloudKey, ShadowKey};
-use crate::model::clouds::{CloudVariant, cloud_module, resolve_module, shadow_module};
+use crate::model::clouds::{
+    CloudVariant, cloud_module, display_module, resolve_module, shadow_module,
+};
 use crate::model::preview::{PhaseModel, preview_module};
 use crate::{CloudLibrary, Features, Genus, Quality};
 
@@ -25,6 +27,8 @@ pub enum ShaderKey {
     Shadow(ShadowKey),
     /// Temporal upscaling and accumulation (one for every key).
     Resolve,
+    /// The display transform: HDR to display sRGB (one for every key).
+    Display,
 }
 
 impl ShaderKey {
@@ -35,6 +39,7 @@ impl ShaderKey {
             ShaderKey::Clouds(k) => k.name(),
             ShaderKey::Shadow(k) => k.name(),
             ShaderKey::Resolve => "temporal".into(),
+            ShaderKey::Display => "aces-srgb".into(),
         }
     }
 
@@ -45,6 +50,7 @@ impl ShaderKey {
             ShaderKey::Clouds(_) => 1,
             ShaderKey::Shadow(_) => 2,
             ShaderKey::Resolve => 3,
+            ShaderKey::Display => 4,
         };
         (m, self.key_name())
     }
@@ -57,6 +63,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Clouds(_) => "clouds",
             ShaderKey::Shadow(_) => "shadow",
             ShaderKey::Resolve => "resolve",
+            ShaderKey::Display => "display",
         }
     }
 
@@ -70,6 +77,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Clouds(k) => cloud_module(k),
             ShaderKey::Shadow(k) => shadow_module(k),
             ShaderKey::Resolve => resolve_module(),
+            ShaderKey::Display => display_module(),
         }
     }
 }
@@ -128,6 +136,7 @@ fn describe(key: &ShaderKey) -> String {
         ShaderKey::Resolve => {
             "temporal upscaling and accumulation, reprojection, history clipping".into()
         }
+        ShaderKey::Display => "display transform: exposure, ACES, sRGB".into(),
     }
 }
 
@@ -136,7 +145,7 @@ pub fn catalog() -> Vec<CatalogEntry> {
     PhaseModel::ALL
         .iter()
         .map(|m| ShaderKey::Preview(*m))
-        .chain([ShaderKey::Resolve])
+        .chain([ShaderKey::Resolve, ShaderKey::Display])
         .map(|key| CatalogEntry {
             description: describe(&key),
             key,

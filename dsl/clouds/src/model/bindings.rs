@@ -11,6 +11,7 @@ use nimbus_dsl::ir::SamplerDesc;
 use nimbus_dsl::{Binding, BoundGuard, CpuBindings};
 
 use super::choices::KeyUniforms;
+use super::display::DisplayParams;
 use super::march::CloudUniforms;
 use super::resolve::ResolveParams;
 
@@ -99,6 +100,29 @@ pub static LINEAR_CLAMP: Binding<Sampler> = Binding::sampler(
     "Bilinear, clamp.",
 );
 
+/// Resolution, exposure, alpha and row order of the display pass.
+pub static DISPLAY: Binding<DisplayParams> = Binding::uniform(
+    "display",
+    0,
+    0,
+    "Resolution, exposure, alpha and row order.",
+);
+/// The HDR image to display (the cloud or resolve pass's target).
+pub static DISPLAY_SOURCE: Binding<Texture2d> = Binding::texture(
+    "source_texture",
+    0,
+    1,
+    "The HDR image to display (the cloud or resolve pass's target).",
+);
+/// Nearest, clamp: one source texel per pixel.
+pub static DISPLAY_SAMPLER: Binding<Sampler> = Binding::sampler(
+    "source_sampler",
+    0,
+    2,
+    SamplerDesc::NEAREST_CLAMP,
+    "Nearest, clamp: one source texel per pixel.",
+);
+
 /// What the runtime binds at each slot of the cloud passes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum CloudBinding {
@@ -184,6 +208,36 @@ impl ResolveBinding {
 
     /// The binding at `(group, binding)`.
     pub fn at(group: u32, binding: u32) -> Option<ResolveBinding> {
+        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
+    }
+}
+
+/// What an engine binds at each slot of the display pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum DisplayBinding {
+    Params,
+    Source,
+    Sampler,
+}
+
+impl DisplayBinding {
+    pub const ALL: [DisplayBinding; 3] = [
+        DisplayBinding::Params,
+        DisplayBinding::Source,
+        DisplayBinding::Sampler,
+    ];
+
+    /// `(group, binding)`, from the binding's one declaration.
+    pub fn slot(self) -> (u32, u32) {
+        match self {
+            DisplayBinding::Params => DISPLAY.slot(),
+            DisplayBinding::Source => DISPLAY_SOURCE.slot(),
+            DisplayBinding::Sampler => DISPLAY_SAMPLER.slot(),
+        }
+    }
+
+    /// The binding at `(group, binding)`.
+    pub fn at(group: u32, binding: u32) -> Option<DisplayBinding> {
         Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
     }
 }

@@ -7,6 +7,7 @@ use nimbus_dsl::{DslError, ModuleBuilder, loc};
 
 pub use super::bindings::{CloudBinding, ResolveBinding};
 
+use super::display::display_fragment;
 use super::march::{CloudUniforms, cloud_fragment};
 use super::preview::fullscreen_position;
 use super::resolve::resolve_fragment;
@@ -267,6 +268,24 @@ pub fn resolve_module() -> Result<Module, DslError> {
             });
             m.fragment("fs_resolve", "One resolved pixel.", loc!(), |frag_coord| {
                 resolve_fragment::shader(frag_coord)
+            });
+        },
+    )
+}
+
+/// Records the display-transform module (the same for every variant): the HDR image to display
+/// sRGB through the model's tone curve.
+pub fn display_module() -> Result<Module, DslError> {
+    ModuleBuilder::build(
+        "display",
+        "Display transform: exposure, ACES filmic curve, sRGB encoding.",
+        loc!(),
+        |m| {
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment("fs_display", "One displayed pixel.", loc!(), |frag_coord| {
+                display_fragment::shader(frag_coord)
             });
         },
     )

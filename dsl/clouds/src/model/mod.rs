@@ -5,6 +5,7 @@ pub mod bindings;
 pub mod choices;
 pub mod clouds;
 pub mod density;
+pub mod display;
 pub mod layers;
 pub mod march;
 pub mod noise;

@@ -1,0 +1,194 @@
+//! The engines `nimbus emit --engine` writes packages for: the shading language each one runs,
+//! the limits its API guarantees on every device, and the conventions that make its first frame
+//! right.
+
+use nimbus_codegen::Target;
+
+/// An engine a package is written for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Engine {
+    /// three.js on WebGL2: GLSL ES 3.00 for `RawShaderMaterial` (`glslVersion: GLSL3`).
+    Three,
+    /// WebGPU in a browser: WGSL.
+    Webgpu,
+    /// wgpu (Rust): WGSL.
+    Wgpu,
+    /// Vulkan: SPIR-V 1.0.
+    Vulkan,
+    /// Unity (D3D-style registers): HLSL shader model 6.0.
+    Unity,
+    /// Metal: MSL 2.1.
+    Metal,
+}
+
+/// Largest texture sides an engine's API guarantees on every device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Limits {
+    pub texture_2d: u32,
+    pub texture_3d: u32,
+    /// Where the figures come from.
+    pub source: &'static str,
+}
+
+impl Engine {
+    /// The `--engine` value.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Engine::Three => "three",
+            Engine::Webgpu => "webgpu",
+            Engine::Wgpu => "wgpu",
+            Engine::Vulkan => "vulkan",
+            Engine::Unity => "unity",
+            Engine::Metal => "metal",
+        }
+    }
+
+    /// The one target the package's shaders are written in.
+    pub(crate) fn target(self) -> Target {
+        match self {
+            Engine::Three => Target::GlslEs300,
+            Engine::Webgpu | Engine::Wgpu => Target::Wgsl,
+            Engine::Vulkan => Target::SpirV,
+            Engine::Unity => Target::Hlsl,
+            Engine::Metal => Target::Msl,
+        }
+    }
+
+    pub(crate) fn language(self) -> &'static str {
+        match self {
+            Engine::Three => "GLSL ES 3.00 (WebGL2)",
+            Engine::Webgpu | Engine::Wgpu => "WGSL",
+            Engine::Vulkan => "SPIR-V 1.0",
+            Engine::Unity => "HLSL shader model 6.0",
+            Engine::Metal => "MSL 2.1",
+        }
+    }
+
+    /// The texture sizes every device of the engine's API supports (the minimums the API
+    /// requires of an implementation, not what a particular GPU offers).
+    pub(crate) fn limits(self) -> Limits {
+        match self {
+            Engine::Three => Limits {
+                texture_2d: 2048,
+                texture_3d: 256,
+                source: "WebGL 2.0 / OpenGL ES 3.0 minimum MAX_TEXTURE_SIZE and MAX_3D_TEXTURE_SIZE",
+            },
+            Engine::Webgpu | Engine::Wgpu => Limits {
+                texture_2d: 8192,
+                texture_3d: 2048,
+                source: "WebGPU default maxTextureDimension2D and maxTextureDimension3D",
+            },
+            Engine::Vulkan => Limits {
+                texture_2d: 4096,
+                texture_3d: 256,
+                source: "Vulkan 1.0 required maxImageDimension2D and maxImageDimension3D",
+            },
+            Engine::Unity => Limits {
+                texture_2d: 16384,
+                texture_3d: 2048,
+                source: "Direct3D 11 feature level 11_0 texture limits",
+            },
+            Engine::Metal => Limits {
+                texture_2d: 8192,
+                texture_3d: 2048,
+                source: "Metal feature set tables, Apple2 family (the oldest with MSL 2.1)",
+            },
+        }
+    }
+
+    /// Whether the framebuffer's first row is the bottom one (OpenGL conventions): the
+    /// display pass then flips the image (`display.flip_y = 1`).
+    pub(crate) fn bottom_up(self) -> bool {
+        matches!(self, Engine::Three)
+    }
+
+    /// The conventions that make the first frame right, as the package states them.
+    pub(crate) fn conventions(self) -> Vec<(&'static str, String)> {
+        let mut c = vec![
+            (
+                "draw",
+                "every pass is one full-screen triangle: draw 3 vertices with no vertex or index \
+                 buffer; the vertex shader builds the positions from the vertex index"
+                    .to_string(),
+            ),
+            (
+                "depth",
+                "no depth or stencil attachment, test or write".to_string(),
+            ),
+            (
+                "blend",
+                "none: each pass overwrites its whole target".to_string(),
+            ),
+        ];
+        match self {
+            Engine::Three => {
+                c.push((
+                    "cull",
+                    "none (THREE.DoubleSide): the GLSL vertex shader flips y for OpenGL's clip \
+                     space, which turns the triangle clockwise, so three's default FrontSide \
+                     would cull it and leave the frame black"
+                        .to_string(),
+                ));
+                c.push((
+                    "rows",
+                    "the passes work top-down in gl_FragCoord rows (as WGSL's position does); \
+                     set display.flip_y = 1 so the last pass shows the image upright"
+                        .to_string(),
+                ));
+                c.push((
+                    "material",
+                    "THREE.RawShaderMaterial with glslVersion THREE.GLSL3; the files carry their \
+                     own #version line, which three's GLSL3 prefix must not repeat: strip the \
+                     first line, or use the package's ES module"
+                        .to_string(),
+                ));
+            }
+            Engine::Webgpu | Engine::Wgpu | Engine::Vulkan | Engine::Unity | Engine::Metal => {
+                c.push(("cull", "none, or counter-clockwise front faces".to_string()));
+                c.push((
+                    "rows",
+                    "top-down (row 0 at the top), the API's own convention; display.flip_y = 0"
+                        .to_string(),
+                ));
+            }
+        }
+        c
+    }
+
+    /// What validates this engine's files beyond naga when no external tool ran.
+    pub(crate) fn unchecked_note(self) -> &'static str {
+        match self {
+            Engine::Three => "glslangValidator was not found (apt-get install glslang-tools)",
+            Engine::Vulkan => "spirv-val was not found (apt-get install spirv-tools)",
+            Engine::Webgpu | Engine::Wgpu => {
+                "naga is wgpu's and Firefox's own WGSL front end; Chromium's Tint is not \
+                 available here"
+            }
+            Engine::Unity => "no HLSL compiler (DXC, FXC) is available on this machine",
+            Engine::Metal => "Apple's Metal compiler does not run on Linux",
+        }
+    }
+
+    /// How a host names a binding in this engine's files.
+    pub(crate) fn binding_note(self) -> &'static str {
+        match self {
+            Engine::Three => {
+                "GLSL ES 3.00 has no bind groups: each uniform block and each combined sampler \
+                 (texture + sampler) is named in the file's .json manifest, with the texture's \
+                 address mode and filter"
+            }
+            Engine::Webgpu | Engine::Wgpu => {
+                "@group/@binding as listed; a bind-group layout per pass follows from the \
+                 bindings below"
+            }
+            Engine::Vulkan => "descriptor set = group, binding = binding, as listed",
+            Engine::Unity => {
+                "registers follow wgpu's HLSL binding model (the file's .json manifest lists \
+                 each register and space)"
+            }
+            Engine::Metal => {
+                "buffer, texture and sampler indices as listed in the file's .json manifest"
+            }
+        }
+    }
+}

@@ -1,0 +1,617 @@
+//! `nimbus emit --engine E`: a package another engine runs with no Nimbus code. For each genus ×
+//! preset pair of the selection it holds every pass the pair draws (shadow atlas when its key
+//! samples one, clouds, temporal resolve, display transform) in the engine's language, the
+//! noise textures as files, the uniform blocks' layouts with the pair's values, and
+//! `nimbus-package.json`: the pass graph (order, targets, formats, what each binding slot
+//! holds, how the engine names it) and the conventions that make the first frame right.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use nimbus_clouds::catalog::{Assignment, ShaderKey};
+use nimbus_clouds::model::bindings::{CloudBinding, DisplayBinding, ResolveBinding};
+use nimbus_clouds::model::display::DisplayParams;
+use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::resolve::ResolveParams;
+use nimbus_codegen::external::{ExternalCheck, check_file};
+use nimbus_codegen::{BindingInfo, EmitExtras, Generated, emit, generate_variant};
+use nimbus_dsl::ir::Type;
+use nimbus_dsl::layout::{UniformBytes, member_layout};
+use nimbus_runtime::render::TextureSizes;
+use nimbus_runtime::textures::NoiseKind;
+use serde_json::{Value, json};
+
+use crate::data::{Resolved, Selection, load, resolve, table_text};
+use crate::engine::Engine;
+use crate::error::CliError;
+use crate::package_textures::texture_files;
+
+/// The package description, beside the manifest.
+pub(crate) const PACKAGE_FILE: &str = "nimbus-package.json";
+
+/// Format of every intermediate target (linear HDR radiance, alpha = cloud opacity).
+const HDR_FORMAT: &str = "rgba16float";
+
+pub(crate) fn run(
+    data: Option<&Path>,
+    sel: &Selection<'_>,
+    scene: Option<&Path>,
+    engine: Engine,
+    out: &Path,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let resolved = match scene {
+        Some(file) => crate::explain::resolved(data, file)?,
+        None => resolve(sel, &load(data)?)?,
+    };
+    let package = build(&resolved, engine)?;
+    // The engine's own compiler where this machine has one; naga validated every file already.
+    let mut checked = Vec::new();
+    for f in package.shaders.iter().flat_map(|g| &g.files) {
+        match check_file(f) {
+            ExternalCheck::Passed { tool } => checked.push(tool),
+            ExternalCheck::Failed { tool, output } => {
+                return Err(CliError::External {
+                    tool,
+                    file: f.file_name.clone(),
+                    output,
+                }
+                .into());
+            }
+            ExternalCheck::ToolMissing { tool } => {
+                println!("not checked by {tool}: it is not installed here")
+            }
+            ExternalCheck::NotApplicable => {}
+        }
+    }
+    let validated_by = match checked.first() {
+        Some(tool) => format!("naga and {tool} ({} files)", checked.len()),
+        None => format!("naga; {}", engine.unchecked_note()),
+    };
+    let report = emit(&package.shaders, &package.extras, out)?;
+    println!("validated by {validated_by}");
+    println!(
+        "{} package: {} pass shader(s) for {} genus × preset pair(s), {} texture(s) from {}",
+        engine.name(),
+        package.shaders.len(),
+        resolved.table.len(),
+        package.texture_count,
+        package.textures_from
+    );
+    println!(
+        "wrote {} files to {} (start with {PACKAGE_FILE} and README.md)",
+        report.files.len(),
+        report.dir.display()
+    );
+    Ok(())
+}
+
+/// A package in memory: generated and validated shaders, and every other file.
+pub(crate) struct Package {
+    pub shaders: Vec<Generated>,
+    pub extras: EmitExtras,
+    pub texture_count: usize,
+    pub textures_from: String,
+}
+
+/// Every file of the package for `resolved`, or the first reason the engine cannot run it.
+pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliError> {
+    let Resolved {
+        table, uniforms, ..
+    } = resolved;
+    if table.is_empty() {
+        return Err(CliError::NoPairs);
+    }
+    let limits = engine.limits();
+    let sizes = TextureSizes::default();
+    for (a, u) in table.iter().zip(uniforms) {
+        if a.shadow.is_some() {
+            let width = u.shadow.map_size as u32 * u.shadow.cascade_count;
+            if width > limits.texture_2d {
+                return Err(CliError::EngineLimit {
+                    engine: engine.name(),
+                    what: format!(
+                        "{}: the shadow atlas ({} cascades of {} px side by side)",
+                        a.name(),
+                        u.shadow.cascade_count,
+                        u.shadow.map_size
+                    ),
+                    size: width,
+                    limit: limits.texture_2d,
+                    basis: limits.source,
+                });
+            }
+        }
+    }
+    for (what, size, limit) in [
+        ("the weather texture", sizes.weather, limits.texture_2d),
+        (
+            "the turbulence texture",
+            sizes.turbulence,
+            limits.texture_2d,
+        ),
+        ("the shape texture (3D)", sizes.shape, limits.texture_3d),
+        ("the detail texture (3D)", sizes.detail, limits.texture_3d),
+    ] {
+        if size > limit {
+            return Err(CliError::EngineLimit {
+                engine: engine.name(),
+                what: what.to_string(),
+                size,
+                limit,
+                basis: limits.source,
+            });
+        }
+    }
+
+    // Each distinct shader once, then the passes of every pair refer to them.
+    let mut keys: Vec<ShaderKey> = Vec::new();
+    for a in table {
+        for k in a.keys() {
+            if !keys.contains(&k) {
+                keys.push(k);
+            }
+        }
+    }
+    keys.extend([ShaderKey::Resolve, ShaderKey::Display]);
+    let target = engine.target();
+    let shaders: Vec<Generated> = keys
+        .iter()
+        .map(|k| generate_variant(k, &[target]))
+        .collect::<Result<_, _>>()?;
+    let shader = |k: ShaderKey| keys.iter().position(|x| *x == k).map(|i| &shaders[i]);
+
+    // The textures some pair's shaders bind, made once.
+    let mut kinds = BTreeSet::new();
+    for g in &shaders {
+        for b in &g.bindings {
+            if let Some(kind) = CloudBinding::at(b.group, b.binding).and_then(noise_of) {
+                kinds.insert(kind);
+            }
+        }
+    }
+    let kinds: Vec<NoiseKind> = kinds.into_iter().collect();
+    let texels = texture_files(&kinds, sizes).map_err(|e| CliError::Textures(e.to_string()))?;
+
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
+    let mut pairs = Vec::new();
+    for (a, u) in table.iter().zip(uniforms) {
+        let uniforms_file = format!("uniforms/{}.json", a.name());
+        files.push((uniforms_file.clone(), pretty(&uniform_file(a, u))));
+        let mut passes = Vec::new();
+        if let Some(k) = a.shadow
+            && let Some(g) = shader(ShaderKey::Shadow(k))
+        {
+            passes.push(pass_json("shadow", g, engine));
+        }
+        if let Some(g) = shader(ShaderKey::Clouds(a.clouds)) {
+            passes.push(pass_json("clouds", g, engine));
+        }
+        for (name, key) in [
+            ("resolve", ShaderKey::Resolve),
+            ("display", ShaderKey::Display),
+        ] {
+            if let Some(g) = shader(key) {
+                passes.push(pass_json(name, g, engine));
+            }
+        }
+        pairs.push(json!({
+            "pair": a.name(),
+            "genus": a.genus,
+            "quality": a.quality.name(),
+            "uniforms": uniforms_file,
+            "shadow_atlas": a.shadow.map(|_| json!({
+                "width": u.shadow.map_size as u32 * u.shadow.cascade_count,
+                "height": u.shadow.map_size as u32,
+            })),
+            "passes": passes,
+        }));
+    }
+    let resolve_defaults = ResolveParams {
+        reprojection: glam::Mat4::IDENTITY,
+        resolution: glam::Vec2::new(640.0, 360.0),
+        low_resolution: glam::Vec2::new(160.0, 90.0),
+        pixel_offset: glam::Vec2::ZERO,
+        pixel_scale: 4.0,
+        current_weight: 1.0,
+        variance_gamma: 2.0,
+        history_valid: 0.0,
+    };
+    let display_defaults = DisplayParams {
+        flip_y: if engine.bottom_up() { 1.0 } else { 0.0 },
+        ..DisplayParams::default()
+    };
+    for (name, block) in [
+        (
+            "uniforms/resolve.json",
+            block_json(
+                ResolveParams::shader_type(),
+                &resolve_defaults.to_uniform_bytes(),
+                RESOLVE_NOTES,
+            ),
+        ),
+        (
+            "uniforms/display.json",
+            block_json(
+                DisplayParams::shader_type(),
+                &display_defaults.to_uniform_bytes(),
+                DISPLAY_NOTES,
+            ),
+        ),
+    ] {
+        files.push((name.to_string(), pretty(&block)));
+    }
+    let textures: Vec<Value> = texels.files.iter().map(|t| t.descriptor.clone()).collect();
+    let texture_count = texels.files.len();
+    for t in texels.files {
+        files.push((t.file, t.bytes));
+    }
+    let conventions: serde_json::Map<String, Value> = engine
+        .conventions()
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), Value::String(v)))
+        .collect();
+    let description = json!({
+        "nimbus_package": 1,
+        "engine": engine.name(),
+        "language": engine.language(),
+        "conventions": conventions,
+        "bindings": engine.binding_note(),
+        "frame": FRAME_ORDER,
+        "targets": targets_json(),
+        "textures": textures,
+        "textures_generated_by": texels.generated_by,
+        "pairs": pairs,
+    });
+    files.push((PACKAGE_FILE.to_string(), pretty(&description)));
+    files.push(("README.md".to_string(), readme(engine, table).into_bytes()));
+    Ok(Package {
+        shaders,
+        extras: EmitExtras {
+            manifest_appendix: table_text(table),
+            files,
+        },
+        texture_count,
+        textures_from: texels.generated_by,
+    })
+}
+
+fn pretty(v: &Value) -> Vec<u8> {
+    let mut s = serde_json::to_string_pretty(v).unwrap_or_else(|e| format!("\"{e}\""));
+    s.push('\n');
+    s.into_bytes()
+}
+
+fn noise_of(b: CloudBinding) -> Option<NoiseKind> {
+    match b {
+        CloudBinding::Weather => Some(NoiseKind::Weather),
+        CloudBinding::Shape => Some(NoiseKind::Shape),
+        CloudBinding::Detail => Some(NoiseKind::Detail),
+        CloudBinding::Turbulence => Some(NoiseKind::Turbulence),
+        _ => None,
+    }
+}
+
+/// What a pass's binding slot holds: a uniform block file, a texture file, another pass's
+/// target, or a sampler.
+fn resource(pass: &str, b: &BindingInfo) -> Value {
+    let (group, binding) = (b.group, b.binding);
+    let (kind, name) = match pass {
+        "shadow" | "clouds" => match CloudBinding::at(group, binding) {
+            Some(CloudBinding::Uniforms) => ("uniform block", "uniforms/<pair>.json"),
+            Some(CloudBinding::Weather) => ("texture", "weather"),
+            Some(CloudBinding::Shape) => ("texture", "shape"),
+            Some(CloudBinding::Detail) => ("texture", "detail"),
+            Some(CloudBinding::Turbulence) => ("texture", "turbulence"),
+            Some(CloudBinding::ShadowMap) => ("target", "shadow_atlas"),
+            Some(CloudBinding::Sampler) => ("sampler", "linear, repeat"),
+            Some(CloudBinding::Key) | None => ("unknown", "?"),
+        },
+        "resolve" => match ResolveBinding::at(group, binding) {
+            Some(ResolveBinding::Params) => ("uniform block", "uniforms/resolve.json"),
+            Some(ResolveBinding::Current) => ("target", "clouds_hdr"),
+            Some(ResolveBinding::History) => ("target", "history (the one written last frame)"),
+            Some(ResolveBinding::Nearest) => ("sampler", "nearest, clamp"),
+            Some(ResolveBinding::Linear) => ("sampler", "linear, clamp"),
+            None => ("unknown", "?"),
+        },
+        _ => match DisplayBinding::at(group, binding) {
+            Some(DisplayBinding::Params) => ("uniform block", "uniforms/display.json"),
+            Some(DisplayBinding::Source) => (
+                "target",
+                "history (the one resolve wrote), or clouds_hdr when there is no resolve",
+            ),
+            Some(DisplayBinding::Sampler) => ("sampler", "nearest, clamp"),
+            None => ("unknown", "?"),
+        },
+    };
+    json!({ "kind": kind, "holds": name })
+}
+
+fn pass_json(pass: &str, g: &Generated, engine: Engine) -> Value {
+    let files: Vec<Value> = g
+        .files
+        .iter()
+        .map(|f| {
+            json!({
+                "file": f.file_name,
+                "entry_point": f.entry_point.as_ref().map(|(e, _)| e.clone()),
+                "stage": f.entry_point.as_ref().map(|(_, s)| format!("{s:?}").to_lowercase()),
+                "manifest": f.manifest.as_ref().map(|_| format!("{}.json", f.file_name)),
+            })
+        })
+        .collect();
+    let bindings: Vec<Value> = g
+        .bindings
+        .iter()
+        .map(|b| {
+            let names: Vec<Value> = g
+                .files
+                .iter()
+                .filter_map(|f| f.manifest.as_ref())
+                .flat_map(|m| {
+                    let stage = m.stage.clone();
+                    let direct = m
+                        .bindings
+                        .iter()
+                        .filter(|mb| (mb.group, mb.binding) == (b.group, b.binding))
+                        .filter(|mb| !mb.target_name.is_empty())
+                        .map(move |mb| json!({ "stage": stage, "name": mb.target_name }));
+                    let stage = m.stage.clone();
+                    let combined = m
+                        .combined_samplers
+                        .iter()
+                        .filter(|c| c.texture == b.name || c.sampler == b.name)
+                        .map(move |c| json!({ "stage": stage, "combined_sampler": c.name }));
+                    direct.chain(combined).collect::<Vec<_>>()
+                })
+                .collect();
+            json!({
+                "group": b.group,
+                "binding": b.binding,
+                "name": b.name,
+                "kind": b.kind.word(),
+                "wgsl_type": b.wgsl_type,
+                "holds": resource(pass, b),
+                "in_files": names,
+            })
+        })
+        .collect();
+    json!({
+        "pass": pass,
+        "shader": g.id(),
+        "language": engine.language(),
+        "files": files,
+        "bindings": bindings,
+    })
+}
+
+/// The frame, in order.
+const FRAME_ORDER: &[&str] = &[
+    "shadow: draw into shadow_atlas when the pair has one and the sun, the layers or the weather \
+     offset changed since it was last drawn (Nimbus's runtime caches it; drawing it every frame \
+     is correct too)",
+    "clouds: draw into clouds_hdr every frame (full size, or a quarter of each side when \
+     upscaling: then set pixel_scale = 4 and pixel_offset to the frame's Bayer offset)",
+    "resolve: when upscaling or accumulating, draw into the history target not read this frame, \
+     reading clouds_hdr and the other history target; swap them after the frame",
+    "display: draw into the screen (or the engine's next pass), reading the history target \
+     resolve wrote, or clouds_hdr when there is no resolve",
+];
+
+fn targets_json() -> Value {
+    json!({
+        "shadow_atlas": {
+            "format": HDR_FORMAT,
+            "size": "the pair's shadow_atlas width × height (cascades side by side)",
+            "sampled_as": "with the pass's linear, repeat sampler (the shader keeps its \
+                           coordinates inside each cascade)",
+        },
+        "clouds_hdr": {
+            "format": HDR_FORMAT,
+            "size": "the output size, or ceil(width / 4) × ceil(height / 4) when upscaling",
+        },
+        "history_a": { "format": HDR_FORMAT, "size": "the output size" },
+        "history_b": { "format": HDR_FORMAT, "size": "the output size" },
+        "screen": {
+            "format": "rgba8unorm (display sRGB already encoded: not an sRGB format)",
+            "size": "the output size",
+        },
+    })
+}
+
+/// What an engine sets in the cloud uniform block, by member.
+const CLOUD_NOTES: &[(&str, &str)] = &[
+    (
+        "inverse_view_projection",
+        "every frame: inverse of (projection × view) with the view's translation removed (the \
+         camera is the origin of the local frame, y up; its height is camera_altitude); any \
+         depth convention",
+    ),
+    ("resolution", "every frame: the output size in pixels"),
+    (
+        "pixel_scale",
+        "every frame: 1 at full resolution, 4 when upscaling",
+    ),
+    (
+        "pixel_offset",
+        "every frame: the pixel of each 4×4 block shaded this frame (Bayer order), 0 at full \
+         resolution",
+    ),
+    (
+        "frame",
+        "every frame: a frame counter (seeds the jitter hash)",
+    ),
+    (
+        "jitter",
+        "every frame: fract(frame × 0.618034), the ray-start offset",
+    ),
+    (
+        "camera_altitude",
+        "when the camera moves up or down (m above the ground)",
+    ),
+    (
+        "light.sun_direction",
+        "when the sun moves: unit vector towards the sun, y up",
+    ),
+    (
+        "light.sun_irradiance",
+        "when the sun or camera altitude moves: computed by Nimbus from the atmosphere; the \
+         values here are for the sun of the pair's scene",
+    ),
+    (
+        "light.sky_irradiance",
+        "when the sun or camera altitude moves: computed by Nimbus from the atmosphere; the \
+         values here are for the sun of the pair's scene",
+    ),
+    (
+        "shadow.matrix",
+        "when the sun or camera altitude moves: computed by Nimbus; the values here are for the \
+         sun of the pair's scene",
+    ),
+    (
+        "shadow.inverse_matrix",
+        "when the sun or camera altitude moves: computed by Nimbus; the values here are for the \
+         sun of the pair's scene",
+    ),
+    (
+        "media.weather_offset",
+        "to drift the clouds: the weather texture's offset in tiles",
+    ),
+    (
+        "media.coverage",
+        "to change how much of the sky is cloudy (0..1)",
+    ),
+];
+
+const RESOLVE_NOTES: &[(&str, &str)] = &[
+    (
+        "reprojection",
+        "every frame: this frame's clip space to the previous frame's (directions only): \
+         previous (projection × view without translation) × inverse of this frame's",
+    ),
+    ("resolution", "every frame: the output size"),
+    ("low_resolution", "every frame: the size of clouds_hdr"),
+    ("pixel_offset", "every frame: as in the cloud block"),
+    ("pixel_scale", "every frame: as in the cloud block"),
+    (
+        "current_weight",
+        "every frame: 1 / (visits + 1), where visits counts earlier frames that shaded this \
+         pixel (frames / 16 when upscaling)",
+    ),
+    (
+        "variance_gamma",
+        "2 when upscaling, 4 when accumulating at full resolution",
+    ),
+    (
+        "history_valid",
+        "0 on the first frame (or after a cut), 1 after",
+    ),
+];
+
+const DISPLAY_NOTES: &[(&str, &str)] = &[
+    ("resolution", "every frame: the output size"),
+    (
+        "exposure",
+        "linear radiance is scaled by this before ACES (8 in `nimbus render`)",
+    ),
+    (
+        "keep_alpha",
+        "1 to keep cloud opacity in alpha, 0 for an opaque image",
+    ),
+    (
+        "flip_y",
+        "1 where the framebuffer's first row is the bottom one (WebGL, OpenGL), else 0",
+    ),
+];
+
+fn type_name(ty: Type) -> String {
+    ty.wgsl()
+}
+
+fn block_json(ty: Type, bytes: &[u8], notes: &[(&str, &str)]) -> Value {
+    // std140 hosts (WebGL's uniform blocks) round a block's size up to 16 bytes; every API
+    // accepts a buffer that large.
+    let mut bytes = bytes.to_vec();
+    bytes.resize(bytes.len().div_ceil(16) * 16, 0);
+    let bytes = bytes.as_slice();
+    let members: Vec<Value> = member_layout(ty, bytes)
+        .into_iter()
+        .map(|m| {
+            let note = notes
+                .iter()
+                .find(|(path, _)| *path == m.path)
+                .map(|(_, n)| *n);
+            json!({
+                "member": m.path,
+                "offset": m.offset,
+                "type": type_name(m.ty),
+                "value": m.value,
+                "set": note,
+            })
+        })
+        .collect();
+    json!({
+        "size": bytes.len(),
+        "layout": "WGSL uniform address-space layout (std140-compatible): write the values \
+                   little-endian at these byte offsets into one buffer of `size` bytes (a \
+                   multiple of 16); matrices are column-major, one 16-byte column after \
+                   another",
+        "bytes_hex": bytes.iter().map(|b| format!("{b:02x}")).collect::<String>(),
+        "members": members,
+    })
+}
+
+fn uniform_file(a: &Assignment, u: &CloudUniforms) -> Value {
+    let mut v = block_json(
+        CloudUniforms::shader_type(),
+        &u.to_uniform_bytes(),
+        CLOUD_NOTES,
+    );
+    if let Value::Object(map) = &mut v {
+        map.insert("pair".into(), json!(a.name()));
+        map.insert(
+            "scene".into(),
+            json!(
+                "values for the pair's scene: sun 35° high at azimuth 150°, camera 2 m above \
+                   the ground looking 12° up, 640 × 360 (a scene file's own values with --scene)"
+            ),
+        );
+    }
+    v
+}
+
+fn readme(engine: Engine, table: &[Assignment]) -> String {
+    let pairs: Vec<String> = table.iter().map(Assignment::name).collect();
+    let conventions: String = engine
+        .conventions()
+        .into_iter()
+        .map(|(k, v)| format!("- **{k}**: {v}\n"))
+        .collect();
+    let frame: String = FRAME_ORDER
+        .iter()
+        .enumerate()
+        .map(|(i, s)| format!("{}. {s}\n", i + 1))
+        .collect();
+    format!(
+        "# Nimbus package for {engine} ({language})\n\n\
+         Generated by `nimbus emit --engine {engine}`; nothing here needs Nimbus at run time. \
+         Pairs: {pairs}.\n\n\
+         - `{PACKAGE_FILE}`: the pass graph (per pair: each pass's shader files, what each \
+         binding slot holds and how the files name it), the render targets and formats, the \
+         textures, and these conventions.\n\
+         - `uniforms/<pair>.json`, `uniforms/resolve.json`, `uniforms/display.json`: each \
+         uniform block's size, members (offset, type, value) and which members to set when; \
+         `bytes_hex` is the whole block.\n\
+         - `textures/`: the noise textures (2D PNG, 3D raw RGBA8; see `textures` in \
+         `{PACKAGE_FILE}`).\n\
+         - the shader files, named `<module>-<key>.<entry>.<ext>`, with a `.json` binding \
+         manifest beside each GLSL, HLSL and MSL file.\n\n\
+         ## A frame\n\n{frame}\n\
+         ## Conventions\n\n{conventions}\n\
+         Bindings: {bindings}.\n",
+        engine = engine.name(),
+        language = engine.language(),
+        pairs = pairs.join(", "),
+        bindings = engine.binding_note(),
+    )
+}

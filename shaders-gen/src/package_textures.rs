@@ -1,0 +1,106 @@
+//! The noise textures of an engine package, as files: 2D as PNG, 3D as raw RGBA8 with a JSON
+//! descriptor. They are made by the same compute kernels the runtime runs (on whatever adapter
+//! this machine has, lavapipe included), so they are byte-identical to what `nimbus render`
+//! samples; with no adapter at all, by the kernels' CPU twins, which agree within one 8-bit
+//! level (`tests/textures.rs`), and the descriptor says so.
+
+use std::io::Cursor;
+
+use nimbus_runtime::Gpu;
+use nimbus_runtime::render::TextureSizes;
+use nimbus_runtime::textures::NoiseKind;
+
+/// One texture file and its description.
+pub(crate) struct TextureFile {
+    pub file: String,
+    pub bytes: Vec<u8>,
+    pub descriptor: serde_json::Value,
+}
+
+/// What made the texels.
+pub(crate) struct Texels {
+    pub files: Vec<TextureFile>,
+    /// `gpu: <adapter>` or `cpu twins`.
+    pub generated_by: String,
+}
+
+fn size_of(kind: NoiseKind, sizes: TextureSizes) -> u32 {
+    match kind {
+        NoiseKind::Weather => sizes.weather,
+        NoiseKind::Shape => sizes.shape,
+        NoiseKind::Detail => sizes.detail,
+        NoiseKind::Turbulence => sizes.turbulence,
+    }
+}
+
+fn is_3d(kind: NoiseKind) -> bool {
+    matches!(kind, NoiseKind::Shape | NoiseKind::Detail)
+}
+
+/// The files of `kinds` at `sizes`.
+pub(crate) fn texture_files(
+    kinds: &[NoiseKind],
+    sizes: TextureSizes,
+) -> Result<Texels, Box<dyn std::error::Error>> {
+    let gpu = Gpu::new().ok();
+    let generated_by = match &gpu {
+        Some(g) => format!(
+            "the runtime's compute kernels on {} (byte-identical to what `nimbus render` samples)",
+            g.info().name
+        ),
+        None => "the kernels' CPU twins (no adapter here: within 1/255 of the GPU's texels)".into(),
+    };
+    let mut files = Vec::new();
+    for &kind in kinds {
+        let size = size_of(kind, sizes);
+        let depth = if is_3d(kind) { size } else { 1 };
+        let texels: Vec<u32> = match &gpu {
+            Some(g) => g.noise_texels(kind, size)?,
+            None => (0..depth)
+                .flat_map(|z| (0..size).flat_map(move |y| (0..size).map(move |x| (x, y, z))))
+                .map(|(x, y, z)| kind.cpu_texel(size, x, y, z))
+                .collect(),
+        };
+        // pack4x8unorm puts R in the lowest byte: little-endian words are R, G, B, A bytes.
+        let rgba: Vec<u8> = texels.iter().flat_map(|t| t.to_le_bytes()).collect();
+        let (file, bytes, layout) = if is_3d(kind) {
+            (
+                format!("textures/{}.rgba8", kind.name()),
+                rgba,
+                "raw RGBA8, 4 bytes per texel (R, G, B, A), x fastest, then y, then z; no header \
+                 or padding",
+            )
+        } else {
+            let image = image::RgbaImage::from_raw(size, size, rgba)
+                .ok_or("texel count does not match the texture size")?;
+            let mut png = Vec::new();
+            image.write_to(&mut Cursor::new(&mut png), image::ImageFormat::Png)?;
+            (
+                format!("textures/{}.png", kind.name()),
+                png,
+                "PNG, RGBA8, linear values (not sRGB: load without colour conversion)",
+            )
+        };
+        let descriptor = serde_json::json!({
+            "name": kind.name(),
+            "file": file,
+            "dimension": if is_3d(kind) { "3d" } else { "2d" },
+            "size": if is_3d(kind) { vec![size, size, size] } else { vec![size, size] },
+            "format": "rgba8unorm",
+            "layout": layout,
+            "colour_space": "linear",
+            "address_mode": "repeat",
+            "filter": "linear",
+            "mipmaps": false,
+        });
+        files.push(TextureFile {
+            file,
+            bytes,
+            descriptor,
+        });
+    }
+    Ok(Texels {
+        files,
+        generated_by,
+    })
+}
