@@ -27,7 +27,7 @@ pub use generate::{
     Generated, OutputFile, VariantStats, file_name, generate, print_and_validate, shader_id,
 };
 pub use target::Target;
-pub use uniform_copy::copy_uniforms_per_invocation;
+pub use uniform_copy::{copy_uniforms_per_invocation, flatten_uniform_blocks};
 pub use validate::{Validated, validate};
 
 use nimbus_dsl::ShaderVariant;

@@ -12,12 +12,44 @@
 //! driver then keeps the copy in registers. The runtime applies it on CPU adapters only; emitted
 //! files never have it.
 
+//!
+//! The same copy serves hosts that cannot describe a struct-of-structs block with `u32` members
+//! (three.js's `UniformsGroup`, a plain array of `vec4`s): [`flatten_uniform_blocks`] makes the
+//! binding an `array<vec4<f32>, N>` holding the block's bytes, and the entry point unpacks it
+//! into the private copy (`u = CloudUniforms(LayerGroup(u_words[0], ...), ...)`, integers by
+//! `bitcast`). The bytes a host writes are the same either way.
+
 use std::collections::{BTreeMap, BTreeSet};
 
-use nimbus_dsl::ir::{Expr, ExprId, ExprKind, Global, GlobalId, GlobalKind, Module, Stmt, Type};
+use nimbus_dsl::ir::{
+    Expr, ExprId, ExprKind, Function, Global, GlobalId, GlobalKind, Literal, Module, Scalar, Stmt,
+    Type,
+};
+
+/// How an entry point fills the private copy of a uniform block.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Fill {
+    /// `u = u_buffer;` (the binding keeps the block's struct type).
+    Copy,
+    /// `u = T(..)` from the words of an `array<vec4<f32>, N>` binding.
+    Unpack,
+}
+
+static WORD: Type = Type::Vector(4, Scalar::F32);
 
 /// Rewrites `module` so that every struct uniform block is read through a per-invocation copy.
 pub fn copy_uniforms_per_invocation(module: &mut Module) {
+    read_through_copies(module, Fill::Copy);
+}
+
+/// Rewrites `module` so that every struct uniform block is bound as an array of `vec4<f32>`
+/// words (`u_words`, same slot, same bytes) and unpacked once per invocation into a private
+/// copy that the code reads as before.
+pub fn flatten_uniform_blocks(module: &mut Module) {
+    read_through_copies(module, Fill::Unpack);
+}
+
+fn read_through_copies(module: &mut Module, fill: Fill) {
     let blocks: Vec<usize> = module
         .globals
         .iter()
@@ -31,7 +63,19 @@ pub fn copy_uniforms_per_invocation(module: &mut Module) {
         let buffer = GlobalId(block as u32);
         let copy = GlobalId(module.globals.len() as u32);
         let original = module.globals[block].clone();
-        module.globals[block].name = format!("{}_buffer", original.name);
+        let words = size_of(original.ty).div_ceil(16);
+        match fill {
+            Fill::Copy => module.globals[block].name = format!("{}_buffer", original.name),
+            Fill::Unpack => {
+                module.globals[block].name = format!("{}_words", original.name);
+                module.globals[block].ty = Type::Array(&WORD, words);
+                module.globals[block].doc = format!(
+                    "The bytes of `{}` ({}), as {words} vec4 words.",
+                    original.name,
+                    original.ty.wgsl()
+                );
+            }
+        }
         module.globals.push(Global {
             kind: GlobalKind::Private,
             doc: format!("Per-invocation copy of `{}_buffer`.", original.name),
@@ -72,11 +116,13 @@ pub fn copy_uniforms_per_invocation(module: &mut Module) {
             if !entries.contains(&f.name) || !reaches(&f.name, &readers, &calls) {
                 continue;
             }
-            let value = ExprId(f.exprs.len() as u32);
-            f.exprs.push(Expr {
-                kind: ExprKind::Global(buffer),
-                ty: original.ty,
-            });
+            let value = match fill {
+                Fill::Copy => push(f, ExprKind::Global(buffer), original.ty),
+                Fill::Unpack => {
+                    let words_expr = push(f, ExprKind::Global(buffer), Type::Array(&WORD, words));
+                    unpack(f, words_expr, original.ty, 0)
+                }
+            };
             let target = ExprId(f.exprs.len() as u32);
             f.exprs.push(Expr {
                 kind: ExprKind::Global(copy),
@@ -90,6 +136,77 @@ pub fn copy_uniforms_per_invocation(module: &mut Module) {
                     loc: f.loc,
                 },
             );
+        }
+    }
+}
+
+fn push(f: &mut Function, kind: ExprKind, ty: Type) -> ExprId {
+    let id = ExprId(f.exprs.len() as u32);
+    f.exprs.push(Expr { kind, ty });
+    id
+}
+
+fn size_of(ty: Type) -> u32 {
+    nimbus_dsl::layout::align_size(ty).1
+}
+
+/// The value of type `ty` at byte `offset` of the words array `words`.
+fn unpack(f: &mut Function, words: ExprId, ty: Type, offset: u32) -> ExprId {
+    let word = |f: &mut Function, k: u32| {
+        let index = push(f, ExprKind::Literal(Literal::U32(k)), Type::U32);
+        push(f, ExprKind::Index(words, index), WORD)
+    };
+    match ty {
+        Type::Scalar(s) | Type::Vector(_, s) => {
+            let n = match ty {
+                Type::Vector(n, _) => n,
+                _ => 1,
+            };
+            let w = word(f, offset / 16);
+            let first = ((offset % 16) / 4) as u8;
+            let lanes: Vec<u8> = (first..first + n).collect();
+            let float_ty = if n == 1 {
+                Type::F32
+            } else {
+                Type::Vector(n, Scalar::F32)
+            };
+            let floats = if n == 4 {
+                w
+            } else {
+                push(f, ExprKind::Swizzle(w, lanes), float_ty)
+            };
+            match s {
+                Scalar::F32 => floats,
+                other => push(f, ExprKind::Bitcast(other, floats), ty),
+            }
+        }
+        Type::Matrix(n) => {
+            let col_ty = Type::Vector(n, Scalar::F32);
+            let cols = (0..u32::from(n))
+                .map(|c| unpack(f, words, col_ty, offset + 16 * c))
+                .collect();
+            push(f, ExprKind::Construct(ty, cols), ty)
+        }
+        Type::Struct(def) => {
+            let (_, _, offsets) = nimbus_dsl::layout::struct_layout(def);
+            let fields = def
+                .fields
+                .iter()
+                .zip(offsets)
+                .map(|(field, o)| unpack(f, words, field.ty, offset + o))
+                .collect();
+            push(f, ExprKind::Construct(ty, fields), ty)
+        }
+        Type::Array(elem, n) => {
+            let (_, stride) = nimbus_dsl::layout::array_stride(*elem);
+            let elems = (0..n)
+                .map(|i| unpack(f, words, *elem, offset + i * stride))
+                .collect();
+            push(f, ExprKind::Construct(ty, elems), ty)
+        }
+        // Handles and runtime arrays are never members of a uniform block.
+        Type::RuntimeArray(_) | Type::Texture2d | Type::Texture3d | Type::Sampler => {
+            push(f, ExprKind::Literal(Literal::U32(0)), Type::U32)
         }
     }
 }

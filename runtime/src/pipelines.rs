@@ -10,7 +10,8 @@ use std::collections::HashMap;
 
 use nimbus_clouds::catalog::ShaderKey;
 use nimbus_codegen::{
-    BindingInfo, BindingKind, Target, TextureDimension, copy_uniforms_per_invocation, generate,
+    BindingInfo, BindingKind, Target, TextureDimension, copy_uniforms_per_invocation,
+    flatten_uniform_blocks, generate,
 };
 use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::ir::Stage;
@@ -30,6 +31,9 @@ pub struct CachedPipeline {
 pub struct PipelineCache {
     map: HashMap<ShaderKey, CachedPipeline>,
     built: Vec<ShaderKey>,
+    /// Bind uniform blocks as `vec4` word arrays, as engine packages for three.js do
+    /// ([`flatten_uniform_blocks`]); the bytes written are the same.
+    flat_uniforms: bool,
 }
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -101,6 +105,16 @@ fn layout_entry(b: &BindingInfo) -> wgpu::BindGroupLayoutEntry {
 }
 
 impl PipelineCache {
+    /// Builds every later pipeline with flattened uniform blocks (or not); pipelines built the
+    /// other way are dropped.
+    pub fn set_flat_uniforms(&mut self, on: bool) {
+        if self.flat_uniforms != on {
+            self.flat_uniforms = on;
+            self.map.clear();
+            self.built.clear();
+        }
+    }
+
     /// Keys built so far, in order.
     pub fn built(&self) -> &[ShaderKey] {
         &self.built
@@ -122,6 +136,9 @@ impl PipelineCache {
         if let std::collections::hash_map::Entry::Vacant(slot) = self.map.entry(key) {
             let label = key.id();
             let mut module = key.record()?;
+            if self.flat_uniforms {
+                flatten_uniform_blocks(&mut module);
+            }
             if gpu.info().cpu {
                 // CPU drivers re-load uniforms at every read inside loops; a per-invocation copy
                 // made the cloud pass 30 % faster on llvmpipe (see the pass's docs).

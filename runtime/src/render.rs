@@ -356,7 +356,8 @@ fn wgpu_sampler(gpu: &Gpu, desc: SamplerDesc) -> wgpu::Sampler {
 fn uniform_buffer(gpu: &Gpu, label: &str, size: usize) -> wgpu::Buffer {
     gpu.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
-        size: size as u64,
+        // Whole 16-byte words, which a flattened block binds.
+        size: size.div_ceil(16) as u64 * 16,
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
@@ -433,6 +434,13 @@ impl<'g> Renderer<'g> {
             self.uber = on;
             self.epoch += 1;
         }
+    }
+
+    /// Binds every uniform block as an array of `vec4` words unpacked by the shader, the layout
+    /// of the three.js engine package; images match the struct-bound shaders'.
+    pub fn set_flat_uniforms(&mut self, on: bool) {
+        self.pipelines.set_flat_uniforms(on);
+        self.epoch += 1;
     }
 
     /// Uses a user texture for `kind` instead of the procedural one.

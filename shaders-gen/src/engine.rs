@@ -96,6 +96,12 @@ impl Engine {
         }
     }
 
+    /// Whether uniform blocks are bound as arrays of `vec4` words (three.js's `UniformsGroup`
+    /// cannot describe nested structs with `u32` members; an array of `Vector4`s it can).
+    pub(crate) fn flat_uniforms(self) -> bool {
+        matches!(self, Engine::Three)
+    }
+
     /// Whether the framebuffer's first row is the bottom one (OpenGL conventions): the
     /// display pass then flips the image (`display.flip_y = 1`).
     pub(crate) fn bottom_up(self) -> bool {
@@ -133,6 +139,15 @@ impl Engine {
                     "rows",
                     "the passes work top-down in gl_FragCoord rows (as WGSL's position does); \
                      set display.flip_y = 1 so the last pass shows the image upright"
+                        .to_string(),
+                ));
+                c.push((
+                    "uniforms",
+                    "each uniform block is one array of vec4 words holding the block's bytes \
+                     (uniforms/*.json: size and bytes_hex); in three.js, a UniformsGroup named \
+                     as the file's .json manifest names the block, with one uniform: an array \
+                     of size / 16 THREE.Vector4s. Integer members are stored as their bits: \
+                     read the words as a Float32Array view of the bytes"
                         .to_string(),
                 ));
                 c.push((

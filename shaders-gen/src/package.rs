@@ -14,7 +14,8 @@ use nimbus_clouds::model::display::DisplayParams;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
-use nimbus_codegen::{BindingInfo, EmitExtras, Generated, emit, generate_variant};
+use nimbus_codegen::{BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate};
+use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::ir::Type;
 use nimbus_dsl::layout::{UniformBytes, member_layout};
 use nimbus_runtime::render::TextureSizes;
@@ -156,7 +157,13 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     let target = engine.target();
     let shaders: Vec<Generated> = keys
         .iter()
-        .map(|k| generate_variant(k, &[target]))
+        .map(|k| {
+            let mut module = k.record()?;
+            if engine.flat_uniforms() {
+                flatten_uniform_blocks(&mut module);
+            }
+            generate(module, &k.variant(), &[target])
+        })
         .collect::<Result<_, _>>()?;
     let shader = |k: ShaderKey| keys.iter().position(|x| *x == k).map(|i| &shaders[i]);
 

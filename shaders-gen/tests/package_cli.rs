@@ -69,6 +69,16 @@ fn every_engine_gets_a_complete_package() {
             }
             for b in pass["bindings"].as_array().expect("bindings") {
                 assert_ne!(b["holds"]["kind"], "unknown", "{engine}: {b}");
+                // three.js binds each block as vec4 words (a UniformsGroup of one Vector4
+                // array); the other engines bind the struct.
+                if b["kind"] == "uniform" {
+                    let ty = b["wgsl_type"].as_str().expect("type");
+                    assert_eq!(
+                        ty.starts_with("array<vec4<f32>, "),
+                        engine == "three",
+                        "{ty}"
+                    );
+                }
             }
         }
         // Every uniform block a pass binds has its file, and its layout covers its size.
