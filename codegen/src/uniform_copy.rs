@@ -15,9 +15,9 @@
 //!
 //! The same copy serves hosts that cannot describe a struct-of-structs block with `u32` members
 //! (three.js's `UniformsGroup`, a plain array of `vec4`s): [`flatten_uniform_blocks`] makes the
-//! binding an `array<vec4<f32>, N>` holding the block's bytes, and the entry point unpacks it
-//! into the private copy (`u = CloudUniforms(LayerGroup(u_words[0], ...), ...)`, integers by
-//! `bitcast`). The bytes a host writes are the same either way.
+//! binding an `array<vec4<u32>, N>` holding the block's bytes, and the entry point unpacks it
+//! into the private copy (`u = CloudUniforms(LayerGroup(bitcast<vec4<f32>>(u_words[0]), ...),
+//! ...)`). The bytes a host writes are the same either way.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -31,18 +31,21 @@ use nimbus_dsl::ir::{
 enum Fill {
     /// `u = u_buffer;` (the binding keeps the block's struct type).
     Copy,
-    /// `u = T(..)` from the words of an `array<vec4<f32>, N>` binding.
+    /// `u = T(..)` from the words of an `array<vec4<u32>, N>` binding.
     Unpack,
 }
 
-static WORD: Type = Type::Vector(4, Scalar::F32);
+/// One 16-byte word of a flattened block. Unsigned, so that integer members are read as they
+/// are and float members by `bitcast`: small integers stored in float words would be denormal
+/// floats, which some drivers flush to zero on the way through a float register.
+static WORD: Type = Type::Vector(4, Scalar::U32);
 
 /// Rewrites `module` so that every struct uniform block is read through a per-invocation copy.
 pub fn copy_uniforms_per_invocation(module: &mut Module) {
     read_through_copies(module, Fill::Copy);
 }
 
-/// Rewrites `module` so that every struct uniform block is bound as an array of `vec4<f32>`
+/// Rewrites `module` so that every struct uniform block is bound as an array of `vec4<u32>`
 /// words (`u_words`, same slot, same bytes) and unpacked once per invocation into a private
 /// copy that the code reads as before.
 pub fn flatten_uniform_blocks(module: &mut Module) {
@@ -165,19 +168,19 @@ fn unpack(f: &mut Function, words: ExprId, ty: Type, offset: u32) -> ExprId {
             let w = word(f, offset / 16);
             let first = ((offset % 16) / 4) as u8;
             let lanes: Vec<u8> = (first..first + n).collect();
-            let float_ty = if n == 1 {
-                Type::F32
+            let uint_ty = if n == 1 {
+                Type::U32
             } else {
-                Type::Vector(n, Scalar::F32)
+                Type::Vector(n, Scalar::U32)
             };
-            let floats = if n == 4 {
+            let uints = if n == 4 {
                 w
             } else {
-                push(f, ExprKind::Swizzle(w, lanes), float_ty)
+                push(f, ExprKind::Swizzle(w, lanes), uint_ty)
             };
             match s {
-                Scalar::F32 => floats,
-                other => push(f, ExprKind::Bitcast(other, floats), ty),
+                Scalar::U32 => uints,
+                other => push(f, ExprKind::Bitcast(other, uints), ty),
             }
         }
         Type::Matrix(n) => {

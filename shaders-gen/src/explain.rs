@@ -41,7 +41,10 @@ pub(crate) fn resolved(
     let table: Vec<Assignment> = vec![assign(&genus, scene.quality, features)];
     Ok(crate::data::Resolved {
         entries: distinct(&table),
-        uniforms: vec![crate::data::pair_uniforms(&genus, scene.quality)],
+        // The scene's own sun, camera, weather offset and haze, as `render` sets them up.
+        uniforms: vec![nimbus_runtime::render::Renderer::uniforms(
+            &nimbus_runtime::render::Frame::from_scene(&scene, &genus, 640, 360),
+        )],
         table,
     })
 }

@@ -30,6 +30,19 @@ use crate::package_textures::texture_files;
 /// The package description, beside the manifest.
 pub(crate) const PACKAGE_FILE: &str = "nimbus-package.json";
 
+/// The three.js modules a three package ships: the renderer of the package, and an
+/// EffectComposer pass around it.
+const THREE_MODULES: [(&str, &str); 2] = [
+    (
+        "nimbus-clouds.js",
+        include_str!("../assets/three/nimbus-clouds.js"),
+    ),
+    (
+        "nimbus-clouds-pass.js",
+        include_str!("../assets/three/nimbus-clouds-pass.js"),
+    ),
+];
+
 /// Format of every intermediate target (linear HDR radiance, alpha = cloud opacity).
 const HDR_FORMAT: &str = "rgba16float";
 
@@ -270,6 +283,12 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         "pairs": pairs,
     });
     files.push((PACKAGE_FILE.to_string(), pretty(&description)));
+    if engine == Engine::Three {
+        // The ES modules that draw the package with three.js alone.
+        for (name, text) in THREE_MODULES {
+            files.push((name.to_string(), text.as_bytes().to_vec()));
+        }
+    }
     files.push(("README.md".to_string(), readme(engine, table).into_bytes()));
     Ok(Package {
         shaders,

@@ -74,7 +74,7 @@ fn every_engine_gets_a_complete_package() {
                 if b["kind"] == "uniform" {
                     let ty = b["wgsl_type"].as_str().expect("type");
                     assert_eq!(
-                        ty.starts_with("array<vec4<f32>, "),
+                        ty.starts_with("array<vec4<u32>, "),
                         engine == "three",
                         "{ty}"
                     );

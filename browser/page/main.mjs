@@ -1,0 +1,46 @@
+// Renders a Nimbus three.js package once, from the camera the query string describes, and
+// publishes the result (a PNG data URL) and every shader message three logged on `window`.
+import * as THREE from 'three';
+
+const q = new URLSearchParams(location.search);
+const number = (name, fallback) => (q.has(name) ? Number(q.get(name)) : fallback);
+const width = number('width', 160);
+const height = number('height', 90);
+const degrees = Math.PI / 180;
+
+const messages = [];
+const result = { done: false, error: null, png: null, messages };
+window.nimbus = result;
+
+async function run() {
+  const base = new URL(q.get('pkg') ?? '/pkg/', location.href);
+  const { NimbusClouds } = await import(new URL('nimbus-clouds.js', base).href);
+  const canvas = document.createElement('canvas');
+  document.body.appendChild(canvas);
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height, false);
+  renderer.debug.checkShaderErrors = true;
+  renderer.debug.onShaderError = (gl, program, vs, fs) => {
+    messages.push(`shader error: ${gl.getProgramInfoLog(program)} ${gl.getShaderInfoLog(vs)} ${gl.getShaderInfoLog(fs)}`);
+  };
+  const clouds = await NimbusClouds.load(base, { pair: q.get('pair') ?? undefined });
+  clouds.setSize(width, height);
+  clouds.exposure = number('exposure', 8);
+  // Nimbus's camera: pitch up from the horizon, yaw clockwise from -z (north), vertical fov.
+  const camera = new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
+  camera.rotation.order = 'YXZ';
+  camera.rotation.set(number('pitch', 12) * degrees, -number('yaw', 0) * degrees, 0);
+  clouds.setCamera(camera);
+  clouds.render(renderer);
+  const gl = renderer.getContext();
+  const error = gl.getError();
+  if (error !== gl.NO_ERROR) messages.push(`WebGL error 0x${error.toString(16)}`);
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  result.renderer = gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER);
+  result.png = canvas.toDataURL('image/png');
+}
+
+run()
+  .catch((e) => { result.error = String(e && e.stack ? e.stack : e); })
+  .finally(() => { result.done = true; });

@@ -1,0 +1,278 @@
+// Nimbus clouds for three.js: draws a Nimbus engine package (`nimbus emit --engine three`) with
+// nothing but three.js. Shipped in every three.js package; it reads nimbus-package.json for the
+// passes, their shaders and bindings, the textures and the uniform layouts, so it holds no
+// knowledge of a particular genus or preset.
+//
+//   import { NimbusClouds } from './nimbus-clouds.js';
+//   const clouds = await NimbusClouds.load(new URL('./', import.meta.url));
+//   clouds.setSize(width, height);
+//   clouds.setCamera(camera);            // a THREE.PerspectiveCamera; y is up, metres
+//   clouds.render(renderer);             // to the canvas, or clouds.render(renderer, target)
+//
+// In an EffectComposer, use `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
+
+import * as THREE from 'three';
+
+/** The bytes of a hex string. */
+function fromHex(hex) {
+  const bytes = new Uint8Array(hex.length / 2);
+  for (let i = 0; i < bytes.length; i++) bytes[i] = parseInt(hex.substr(2 * i, 2), 16);
+  return bytes;
+}
+
+/** A uniform block: its bytes, with float and uint views, and member offsets by path. */
+class Block {
+  constructor(json) {
+    this.bytes = fromHex(json.bytes_hex);
+    this.floats = new Float32Array(this.bytes.buffer);
+    this.uints = new Uint32Array(this.bytes.buffer);
+    this.offsets = new Map(json.members.map((m) => [m.member, m.offset / 4]));
+  }
+  word(path) {
+    const w = this.offsets.get(path);
+    if (w === undefined) throw new Error(`the uniform block has no member ${path}`);
+    return w;
+  }
+  setFloats(path, values) {
+    this.floats.set(values, this.word(path));
+  }
+  setUint(path, value) {
+    this.uints[this.word(path)] = value >>> 0;
+  }
+  float(path) {
+    return this.floats[this.word(path)];
+  }
+}
+
+/** GLSL as three's RawShaderMaterial takes it: three writes the #version line itself. */
+function withoutVersion(source) {
+  return source.replace(/^#version[^\n]*\n/, '');
+}
+
+async function loadTexture(url, t) {
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`${url}: ${response.status}`);
+  let texture;
+  if (t.dimension === '3d') {
+    const data = new Uint8Array(await response.arrayBuffer());
+    const [w, h, d] = t.size;
+    if (data.length !== w * h * d * 4) throw new Error(`${url}: ${data.length} bytes, expected ${w * h * d * 4}`);
+    texture = new THREE.Data3DTexture(data, w, h, d);
+    texture.wrapR = THREE.RepeatWrapping;
+  } else {
+    // Texel values are data, not colours: no premultiplication, no colour conversion.
+    const bitmap = await createImageBitmap(await response.blob(), {
+      premultiplyAlpha: 'none',
+      colorSpaceConversion: 'none',
+      imageOrientation: 'from-image',
+    });
+    texture = new THREE.Texture(bitmap);
+    texture.flipY = false;
+  }
+  texture.format = THREE.RGBAFormat;
+  texture.type = THREE.UnsignedByteType;
+  texture.colorSpace = THREE.NoColorSpace;
+  texture.premultiplyAlpha = false;
+  texture.generateMipmaps = false;
+  texture.minFilter = THREE.LinearFilter;
+  texture.magFilter = THREE.LinearFilter;
+  texture.wrapS = THREE.RepeatWrapping;
+  texture.wrapT = THREE.RepeatWrapping;
+  texture.unpackAlignment = 1;
+  texture.needsUpdate = true;
+  return texture;
+}
+
+function hdrTarget(width, height, wrap) {
+  return new THREE.WebGLRenderTarget(width, height, {
+    type: THREE.HalfFloatType,
+    format: THREE.RGBAFormat,
+    depthBuffer: false,
+    stencilBuffer: false,
+    generateMipmaps: false,
+    // Every pass samples these at texel centres, where linear equals nearest.
+    minFilter: THREE.LinearFilter,
+    magFilter: THREE.LinearFilter,
+    wrapS: wrap,
+    wrapT: wrap,
+  });
+}
+
+/** The three.js side of one Nimbus package pair: its passes, targets, textures and uniforms. */
+export class NimbusClouds {
+  /**
+   * Loads the package at `base` (a URL of its folder). `options.pair` picks a genus × preset
+   * pair (`cumulus.high`); the first one otherwise.
+   */
+  static async load(base, options = {}) {
+    const url = (path) => new URL(path, base).href;
+    const get = async (path, as) => {
+      const r = await fetch(url(path));
+      if (!r.ok) throw new Error(`${url(path)}: ${r.status}`);
+      return as === 'json' ? r.json() : r.text();
+    };
+    const pkg = await get('nimbus-package.json', 'json');
+    if (pkg.engine !== 'three') throw new Error(`this package is for ${pkg.engine}, not three`);
+    const pair = options.pair ? pkg.pairs.find((p) => p.pair === options.pair) : pkg.pairs[0];
+    if (!pair) {
+      throw new Error(`no pair ${options.pair}; the package has ${pkg.pairs.map((p) => p.pair).join(', ')}`);
+    }
+    const blocks = {
+      pair: new Block(await get(pair.uniforms, 'json')),
+      resolve: new Block(await get('uniforms/resolve.json', 'json')),
+      display: new Block(await get('uniforms/display.json', 'json')),
+    };
+    const textures = {};
+    for (const t of pkg.textures) textures[t.name] = await loadTexture(url(t.file), t);
+    const sources = {};
+    for (const pass of pair.passes) {
+      const file = (stage) => pass.files.find((f) => f.stage === stage).file;
+      sources[pass.pass] = {
+        vertex: await get(file('vertex')),
+        fragment: await get(file('fragment')),
+      };
+    }
+    return new NimbusClouds(pkg, pair, blocks, textures, sources);
+  }
+
+  constructor(pkg, pair, blocks, textures, sources) {
+    this.package = pkg;
+    this.pair = pair;
+    this.blocks = blocks;
+    this.textures = textures;
+    this.frame = 0;
+    this.width = 0;
+    this.height = 0;
+    this.shadowDirty = true;
+    this.shaderErrors = [];
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+    const geometry = new THREE.BufferGeometry();
+    // The vertex shaders place the triangle from gl_VertexID; three needs a vertex count.
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(9), 3));
+    this.geometry = geometry;
+    this.shadowTarget = pair.shadow_atlas
+      ? hdrTarget(pair.shadow_atlas.width, pair.shadow_atlas.height, THREE.RepeatWrapping)
+      : null;
+    this.cloudTarget = hdrTarget(1, 1, THREE.ClampToEdgeWrapping);
+    this.passes = {};
+    for (const pass of pair.passes) this.passes[pass.pass] = this.makePass(pass, sources[pass.pass]);
+  }
+
+  /** What a binding of `pass` is bound to: a texture, or a uniform block. */
+  resourceFor(pass, binding) {
+    const holds = binding.holds.holds;
+    switch (binding.holds.kind) {
+      case 'texture':
+        return this.textures[holds];
+      case 'target':
+        if (holds === 'shadow_atlas') return this.shadowTarget.texture;
+        return this.cloudTarget.texture;
+      case 'uniform block':
+        if (pass === 'resolve') return this.blocks.resolve;
+        if (pass === 'display') return this.blocks.display;
+        return this.blocks.pair;
+      default:
+        return null;
+    }
+  }
+
+  makePass(pass, source) {
+    const uniforms = {};
+    const groups = [];
+    for (const b of pass.bindings) {
+      if (b.kind === 'sampler') continue;
+      const resource = this.resourceFor(pass.pass, b);
+      for (const named of b.in_files) {
+        if (b.kind === 'uniform' && named.name) {
+          const group = new THREE.UniformsGroup();
+          group.setName(named.name);
+          // The block's bytes as they are: three writes a typed array into the buffer verbatim.
+          group.add(new THREE.Uniform(resource.floats));
+          group.setUsage(THREE.DynamicDrawUsage);
+          groups.push(group);
+        } else if (named.combined_sampler) {
+          uniforms[named.combined_sampler] = { value: resource };
+        }
+      }
+    }
+    const material = new THREE.RawShaderMaterial({
+      name: `nimbus ${pass.pass}`,
+      glslVersion: THREE.GLSL3,
+      vertexShader: withoutVersion(source.vertex),
+      fragmentShader: withoutVersion(source.fragment),
+      uniforms,
+      // The GLSL vertex shader flips y for OpenGL clip space, which turns the triangle
+      // clockwise: draw both faces.
+      side: THREE.DoubleSide,
+      depthTest: false,
+      depthWrite: false,
+      blending: THREE.NoBlending,
+    });
+    material.uniformsGroups = groups;
+    const mesh = new THREE.Mesh(this.geometry, material);
+    mesh.frustumCulled = false;
+    return { mesh, groups, material };
+  }
+
+  /** The output size in pixels. */
+  setSize(width, height) {
+    this.width = width;
+    this.height = height;
+    this.cloudTarget.setSize(width, height);
+    for (const block of [this.blocks.pair, this.blocks.display]) block.setFloats('resolution', [width, height]);
+    this.blocks.pair.setFloats('pixel_offset', [0, 0]);
+    this.blocks.pair.setFloats('pixel_scale', [1]);
+  }
+
+  /** Where the clouds are seen from: a perspective camera, y up, in metres above the ground. */
+  setCamera(camera) {
+    camera.updateMatrixWorld();
+    // The cloud shader takes directions: the view without its translation.
+    const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();
+    const inverse = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, view).invert();
+    this.blocks.pair.setFloats('inverse_view_projection', inverse.elements);
+  }
+
+  /** Linear radiance is scaled by this before the tone curve (8 in `nimbus render`). */
+  set exposure(value) {
+    this.blocks.display.setFloats('exposure', [value]);
+  }
+
+  get exposure() {
+    return this.blocks.display.float('exposure');
+  }
+
+  draw(renderer, pass, target) {
+    for (const g of pass.groups) g.uniforms[0].needsUpdate = true;
+    this.scene.children.length = 0;
+    this.scene.add(pass.mesh);
+    renderer.setRenderTarget(target);
+    renderer.render(this.scene, this.camera);
+  }
+
+  /** Draws one frame into `target` (a WebGLRenderTarget), or the canvas when it is null. */
+  render(renderer, target = null) {
+    if (!this.width) throw new Error('call setSize before render');
+    const u = this.blocks.pair;
+    u.setUint('frame', this.frame);
+    u.setFloats('jitter', [(this.frame * 0.618034) % 1]);
+    const previous = renderer.getRenderTarget();
+    if (this.passes.shadow && this.shadowDirty) {
+      this.draw(renderer, this.passes.shadow, this.shadowTarget);
+      this.shadowDirty = false;
+    }
+    this.draw(renderer, this.passes.clouds, this.cloudTarget);
+    this.draw(renderer, this.passes.display, target);
+    renderer.setRenderTarget(previous);
+    this.frame += 1;
+  }
+
+  dispose() {
+    this.geometry.dispose();
+    this.cloudTarget.dispose();
+    if (this.shadowTarget) this.shadowTarget.dispose();
+    for (const p of Object.values(this.passes)) p.material.dispose();
+    for (const t of Object.values(this.textures)) t.dispose();
+  }
+}
