@@ -96,8 +96,8 @@ impl Engine {
         }
     }
 
-    /// Whether uniform blocks are bound as arrays of `vec4` words (three.js's `UniformsGroup`
-    /// cannot describe nested structs with `u32` members; an array of `Vector4`s it can).
+    /// Whether uniform blocks are bound as arrays of `uvec4` words (three.js's `UniformsGroup`
+    /// cannot describe nested structs with `u32` members; one typed array of the bytes it can).
     pub(crate) fn flat_uniforms(self) -> bool {
         matches!(self, Engine::Three)
     }
@@ -143,11 +143,11 @@ impl Engine {
                 ));
                 c.push((
                     "uniforms",
-                    "each uniform block is one array of vec4 words holding the block's bytes \
-                     (uniforms/*.json: size and bytes_hex); in three.js, a UniformsGroup named \
-                     as the file's .json manifest names the block, with one uniform: an array \
-                     of size / 16 THREE.Vector4s. Integer members are stored as their bits: \
-                     read the words as a Float32Array view of the bytes"
+                    "each uniform block is bound as one array of uvec4 words holding the block's \
+                     bytes (uniforms/*.json: size and bytes_hex; floats are read by bitcast); \
+                     in three.js, a UniformsGroup named as the file's .json manifest names the \
+                     block, with one THREE.Uniform whose value is a Float32Array view of the \
+                     bytes (three writes typed arrays verbatim), as nimbus-clouds.js does"
                         .to_string(),
                 ));
                 c.push((
