@@ -32,6 +32,10 @@ async function run() {
   camera.rotation.order = 'YXZ';
   camera.rotation.set(number('pitch', 12) * degrees, -number('yaw', 0) * degrees, 0);
   clouds.setCamera(camera);
+  if (q.has('sun')) {
+    const [elevation, azimuth] = q.get('sun').split(',').map(Number);
+    clouds.setSun(elevation, azimuth);
+  }
   clouds.render(renderer);
   const gl = renderer.getContext();
   const error = gl.getError();

@@ -47,6 +47,9 @@ pub enum CodegenError {
     )]
     NonFiniteLiteral { function: String, loc: SourceLoc },
 
+    #[error("`{function}` has no JavaScript twin: it {reason}")]
+    Host { function: String, reason: String },
+
     #[error("unknown target `{given}`; known targets: {known}")]
     UnknownTarget { given: String, known: String },
 

@@ -10,6 +10,7 @@ mod emit;
 mod error;
 pub mod external;
 mod generate;
+pub mod js;
 pub mod manifest;
 mod names;
 mod share;
@@ -26,6 +27,7 @@ pub use error::{CodegenError, Origin};
 pub use generate::{
     Generated, OutputFile, VariantStats, file_name, generate, print_and_validate, shader_id,
 };
+pub use js::print_js;
 pub use target::Target;
 pub use uniform_copy::{copy_uniforms_per_invocation, flatten_uniform_blocks};
 pub use validate::{Validated, validate};

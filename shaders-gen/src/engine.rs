@@ -96,6 +96,12 @@ impl Engine {
         }
     }
 
+    /// Whether the engine's host code is JavaScript (the package then carries the JavaScript
+    /// twin of what a moving sun changes).
+    pub(crate) fn javascript_host(self) -> bool {
+        matches!(self, Engine::Three | Engine::Webgpu)
+    }
+
     /// Whether uniform blocks are bound as arrays of `uvec4` words (three.js's `UniformsGroup`
     /// cannot describe nested structs with `u32` members; one typed array of the bytes it can).
     pub(crate) fn flat_uniforms(self) -> bool {

@@ -14,7 +14,9 @@ use nimbus_clouds::model::display::DisplayParams;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
-use nimbus_codegen::{BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate};
+use nimbus_codegen::{
+    BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_js,
+};
 use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::ir::Type;
 use nimbus_dsl::layout::{UniformBytes, member_layout};
@@ -30,9 +32,13 @@ use crate::package_textures::texture_files;
 /// The package description, beside the manifest.
 pub(crate) const PACKAGE_FILE: &str = "nimbus-package.json";
 
-/// The three.js modules a three package ships: the renderer of the package, and an
-/// EffectComposer pass around it.
-const THREE_MODULES: [(&str, &str); 2] = [
+/// The JavaScript twin of `sun_light`, in packages for engines with a JavaScript host.
+const SUN_MODULE: &str = "nimbus-sun.js";
+
+/// The three.js files a three package ships: the renderer of the package, an EffectComposer
+/// pass around it, and an example page where the sun moves (`npx serve DIR`, open
+/// `example.html`).
+const THREE_MODULES: [(&str, &str); 3] = [
     (
         "nimbus-clouds.js",
         include_str!("../assets/three/nimbus-clouds.js"),
@@ -41,6 +47,7 @@ const THREE_MODULES: [(&str, &str); 2] = [
         "nimbus-clouds-pass.js",
         include_str!("../assets/three/nimbus-clouds-pass.js"),
     ),
+    ("example.html", include_str!("../assets/three/example.html")),
 ];
 
 /// Format of every intermediate target (linear HDR radiance, alpha = cloud opacity).
@@ -283,6 +290,13 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         "pairs": pairs,
     });
     files.push((PACKAGE_FILE.to_string(), pretty(&description)));
+    if engine.javascript_host() {
+        // What the sun's position decides, as the host computes it: the JavaScript twin of
+        // the same `sun_light` whose CPU twin fills the uniform values above.
+        let host = nimbus_clouds::model::sun::host_module()?;
+        let js = print_js(&host, &["sun_light"])?;
+        files.push((SUN_MODULE.to_string(), js.into_bytes()));
+    }
     if engine == Engine::Three {
         // The ES modules that draw the package with three.js alone.
         for (name, text) in THREE_MODULES {
@@ -481,23 +495,20 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
     ),
     (
         "light.sun_irradiance",
-        "when the sun or camera altitude moves: computed by Nimbus from the atmosphere; the \
-         values here are for the sun of the pair's scene",
+        "when the sun or camera altitude moves: sun_light(u, sun_direction).sun_irradiance \
+         (nimbus-sun.js in JavaScript packages; the values here are for the pair's scene)",
     ),
     (
         "light.sky_irradiance",
-        "when the sun or camera altitude moves: computed by Nimbus from the atmosphere; the \
-         values here are for the sun of the pair's scene",
+        "when the sun or camera altitude moves: sun_light(..).sky_irradiance",
     ),
     (
         "shadow.matrix",
-        "when the sun or camera altitude moves: computed by Nimbus; the values here are for the \
-         sun of the pair's scene",
+        "when the sun or camera altitude moves: sun_light(..).shadow_matrix",
     ),
     (
         "shadow.inverse_matrix",
-        "when the sun or camera altitude moves: computed by Nimbus; the values here are for the \
-         sun of the pair's scene",
+        "when the sun or camera altitude moves: sun_light(..).shadow_inverse_matrix",
     ),
     (
         "media.weather_offset",

@@ -1,8 +1,9 @@
 //! The three.js engine package in a real browser: headless Chromium (Debian's, WebGL2 through
 //! SwiftShader) driven by playwright-core renders the package with three.js from npm, and each
-//! frame is compared with `nimbus render` of the same scene. Two sun positions (two scenes) and
-//! one camera move; the shader logs must be empty. The screenshots stay in a folder the test
-//! prints.
+//! frame is compared with `nimbus render` of the same scene: two sun positions (a package per
+//! scene), one camera move, and the sun moved at run time by the package's own JavaScript
+//! (`setSun`, no Nimbus code); the shader logs must be empty. The screenshots stay in a folder
+//! the test prints.
 //!
 //! Needs `node`, `browser/node_modules` (`npm ci` in browser/) and Chromium; without them the
 //! test says what is missing and passes, except under NIMBUS_REQUIRE_BROWSER=1 (CI), where it
@@ -73,7 +74,7 @@ const VIEWS: [View; 3] = [
         pitch: 10.0,
         yaw: 0.0,
     },
-    // The first scene's package, seen after a camera move.
+    // The first scene, seen after a camera move.
     View {
         name: "camera-moved",
         sun_elevation: 35.0,
@@ -122,6 +123,43 @@ fn mean_difference(a: &image::RgbImage, b: &image::RgbImage) -> f64 {
     sum as f64 / a.as_raw().len() as f64
 }
 
+/// One browser frame: the package of scene `package`, seen as scene `view` is (its camera,
+/// and its sun through `setSun` when `move_sun`), against `nimbus render` of scene `view`.
+struct Case {
+    name: &'static str,
+    package: usize,
+    view: usize,
+    move_sun: bool,
+}
+
+const CASES: [Case; 4] = [
+    Case {
+        name: "sun-high",
+        package: 0,
+        view: 0,
+        move_sun: false,
+    },
+    Case {
+        name: "sun-low",
+        package: 1,
+        view: 1,
+        move_sun: false,
+    },
+    Case {
+        name: "camera-moved",
+        package: 0,
+        view: 2,
+        move_sun: false,
+    },
+    // The sun-high package, its sun moved to the sun-low scene's in the browser.
+    Case {
+        name: "sun-moved",
+        package: 0,
+        view: 1,
+        move_sun: true,
+    },
+];
+
 #[test]
 fn the_three_package_renders_in_chromium_what_nimbus_renders() {
     if let Some(why) = missing() {
@@ -135,16 +173,11 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
     std::fs::create_dir_all(&out).expect("screenshot folder");
     let (w, h) = (160u32, 90u32);
     let mut frames = Vec::new();
-    for v in &VIEWS {
-        // The camera move reuses the first scene's package: only the camera changes.
-        let package_view = if v.name == "camera-moved" {
-            &VIEWS[0]
-        } else {
-            v
-        };
-        let package = out.join(format!("package-{}", package_view.name));
+    for case in &CASES {
+        let (pv, v) = (&VIEWS[case.package], &VIEWS[case.view]);
+        let package = out.join(format!("package-{}", pv.name));
         if !package.exists() {
-            let scene_file = scene(&out, package_view);
+            let scene_file = scene(&out, pv);
             let o = nimbus(&[
                 "emit",
                 "--engine",
@@ -156,32 +189,38 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
             ]);
             assert!(o.status.success(), "emit: {}", text(&o.stderr));
         }
-        let scene_file = scene(&out, v);
         let nimbus_png = out.join(format!("{}-nimbus.png", v.name));
-        let o = nimbus(&[
-            "render",
-            scene_file.to_str().expect("utf8"),
-            "-r",
-            &format!("{w}x{h}"),
-            "-f",
-            "1",
-            "-o",
-            nimbus_png.to_str().expect("utf8"),
-        ]);
-        assert!(o.status.success(), "render: {}", text(&o.stderr));
-        let browser_png = out.join(format!("{}-chromium.png", v.name));
+        if !nimbus_png.exists() {
+            let scene_file = scene(&out, v);
+            let o = nimbus(&[
+                "render",
+                scene_file.to_str().expect("utf8"),
+                "-r",
+                &format!("{w}x{h}"),
+                "-f",
+                "1",
+                "-o",
+                nimbus_png.to_str().expect("utf8"),
+            ]);
+            assert!(o.status.success(), "render: {}", text(&o.stderr));
+        }
+        let browser_png = out.join(format!("{}-chromium.png", case.name));
+        let mut args = vec![
+            format!("width={w}"),
+            format!("height={h}"),
+            format!("pitch={}", v.pitch),
+            format!("yaw={}", v.yaw),
+            "fov=60".to_string(),
+        ];
+        if case.move_sun {
+            args.push(format!("sun={},{}", v.sun_elevation, v.sun_azimuth));
+        }
         let o = Command::new("node")
             .current_dir(browser_dir())
             .arg("render.mjs")
             .arg(&package)
             .arg(&browser_png)
-            .args([
-                format!("width={w}"),
-                format!("height={h}"),
-                format!("pitch={}", v.pitch),
-                format!("yaw={}", v.yaw),
-                "fov=60".to_string(),
-            ])
+            .args(&args)
             .output()
             .expect("run node");
         let log = std::fs::read_to_string(format!("{}.log.json", browser_png.display()))
@@ -189,12 +228,12 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
         assert!(
             o.status.success(),
             "{}: the page failed or logged: {}{}\n{log}",
-            v.name,
+            case.name,
             text(&o.stdout),
             text(&o.stderr)
         );
-        println!("{}: {}", v.name, text(&o.stdout).trim());
-        frames.push((v.name, rgb(&nimbus_png), rgb(&browser_png)));
+        println!("{}: {}", case.name, text(&o.stdout).trim());
+        frames.push((case.name, rgb(&nimbus_png), rgb(&browser_png)));
     }
     println!("screenshots: {}", out.display());
     for (name, want, got) in &frames {
@@ -219,4 +258,74 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
         score < MIN_SCORE || mean > MAX_MEAN,
         "the comparison cannot fail"
     );
+}
+
+/// The example page a three.js package ships (`example.html`, where the sun moves) runs in
+/// Chromium from the package alone (three.js answered from node_modules in place of its CDN):
+/// no message is logged, the clouds are drawn, and they change as the sun moves.
+#[test]
+fn the_three_package_example_page_runs_and_its_sun_moves() {
+    if let Some(why) = missing() {
+        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
+        println!("skipping the example-page test: {why}");
+        assert!(!required, "NIMBUS_REQUIRE_BROWSER=1 but {why}");
+        return;
+    }
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-example");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).expect("folder");
+    let package = out.join("package");
+    let o = nimbus(&[
+        "emit",
+        "--engine",
+        "three",
+        "-g",
+        "cumulus",
+        "-q",
+        "low",
+        "-o",
+        package.to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    let prefix = out.join("example");
+    let o = Command::new("node")
+        .current_dir(browser_dir())
+        .arg("example.mjs")
+        .arg(&package)
+        .arg(&prefix)
+        .output()
+        .expect("run node");
+    assert!(
+        o.status.success(),
+        "the example page failed or logged: {}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    let shot = |i: u32| rgb(&out.join(format!("example-{i}.png")));
+    let (a, b) = (shot(1), shot(2));
+    // Below and right of the control panel: sky, clouds and ground only.
+    let region = |img: &image::RgbImage| {
+        image::imageops::crop_imm(
+            img,
+            img.width() / 2,
+            img.height() / 2,
+            img.width() / 2,
+            img.height() / 2,
+        )
+        .to_image()
+    };
+    let (a, b) = (region(&a), region(&b));
+    let brightest = a
+        .pixels()
+        .map(|p| p.0.iter().copied().max().unwrap_or(0))
+        .max()
+        .unwrap_or(0);
+    let moved = mean_difference(&a, &b);
+    println!(
+        "{}; brightest {brightest}/255, change as the sun moved {moved:.2}/255; screenshots in {}",
+        text(&o.stdout).trim(),
+        out.display()
+    );
+    assert!(brightest > 100, "the example page drew nothing");
+    assert!(moved > 0.2, "the clouds did not change as the sun moved");
 }

@@ -7,11 +7,13 @@
 //   const clouds = await NimbusClouds.load(new URL('./', import.meta.url));
 //   clouds.setSize(width, height);
 //   clouds.setCamera(camera);            // a THREE.PerspectiveCamera; y is up, metres
+//   clouds.setSun(elevation, azimuth);   // degrees; lighting and shadows follow
 //   clouds.render(renderer);             // to the canvas, or clouds.render(renderer, target)
 //
 // In an EffectComposer, use `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
 
 import * as THREE from 'three';
+import { sun_light } from './nimbus-sun.js';
 
 /** The bytes of a hex string. */
 function fromHex(hex) {
@@ -26,7 +28,40 @@ class Block {
     this.bytes = fromHex(json.bytes_hex);
     this.floats = new Float32Array(this.bytes.buffer);
     this.uints = new Uint32Array(this.bytes.buffer);
+    this.ints = new Int32Array(this.bytes.buffer);
+    this.members = json.members;
     this.offsets = new Map(json.members.map((m) => [m.member, m.offset / 4]));
+  }
+
+  /**
+   * The block as the JavaScript twins of shader functions take it: nested objects by field
+   * name, arrays for vectors and fixed arrays, matrices as arrays of columns.
+   */
+  toObject() {
+    const root = {};
+    for (const m of this.members) {
+      const at = m.offset / 4;
+      const count = m.value.length;
+      const view = /u32/.test(m.type) ? this.uints : /i32/.test(m.type) ? this.ints : this.floats;
+      const words = Array.from(view.subarray(at, at + count));
+      let leaf;
+      if (m.type.startsWith('mat')) {
+        const n = Math.sqrt(count);
+        leaf = Array.from({ length: n }, (_, c) => words.slice(c * n, c * n + n));
+      } else {
+        leaf = m.type.startsWith('vec') ? words : words[0];
+      }
+      // `groups[1].min_height` → root.groups[1].min_height
+      const keys = m.member.split('.').flatMap((p) => p.split(/\[|\]/).filter((k) => k !== ''));
+      let node = root;
+      keys.forEach((key, i) => {
+        const last = i === keys.length - 1;
+        const nextIsIndex = !last && /^\d+$/.test(keys[i + 1]);
+        if (last) node[key] = leaf;
+        else node = node[key] ??= nextIsIndex ? [] : {};
+      });
+    }
+    return root;
   }
   word(path) {
     const w = this.offsets.get(path);
@@ -232,6 +267,26 @@ export class NimbusClouds {
     const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();
     const inverse = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, view).invert();
     this.blocks.pair.setFloats('inverse_view_projection', inverse.elements);
+  }
+
+  /**
+   * Moves the sun: `elevation` above the horizon and `azimuth` clockwise from north (-z), in
+   * degrees, as Nimbus's scenes give them. The sun's and sky's irradiance and the shadow
+   * cascades follow, from the JavaScript twin of Nimbus's own `sun_light`; the shadow atlas is
+   * redrawn on the next frame.
+   */
+  setSun(elevation, azimuth) {
+    const el = (elevation * Math.PI) / 180;
+    const az = (azimuth * Math.PI) / 180;
+    const direction = [Math.cos(el) * Math.sin(az), Math.sin(el), -Math.cos(el) * Math.cos(az)];
+    const u = this.blocks.pair;
+    const light = sun_light(u.toObject(), direction);
+    u.setFloats('light.sun_direction', light.sun_direction);
+    u.setFloats('light.sun_irradiance', light.sun_irradiance);
+    u.setFloats('light.sky_irradiance', light.sky_irradiance);
+    u.setFloats('shadow.matrix', light.shadow_matrix.flat());
+    u.setFloats('shadow.inverse_matrix', light.shadow_inverse_matrix.flat());
+    this.shadowDirty = true;
   }
 
   /** Linear radiance is scaled by this before the tone curve (8 in `nimbus render`). */

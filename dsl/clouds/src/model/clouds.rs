@@ -84,7 +84,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use super::density::MediaParams;
 use super::layers::LayerGroup;
 use super::march::{HazeParams, LightParams, MarchParams};
-use super::shadow::{ShadowParams, shadow_matrices};
+use super::shadow::{ShadowMatrices, ShadowParams, shadow_matrices};
 use super::shell::EARTH_RADIUS;
 use super::sky::{AtmosphereParams, sky_irradiance_at, sun_irradiance_at};
 use crate::MarchSettings;
@@ -157,13 +157,13 @@ impl CloudUniforms {
                 sun_irradiance: sun_irradiance_at(
                     camera_altitude,
                     sun_direction,
-                    &sky,
+                    sky,
                     EARTH_RADIUS,
                 ),
                 sky_irradiance: sky_irradiance_at(
                     camera_altitude,
                     sun_direction,
-                    &sky,
+                    sky,
                     EARTH_RADIUS,
                 ),
                 scattering_coefficient: genus.medium.scattering_coefficient,
@@ -210,7 +210,10 @@ impl ShadowParams {
     ) -> Self {
         let count = st.shadow_cascade_count.clamp(1, 4);
         let finest = st.max_ray_distance / 4f32.powi(count as i32 - 1);
-        let (matrix, inverse_matrix) = shadow_matrices(
+        let ShadowMatrices {
+            matrix,
+            inverse_matrix,
+        } = shadow_matrices(
             sun_direction,
             camera_altitude,
             top_altitude,

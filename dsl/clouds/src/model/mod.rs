@@ -16,4 +16,5 @@ pub mod resolve;
 pub mod shadow;
 pub mod shell;
 pub mod sky;
+pub mod sun;
 pub mod tonemap;

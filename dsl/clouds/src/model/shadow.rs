@@ -134,23 +134,34 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     )
 }
 
+/// The two transforms of the cascades: local position to cascade-0 texture coordinates, and
+/// back from the top plane.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct ShadowMatrices {
+    pub matrix: Mat4,
+    pub inverse_matrix: Mat4,
+}
+
 /// The cascade transforms for a sun direction: cascade 0 is `extent` metres on a side, centred
 /// on where the sun's ray through the middle of the layers below the camera meets the plane at
 /// `top_altitude`.
+#[shader_fn]
 pub fn shadow_matrices(
     sun_direction: Vec3,
     camera_altitude: f32,
     top_altitude: f32,
     mid_altitude: f32,
     extent: f32,
-) -> (Mat4, Mat4) {
+) -> ShadowMatrices {
     // A sun at the horizon would stretch the projection without bound; shadows fade long
     // before, so a floor on its height keeps the transform finite.
     let sun = Vec3::new(sun_direction.x, sun_direction.y.max(0.05), sun_direction.z);
-    let (sx, sz) = (sun.x / sun.y, sun.z / sun.y);
+    let sx = sun.x / sun.y;
+    let sz = sun.z / sun.y;
     let y_top = top_altitude - camera_altitude;
     let y_mid = mid_altitude - camera_altitude;
-    let (cx, cz) = (sx * (y_top - y_mid), sz * (y_top - y_mid));
+    let cx = sx * (y_top - y_mid);
+    let cz = sz * (y_top - y_mid);
     // x_top = p.x + sx·(y_top − p.y); u = (x_top − cx)/extent + 0.5 (likewise z → v).
     let inv = 1.0 / extent;
     let matrix = Mat4::from_cols(
@@ -170,5 +181,8 @@ pub fn shadow_matrices(
         Vec4::ZERO,
         Vec4::new(cx - 0.5 * extent, y_top, cz - 0.5 * extent, 1.0),
     );
-    (matrix, inverse_matrix)
+    ShadowMatrices {
+        matrix,
+        inverse_matrix,
+    }
 }

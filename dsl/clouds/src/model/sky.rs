@@ -3,8 +3,9 @@
 //! (Schüler, "An Approximation to the Chapman Grazing-Incidence Function", GPU Pro 3), and the
 //! ground lit by the sun and the sky.
 //!
-//! The same functions give the CPU the sun and sky irradiance the cloud march is lit with
-//! ([`sun_irradiance_at`], [`sky_irradiance_at`]), so clouds and sky agree.
+//! The same functions give the sun and sky irradiance the cloud march is lit with
+//! ([`sun_irradiance_at`], [`sky_irradiance_at`]), so clouds and sky agree: on the CPU for
+//! Nimbus's runtime, in JavaScript for an engine package's host.
 
 use glam::Vec3;
 
@@ -191,38 +192,43 @@ pub fn ground_radiance(sun: Vec3, sun_mu: f32, sky: Vec3, albedo: Vec3) -> Vec3 
     albedo * (sun * sun_mu.max(0.0) + sky) * INV_PI
 }
 
-/// Sun irradiance on a plane facing the sun at `altitude` (CPU side of the lighting).
+/// Sun irradiance on a plane facing the sun at `altitude` (what the cloud march is lit with;
+/// computed once per frame, on the host: see [`super::sun::sun_light`]).
+#[shader_fn]
 pub fn sun_irradiance_at(
     altitude: f32,
     sun_direction: Vec3,
-    atmosphere: &AtmosphereParams,
+    atmosphere: AtmosphereParams,
     radius: f32,
 ) -> Vec3 {
     atmosphere.solar_irradiance
-        * transmittance_towards(altitude, sun_direction.y, *atmosphere, radius)
+        * transmittance_towards(altitude, sun_direction.y, atmosphere, radius)
 }
+
+/// Elevation bands and azimuths of [`sky_irradiance_at`]'s quadrature.
+const SKY_ELEVATIONS: u32 = 8;
+const SKY_AZIMUTHS: u32 = 16;
 
 /// Sky irradiance on a horizontal plane at `altitude`: the sky's radiance integrated over the
 /// upper hemisphere, cosine-weighted, from the same [`air_light`] the shader draws.
+#[shader_fn]
 pub fn sky_irradiance_at(
     altitude: f32,
     sun_direction: Vec3,
-    atmosphere: &AtmosphereParams,
+    atmosphere: AtmosphereParams,
     radius: f32,
 ) -> Vec3 {
-    const ELEVATIONS: u32 = 8;
-    const AZIMUTHS: u32 = 16;
     let mut sum = Vec3::ZERO;
-    for i in 0..ELEVATIONS {
+    for i in 0u32..SKY_ELEVATIONS {
         // Uniform in sin²(elevation), so each band carries equal cosine weight: E = π·mean(L).
-        let mu = (((i as f32) + 0.5) / ELEVATIONS as f32).sqrt();
+        let mu = (((i as f32) + 0.5) / SKY_ELEVATIONS as f32).sqrt();
         let s = (1.0 - mu * mu).sqrt();
-        for j in 0..AZIMUTHS {
-            let phi = (j as f32 + 0.5) / AZIMUTHS as f32 * core::f32::consts::TAU;
+        for j in 0u32..SKY_AZIMUTHS {
+            let phi = (j as f32 + 0.5) / SKY_AZIMUTHS as f32 * core::f32::consts::TAU;
             let d = Vec3::new(s * phi.cos(), mu, s * phi.sin());
             let distance = sky_distance(altitude, mu, atmosphere.top_height, radius).abs();
-            sum += air_light(altitude, d, sun_direction, distance, *atmosphere, radius).inscatter;
+            sum += air_light(altitude, d, sun_direction, distance, atmosphere, radius).inscatter;
         }
     }
-    sum * (core::f32::consts::PI / (ELEVATIONS * AZIMUTHS) as f32)
+    sum * (core::f32::consts::PI / (SKY_ELEVATIONS * SKY_AZIMUTHS) as f32)
 }

@@ -1,0 +1,76 @@
+//! What the sun's position decides, derived from the rest of the uniform block: the sun's and
+//! the sky's irradiance at the camera, and the shadow cascades' transforms. It is the part of
+//! the block a host must recompute when the sun (or the camera's height) moves, so it is one
+//! `#[shader_fn]`: Nimbus's runtime fills the block with its CPU twin (through
+//! [`CloudUniforms::for_genus`]), and an engine package's JavaScript host calls its JavaScript
+//! twin ([`nimbus_codegen::print_js`], `nimbus-sun.js` in a three.js package), so the formulas
+//! exist once.
+
+use glam::{Mat4, Vec3};
+
+use nimbus_dsl::prelude::*;
+use nimbus_dsl::{DslError, ModuleBuilder, loc};
+
+use super::bindings::CLOUDS;
+use super::march::CloudUniforms;
+use super::shadow::shadow_matrices;
+use super::sky::{sky_irradiance_at, sun_irradiance_at};
+
+/// The members of the cloud block that follow the sun.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct SunLight {
+    /// `light.sun_direction`: unit vector towards the sun, y up.
+    pub sun_direction: Vec3,
+    /// `light.sun_irradiance` and `light.sky_irradiance` at the camera.
+    pub sun_irradiance: Vec3,
+    pub sky_irradiance: Vec3,
+    /// `shadow.matrix` and `shadow.inverse_matrix`.
+    pub shadow_matrix: Mat4,
+    pub shadow_inverse_matrix: Mat4,
+}
+
+/// The sun-dependent members of `u` for a sun in `sun_direction` (a unit vector, y up), from
+/// its atmosphere, layers, camera height and shadow settings.
+#[shader_fn]
+pub fn sun_light(u: CloudUniforms, sun_direction: Vec3) -> SunLight {
+    let m = u.march;
+    // Cascade 0 is the finest: each coarser one is four times its side, the coarsest the
+    // preset's maximum ray distance.
+    let mut coarsest = 1.0f32;
+    for _cascade in 1u32..u.shadow.cascade_count {
+        coarsest *= 4.0;
+    }
+    let mid = 0.5 * (m.min_height.min(m.max_height) + m.max_height);
+    let cascades = shadow_matrices(
+        sun_direction,
+        u.camera_altitude,
+        m.shadow_top_height,
+        mid,
+        m.max_ray_distance / coarsest,
+    );
+    SunLight {
+        sun_direction,
+        sun_irradiance: sun_irradiance_at(u.camera_altitude, sun_direction, u.sky, m.radius),
+        sky_irradiance: sky_irradiance_at(u.camera_altitude, sun_direction, u.sky, m.radius),
+        shadow_matrix: cascades.matrix,
+        shadow_inverse_matrix: cascades.inverse_matrix,
+    }
+}
+
+/// A module holding [`sun_light`] and what it calls, for printing its host twin (a fragment
+/// shader that shows the sun's irradiance is the root that keeps them recorded).
+pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
+    ModuleBuilder::build(
+        "host",
+        "Host functions: what the sun's position decides.",
+        loc!(),
+        |m| {
+            m.fragment("fs_host", "The sun's irradiance.", loc!(), |_frag_coord| {
+                let u = CLOUDS.read();
+                sun_light::shader(u, u.light.sun_direction)
+                    .sun_irradiance
+                    .extend(1.0)
+            });
+        },
+    )
+}
