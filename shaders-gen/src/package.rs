@@ -17,8 +17,9 @@ use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{
     BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_js,
 };
+use nimbus_codegen::{BindingKind, TextureDimension};
 use nimbus_dsl::ShaderVariant;
-use nimbus_dsl::ir::Type;
+use nimbus_dsl::ir::{AddressMode, FilterMode, SamplerDesc, Type};
 use nimbus_dsl::layout::{UniformBytes, member_layout};
 use nimbus_runtime::render::TextureSizes;
 use nimbus_runtime::textures::NoiseKind;
@@ -416,12 +417,125 @@ fn pass_json(pass: &str, g: &Generated, engine: Engine) -> Value {
             })
         })
         .collect();
-    json!({
+    let mut v = json!({
         "pass": pass,
         "shader": g.id(),
         "language": engine.language(),
         "files": files,
         "bindings": bindings,
+    });
+    if let (Some(layout), Value::Object(map)) = (layout_json(g, engine), &mut v) {
+        map.insert(layout.0.to_string(), layout.1);
+    }
+    v
+}
+
+/// The pass's bindings in the API's own terms, where the engine has one: a WebGPU
+/// `GPUBindGroupLayoutDescriptor` (with the samplers' `GPUSamplerDescriptor`s) or a Vulkan
+/// descriptor-set layout, to pass to the API as they are.
+fn layout_json(g: &Generated, engine: Engine) -> Option<(&'static str, Value)> {
+    let stages = |b: &BindingInfo| -> Vec<&'static str> {
+        b.visibility
+            .iter()
+            .map(|s| match s {
+                nimbus_dsl::ir::Stage::Vertex => "VERTEX",
+                nimbus_dsl::ir::Stage::Fragment => "FRAGMENT",
+                nimbus_dsl::ir::Stage::Compute => "COMPUTE",
+            })
+            .collect()
+    };
+    match engine {
+        Engine::Webgpu | Engine::Wgpu => {
+            let entries: Vec<Value> = g
+                .bindings
+                .iter()
+                .map(|b| {
+                    let resource = match &b.kind {
+                        BindingKind::Uniform { size, .. } => {
+                            json!({ "buffer": { "type": "uniform", "minBindingSize": size } })
+                        }
+                        BindingKind::Storage { read_write } => json!({ "buffer": {
+                            "type": if *read_write { "storage" } else { "read-only-storage" } } }),
+                        BindingKind::Texture { dimension } => json!({ "texture": {
+                            "sampleType": "float",
+                            "viewDimension": match dimension {
+                                TextureDimension::D2 => "2d",
+                                TextureDimension::D3 => "3d",
+                            } } }),
+                        BindingKind::Sampler(desc) => json!({
+                            "sampler": { "type": "filtering" },
+                            "samplerDescriptor": sampler_descriptor(*desc),
+                        }),
+                    };
+                    let mut entry = json!({
+                        "binding": b.binding,
+                        "visibility": stages(b).join(" | "),
+                    });
+                    if let (Value::Object(e), Value::Object(r)) = (&mut entry, resource) {
+                        e.extend(r);
+                    }
+                    entry
+                })
+                .collect();
+            Some((
+                "bind_group_layout",
+                json!({ "group": 0, "entries": entries }),
+            ))
+        }
+        Engine::Vulkan => {
+            let bindings: Vec<Value> = g
+                .bindings
+                .iter()
+                .map(|b| {
+                    let ty = match &b.kind {
+                        BindingKind::Uniform { .. } => "VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER",
+                        BindingKind::Storage { .. } => "VK_DESCRIPTOR_TYPE_STORAGE_BUFFER",
+                        BindingKind::Texture { .. } => "VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE",
+                        BindingKind::Sampler(_) => "VK_DESCRIPTOR_TYPE_SAMPLER",
+                    };
+                    let flags: Vec<String> = stages(b)
+                        .iter()
+                        .map(|s| format!("VK_SHADER_STAGE_{s}_BIT"))
+                        .collect();
+                    let mut v = json!({
+                        "binding": b.binding,
+                        "descriptorType": ty,
+                        "descriptorCount": 1,
+                        "stageFlags": flags.join(" | "),
+                    });
+                    if let (BindingKind::Sampler(desc), Value::Object(m)) = (&b.kind, &mut v) {
+                        m.insert("sampler".into(), sampler_descriptor(*desc));
+                    }
+                    v
+                })
+                .collect();
+            Some((
+                "descriptor_set_layout",
+                json!({ "set": 0, "bindings": bindings }),
+            ))
+        }
+        Engine::Three | Engine::Unity | Engine::Metal => None,
+    }
+}
+
+/// A sampler's state in WebGPU's spelling (Vulkan's is the same modes).
+fn sampler_descriptor(desc: SamplerDesc) -> Value {
+    let address = match desc.address {
+        AddressMode::Repeat => "repeat",
+        AddressMode::ClampToEdge => "clamp-to-edge",
+        AddressMode::MirrorRepeat => "mirror-repeat",
+    };
+    let filter = match desc.filter {
+        FilterMode::Nearest => "nearest",
+        FilterMode::Linear => "linear",
+    };
+    json!({
+        "addressModeU": address,
+        "addressModeV": address,
+        "addressModeW": address,
+        "magFilter": filter,
+        "minFilter": filter,
+        "mipmapFilter": filter,
     })
 }
 

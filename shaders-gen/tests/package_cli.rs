@@ -67,6 +67,21 @@ fn every_engine_gets_a_complete_package() {
                     assert!(out.join(m).is_file(), "{engine}: {m} missing");
                 }
             }
+            // WebGPU and Vulkan get each pass's layout in the API's own terms, one entry per
+            // binding.
+            let layout = match engine {
+                "webgpu" | "wgpu" => Some(&pass["bind_group_layout"]["entries"]),
+                "vulkan" => Some(&pass["descriptor_set_layout"]["bindings"]),
+                _ => None,
+            };
+            if let Some(entries) = layout {
+                assert_eq!(
+                    entries.as_array().map(Vec::len),
+                    pass["bindings"].as_array().map(Vec::len),
+                    "{engine}: {}",
+                    pass["pass"]
+                );
+            }
             for b in pass["bindings"].as_array().expect("bindings") {
                 assert_ne!(b["holds"]["kind"], "unknown", "{engine}: {b}");
                 // three.js binds each block as vec4 words (a UniformsGroup of one Vector4
