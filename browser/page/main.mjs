@@ -25,6 +25,8 @@ async function run() {
     messages.push(`shader error: ${gl.getProgramInfoLog(program)} ${gl.getShaderInfoLog(vs)} ${gl.getShaderInfoLog(fs)}`);
   };
   const clouds = await NimbusClouds.load(base, { pair: q.get('pair') ?? undefined });
+  clouds.upscale = q.get('upscale') === '1';
+  clouds.accumulate = !clouds.upscale && number('frames', 1) > 1;
   clouds.setSize(width, height);
   clouds.exposure = number('exposure', 8);
   // Nimbus's camera: pitch up from the horizon, yaw clockwise from -z (north), vertical fov.
@@ -36,7 +38,7 @@ async function run() {
     const [elevation, azimuth] = q.get('sun').split(',').map(Number);
     clouds.setSun(elevation, azimuth);
   }
-  clouds.render(renderer);
+  for (let i = 0; i < number('frames', 1); i++) clouds.render(renderer);
   const gl = renderer.getContext();
   const error = gl.getError();
   if (error !== gl.NO_ERROR) messages.push(`WebGL error 0x${error.toString(16)}`);

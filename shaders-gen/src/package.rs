@@ -285,6 +285,13 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         "conventions": conventions,
         "bindings": engine.binding_note(),
         "frame": FRAME_ORDER,
+        "temporal": {
+            "bayer_offsets": nimbus_clouds::model::resolve::BAYER_OFFSETS,
+            "sequence": "frame i (from 0): pixel_offset = bayer_offsets[i % 16] when upscaling \
+                         (else 0); frame = seed × 7919 + i; jitter = fract(i × 0.618034 + seed \
+                         × 0.7548777); resolve.current_weight = 1 / (visits + 1) with visits = \
+                         floor(i / 16) upscaled, i otherwise; resolve.history_valid = 0 at i = 0",
+        },
         "targets": targets_json(),
         "textures": textures,
         "textures_generated_by": texels.generated_by,

@@ -130,26 +130,35 @@ struct Case {
     package: usize,
     view: usize,
     move_sun: bool,
+    /// Frames drawn (accumulated at full resolution, or upscaled), as `render -f`.
+    frames: u32,
+    upscale: bool,
 }
 
-const CASES: [Case; 4] = [
+const CASES: [Case; 6] = [
     Case {
         name: "sun-high",
         package: 0,
         view: 0,
         move_sun: false,
+        frames: 1,
+        upscale: false,
     },
     Case {
         name: "sun-low",
         package: 1,
         view: 1,
         move_sun: false,
+        frames: 1,
+        upscale: false,
     },
     Case {
         name: "camera-moved",
         package: 0,
         view: 2,
         move_sun: false,
+        frames: 1,
+        upscale: false,
     },
     // The sun-high package, its sun moved to the sun-low scene's in the browser.
     Case {
@@ -157,6 +166,25 @@ const CASES: [Case; 4] = [
         package: 0,
         view: 1,
         move_sun: true,
+        frames: 1,
+        upscale: false,
+    },
+    // The temporal resolve pass: four accumulated frames, and sixteen upscaled ones.
+    Case {
+        name: "accumulated",
+        package: 0,
+        view: 0,
+        move_sun: false,
+        frames: 4,
+        upscale: false,
+    },
+    Case {
+        name: "upscaled",
+        package: 0,
+        view: 0,
+        move_sun: false,
+        frames: 16,
+        upscale: true,
     },
 ];
 
@@ -189,19 +217,30 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
             ]);
             assert!(o.status.success(), "emit: {}", text(&o.stderr));
         }
-        let nimbus_png = out.join(format!("{}-nimbus.png", v.name));
+        let nimbus_png = out.join(format!(
+            "{}-f{}{}-nimbus.png",
+            v.name,
+            case.frames,
+            if case.upscale { "-upscaled" } else { "" }
+        ));
         if !nimbus_png.exists() {
             let scene_file = scene(&out, v);
-            let o = nimbus(&[
+            let frames = case.frames.to_string();
+            let size = format!("{w}x{h}");
+            let mut args = vec![
                 "render",
                 scene_file.to_str().expect("utf8"),
                 "-r",
-                &format!("{w}x{h}"),
+                &size,
                 "-f",
-                "1",
+                &frames,
                 "-o",
                 nimbus_png.to_str().expect("utf8"),
-            ]);
+            ];
+            if case.upscale {
+                args.push("--upscale");
+            }
+            let o = nimbus(&args);
             assert!(o.status.success(), "render: {}", text(&o.stderr));
         }
         let browser_png = out.join(format!("{}-chromium.png", case.name));
@@ -214,6 +253,10 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
         ];
         if case.move_sun {
             args.push(format!("sun={},{}", v.sun_elevation, v.sun_azimuth));
+        }
+        args.push(format!("frames={}", case.frames));
+        if case.upscale {
+            args.push("upscale=1".to_string());
         }
         let o = Command::new("node")
             .current_dir(browser_dir())

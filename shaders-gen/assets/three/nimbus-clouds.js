@@ -190,8 +190,24 @@ export class NimbusClouds {
       ? hdrTarget(pair.shadow_atlas.width, pair.shadow_atlas.height, THREE.RepeatWrapping)
       : null;
     this.cloudTarget = hdrTarget(1, 1, THREE.ClampToEdgeWrapping);
+    // Temporal upscaling and accumulation: two full-size history targets, written in turn.
+    this.history = [hdrTarget(1, 1, THREE.ClampToEdgeWrapping), hdrTarget(1, 1, THREE.ClampToEdgeWrapping)];
+    this.latest = 0;
+    this.upscale = false;
+    this.accumulate = false;
+    this.seed = 0;
+    this.viewProjection = new THREE.Matrix4();
+    this.previousViewProjection = null;
+    // Texture uniforms that change from frame to frame (the history targets), by what they hold.
+    this.dynamic = [];
     this.passes = {};
     for (const pass of pair.passes) this.passes[pass.pass] = this.makePass(pass, sources[pass.pass]);
+    // The display pass's source: the cloud target, or the history target resolve wrote.
+    const display = pair.passes.find((p) => p.pass === 'display');
+    this.displaySource = display.bindings
+      .filter((b) => b.kind === 'texture')
+      .flatMap((b) => b.in_files)
+      .find((n) => n.combined_sampler).combined_sampler;
   }
 
   /** What a binding of `pass` is bound to: a texture, or a uniform block. */
@@ -202,6 +218,7 @@ export class NimbusClouds {
         return this.textures[holds];
       case 'target':
         if (holds === 'shadow_atlas') return this.shadowTarget.texture;
+        if (holds.startsWith('history')) return this.history[0].texture;
         return this.cloudTarget.texture;
       case 'uniform block':
         if (pass === 'resolve') return this.blocks.resolve;
@@ -227,7 +244,9 @@ export class NimbusClouds {
           group.setUsage(THREE.DynamicDrawUsage);
           groups.push(group);
         } else if (named.combined_sampler) {
-          uniforms[named.combined_sampler] = { value: resource };
+          const uniform = { value: resource };
+          uniforms[named.combined_sampler] = uniform;
+          if (b.holds.holds.startsWith('history')) this.dynamic.push({ pass: pass.pass, uniform });
         }
       }
     }
@@ -250,14 +269,28 @@ export class NimbusClouds {
     return { mesh, groups, material };
   }
 
-  /** The output size in pixels. */
+  /**
+   * The output size in pixels. With `upscale` set, the cloud pass shades one pixel in sixteen
+   * per frame and the resolve pass rebuilds the rest from the history (16 frames shade every
+   * pixel once); with `accumulate`, full-resolution frames are averaged. Both reset the
+   * history, as does a new size.
+   */
   setSize(width, height) {
     this.width = width;
     this.height = height;
-    this.cloudTarget.setSize(width, height);
-    for (const block of [this.blocks.pair, this.blocks.display]) block.setFloats('resolution', [width, height]);
-    this.blocks.pair.setFloats('pixel_offset', [0, 0]);
-    this.blocks.pair.setFloats('pixel_scale', [1]);
+    const scale = this.upscale ? 4 : 1;
+    this.lowWidth = Math.ceil(width / scale);
+    this.lowHeight = Math.ceil(height / scale);
+    this.cloudTarget.setSize(this.lowWidth, this.lowHeight);
+    for (const h of this.history) h.setSize(width, height);
+    for (const block of [this.blocks.pair, this.blocks.display, this.blocks.resolve]) {
+      block.setFloats('resolution', [width, height]);
+    }
+    this.blocks.resolve.setFloats('low_resolution', [this.lowWidth, this.lowHeight]);
+    this.blocks.pair.setFloats('pixel_scale', [scale]);
+    this.blocks.resolve.setFloats('pixel_scale', [scale]);
+    this.blocks.resolve.setFloats('variance_gamma', [this.upscale ? 2 : 4]);
+    this.frame = 0;
   }
 
   /** Where the clouds are seen from: a perspective camera, y up, in metres above the ground. */
@@ -265,7 +298,8 @@ export class NimbusClouds {
     camera.updateMatrixWorld();
     // The cloud shader takes directions: the view without its translation.
     const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();
-    const inverse = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, view).invert();
+    this.viewProjection.multiplyMatrices(camera.projectionMatrix, view);
+    const inverse = this.viewProjection.clone().invert();
     this.blocks.pair.setFloats('inverse_view_projection', inverse.elements);
   }
 
@@ -309,23 +343,51 @@ export class NimbusClouds {
   /** Draws one frame into `target` (a WebGLRenderTarget), or the canvas when it is null. */
   render(renderer, target = null) {
     if (!this.width) throw new Error('call setSize before render');
+    const index = this.frame;
+    const temporal = this.upscale || this.accumulate;
+    const bayer = this.package.temporal.bayer_offsets;
+    const offset = this.upscale ? bayer[index % 16] : [0, 0];
+    // The runtime's sequence: successive frames spread their first samples evenly.
     const u = this.blocks.pair;
-    u.setUint('frame', this.frame);
-    u.setFloats('jitter', [(this.frame * 0.618034) % 1]);
+    u.setUint('frame', (Math.imul(this.seed, 7919) + index) >>> 0);
+    u.setFloats('jitter', [(index * 0.618034 + this.seed * 0.7548777) % 1]);
+    u.setFloats('pixel_offset', offset);
     const previous = renderer.getRenderTarget();
     if (this.passes.shadow && this.shadowDirty) {
       this.draw(renderer, this.passes.shadow, this.shadowTarget);
       this.shadowDirty = false;
     }
     this.draw(renderer, this.passes.clouds, this.cloudTarget);
+    let shown = this.cloudTarget;
+    if (temporal) {
+      const read = this.latest;
+      const write = 1 - read;
+      const r = this.blocks.resolve;
+      const visits = this.upscale ? Math.floor(index / 16) : index;
+      const prev = this.previousViewProjection ?? this.viewProjection;
+      const inverse = this.viewProjection.clone().invert();
+      r.setFloats('reprojection', new THREE.Matrix4().multiplyMatrices(prev, inverse).elements);
+      r.setFloats('pixel_offset', offset);
+      r.setFloats('current_weight', [1 / (visits + 1)]);
+      r.setFloats('history_valid', [index === 0 ? 0 : 1]);
+      for (const d of this.dynamic) {
+        if (d.pass === 'resolve') d.uniform.value = this.history[read].texture;
+      }
+      this.draw(renderer, this.passes.resolve, this.history[write]);
+      this.latest = write;
+      shown = this.history[write];
+    }
+    this.passes.display.mesh.material.uniforms[this.displaySource].value = shown.texture;
     this.draw(renderer, this.passes.display, target);
     renderer.setRenderTarget(previous);
+    this.previousViewProjection = this.viewProjection.clone();
     this.frame += 1;
   }
 
   dispose() {
     this.geometry.dispose();
     this.cloudTarget.dispose();
+    for (const h of this.history) h.dispose();
     if (this.shadowTarget) this.shadowTarget.dispose();
     for (const p of Object.values(this.passes)) p.material.dispose();
     for (const t of Object.values(this.textures)) t.dispose();
