@@ -73,6 +73,7 @@ try {
   await writeFile(`${outPng}.log.json`, JSON.stringify({ renderer: result.renderer, problems }, null, 2));
   if (result.png) await writeFile(outPng, Buffer.from(result.png.split(',')[1], 'base64'));
   console.log(`renderer: ${result.renderer}`);
+  if (result.ms !== undefined) console.log(`median ms/frame: ${result.ms.toFixed(1)} (${result.times.map((t) => t.toFixed(0)).join(' ')})`);
   if (problems.length > 0 || !result.png) {
     console.error(problems.join('\n') || 'no image');
     status = 1;

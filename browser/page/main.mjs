@@ -38,8 +38,27 @@ async function run() {
     const [elevation, azimuth] = q.get('sun').split(',').map(Number);
     clouds.setSun(elevation, azimuth);
   }
-  for (let i = 0; i < number('frames', 1); i++) clouds.render(renderer);
   const gl = renderer.getContext();
+  if (q.has('bench')) {
+    // Milliseconds per frame: each frame is drawn and then waited for with a one-pixel
+    // readPixels (gl.finish() returns early in Chromium). The shadow atlas is redrawn every
+    // frame with shadow=every (as @takram/three-clouds does), else only when stale.
+    const pixel = new Uint8Array(4);
+    const times = [];
+    const warmup = number('warmup', 3);
+    for (let i = 0; i < warmup + number('bench', 10); i++) {
+      if (q.get('shadow') === 'every') clouds.shadowDirty = true;
+      const t0 = performance.now();
+      clouds.render(renderer);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+      if (i >= warmup) times.push(performance.now() - t0);
+    }
+    times.sort((a, b) => a - b);
+    result.ms = times[Math.floor(times.length / 2)];
+    result.times = times;
+  } else {
+    for (let i = 0; i < number('frames', 1); i++) clouds.render(renderer);
+  }
   const error = gl.getError();
   if (error !== gl.NO_ERROR) messages.push(`WebGL error 0x${error.toString(16)}`);
   const info = gl.getExtension('WEBGL_debug_renderer_info');
