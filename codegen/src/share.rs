@@ -16,8 +16,9 @@
 //! clearer.
 
 use naga::{FastHashMap, FastHashSet};
-
 use nimbus_dsl::ir::{Block, Expr, ExprId, ExprKind, Function, Local, LocalId, Stmt};
+
+use crate::specialise::map_nested;
 
 /// Binds, in every function of the module, what a statement computes more than once.
 pub fn share_repeated_subexpressions(module: &mut nimbus_dsl::ir::Module) {
@@ -81,33 +82,7 @@ fn share_block(
 ) -> Block {
     let mut out = Vec::with_capacity(block.len());
     for stmt in block {
-        let stmt = match stmt {
-            Stmt::If {
-                cond,
-                then,
-                otherwise,
-                loc,
-            } => Stmt::If {
-                cond,
-                then: share_block(f, then, reached_by, numbering),
-                otherwise: share_block(f, otherwise, reached_by, numbering),
-                loc,
-            },
-            Stmt::For {
-                counter,
-                start,
-                end,
-                body,
-                loc,
-            } => Stmt::For {
-                counter,
-                start,
-                end,
-                body: share_block(f, body, reached_by, numbering),
-                loc,
-            },
-            other => other,
-        };
+        let stmt = map_nested(stmt, &mut |b| share_block(f, b, reached_by, numbering));
         let (roots, base): (Vec<ExprId>, String) = match &stmt {
             Stmt::Let { local, value, .. } | Stmt::Assign { local, value, .. } => {
                 (vec![*value], f.local(*local).name.clone())

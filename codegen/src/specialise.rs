@@ -33,7 +33,7 @@ pub fn specialise(module: &mut Module) {
 }
 
 /// `stmt` with the blocks nested in it (an `if`'s arms, a loop's body) passed through `f`.
-fn map_nested(stmt: Stmt, f: &mut impl FnMut(Block) -> Block) -> Stmt {
+pub(crate) fn map_nested(stmt: Stmt, f: &mut impl FnMut(Block) -> Block) -> Stmt {
     match stmt {
         Stmt::If {
             cond,

@@ -315,20 +315,6 @@ pub struct Renderer<'g> {
     uber_resources: Option<(wgpu::Buffer, Target)>,
 }
 
-/// The procedural texture a cloud binding samples, if it is one.
-fn noise_of(b: CloudBinding) -> Option<NoiseKind> {
-    match b {
-        CloudBinding::Weather => Some(NoiseKind::Weather),
-        CloudBinding::Shape => Some(NoiseKind::Shape),
-        CloudBinding::Detail => Some(NoiseKind::Detail),
-        CloudBinding::Turbulence => Some(NoiseKind::Turbulence),
-        CloudBinding::Uniforms
-        | CloudBinding::ShadowMap
-        | CloudBinding::Sampler
-        | CloudBinding::Key => None,
-    }
-}
-
 /// The cloud bindings a pipeline keeps (typed, by slot).
 fn cloud_bindings(p: &CachedPipeline) -> impl Iterator<Item = (&BindingInfo, CloudBinding)> {
     p.bindings
@@ -517,7 +503,7 @@ impl<'g> Renderer<'g> {
             }
         }
         for (_, c) in cloud_bindings(pipeline) {
-            kinds.extend(noise_of(c));
+            kinds.extend(NoiseKind::bound_at(c));
         }
         for k in kinds {
             self.noise(k)?;
@@ -565,7 +551,7 @@ impl<'g> Renderer<'g> {
                 CloudBinding::Weather
                 | CloudBinding::Shape
                 | CloudBinding::Detail
-                | CloudBinding::Turbulence => noise_of(c)
+                | CloudBinding::Turbulence => NoiseKind::bound_at(c)
                     .and_then(|k| self.user.get(&k).or_else(|| self.textures.get(&k)))
                     .map(|t| wgpu::BindingResource::TextureView(&t.view)),
             };

@@ -25,6 +25,21 @@ pub enum NoiseKind {
 }
 
 impl NoiseKind {
+    /// The procedural texture a cloud binding samples, if it is one.
+    pub fn bound_at(b: nimbus_clouds::model::bindings::CloudBinding) -> Option<NoiseKind> {
+        use nimbus_clouds::model::bindings::CloudBinding;
+        match b {
+            CloudBinding::Weather => Some(NoiseKind::Weather),
+            CloudBinding::Shape => Some(NoiseKind::Shape),
+            CloudBinding::Detail => Some(NoiseKind::Detail),
+            CloudBinding::Turbulence => Some(NoiseKind::Turbulence),
+            CloudBinding::Uniforms
+            | CloudBinding::ShadowMap
+            | CloudBinding::Sampler
+            | CloudBinding::Key => None,
+        }
+    }
+
     fn is_3d(self) -> bool {
         matches!(self, NoiseKind::Shape | NoiseKind::Detail)
     }

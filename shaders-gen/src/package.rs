@@ -192,7 +192,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     let mut kinds = BTreeSet::new();
     for g in &shaders {
         for b in &g.bindings {
-            if let Some(kind) = CloudBinding::at(b.group, b.binding).and_then(noise_of) {
+            if let Some(kind) = CloudBinding::at(b.group, b.binding).and_then(NoiseKind::bound_at) {
                 kinds.insert(kind);
             }
         }
@@ -327,16 +327,6 @@ fn pretty(v: &Value) -> Vec<u8> {
     let mut s = serde_json::to_string_pretty(v).unwrap_or_else(|e| format!("\"{e}\""));
     s.push('\n');
     s.into_bytes()
-}
-
-fn noise_of(b: CloudBinding) -> Option<NoiseKind> {
-    match b {
-        CloudBinding::Weather => Some(NoiseKind::Weather),
-        CloudBinding::Shape => Some(NoiseKind::Shape),
-        CloudBinding::Detail => Some(NoiseKind::Detail),
-        CloudBinding::Turbulence => Some(NoiseKind::Turbulence),
-        _ => None,
-    }
 }
 
 /// What a pass's binding slot holds: a uniform block file, a texture file, another pass's
