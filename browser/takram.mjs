@@ -1,0 +1,105 @@
+// Renders @takram/three-clouds (with @takram/three-atmosphere, vanilla three.js + postprocessing)
+// in the same headless Chromium as render.mjs, so that it can be timed against Nimbus in one run,
+// and writes the frame as PNG with every console message and shader log beside it (OUT.png.log.json).
+//
+//   node takram.mjs OUT.png [key=value ...]
+//     width=320 height=180 quality=low|medium|high|ultra coverage=0.4 sun=ELEVATION,AZIMUTH
+//     altitude=2 pitch=12 yaw=0 fov=60 lat=35.6812 lon=139.7671 upscale=0|1 frames=1
+//     bench=N warmup=M exposure=10 ground=1 albedo=0.1,0.1,0.08 clouds=1 stbn=URL
+//
+// Files are served on 127.0.0.1 only: this folder's node_modules under /node_modules/ (three,
+// postprocessing and takram's packages with their assets), the page under /page/, and a
+// spatiotemporal blue noise texture made by stbn.mjs under /generated/stbn.bin (npm ships none).
+// Exits non-zero, saying why, when the page fails or anything was logged.
+import { createServer } from 'node:http';
+import { readFile, writeFile } from 'node:fs/promises';
+import { extname, join, normalize, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { makeSTBN } from './stbn.mjs';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const [outPng, ...rest] = process.argv.slice(2);
+if (!outPng || outPng.includes('=')) {
+  console.error('usage: node takram.mjs OUT.png [width=320 height=180 quality=high coverage=0.4 sun=35,150 '
+    + 'altitude=2 pitch=12 yaw=0 fov=60 upscale=0 frames=1 bench=N warmup=M]');
+  process.exit(2);
+}
+const query = new URLSearchParams(rest.map((kv) => kv.split('=')));
+const roots = {
+  '/node_modules/': join(here, 'node_modules'),
+  '/page/': join(here, 'page'),
+};
+const generated = { '/generated/stbn.bin': Buffer.from(makeSTBN()) };
+const types = {
+  '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
+  '.png': 'image/png',
+};
+
+const server = createServer(async (req, res) => {
+  const path = decodeURIComponent(new URL(req.url, 'http://localhost').pathname);
+  if (path === '/favicon.ico') {
+    res.writeHead(204).end();
+    return;
+  }
+  if (generated[path]) {
+    res.writeHead(200, { 'content-type': 'application/octet-stream' }).end(generated[path]);
+    return;
+  }
+  const prefix = Object.keys(roots).find((p) => path.startsWith(p));
+  const file = prefix && normalize(join(roots[prefix], path.slice(prefix.length)));
+  if (!file || !file.startsWith(roots[prefix])) {
+    res.writeHead(404).end();
+    return;
+  }
+  try {
+    const body = await readFile(file);
+    res.writeHead(200, { 'content-type': types[extname(file)] ?? 'application/octet-stream' }).end(body);
+  } catch {
+    res.writeHead(404).end();
+  }
+});
+await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
+const port = server.address().port;
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  args: [
+    '--no-sandbox', '--disable-gpu-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+    '--ignore-gpu-blocklist', '--disable-background-networking', '--disable-component-update',
+    '--disable-sync', '--no-first-run', '--disable-quic',
+  ],
+});
+let status = 0;
+try {
+  const page = await browser.newPage();
+  const logs = [];
+  page.on('console', (m) => logs.push(`${m.type()}: ${m.text()}`));
+  page.on('pageerror', (e) => logs.push(`pageerror: ${e.message}`));
+  page.on('response', (r) => { if (r.status() >= 400) logs.push(`http ${r.status()}: ${r.url()}`); });
+  // Nothing but this server: any other request (a CDN, GitHub's media host) is refused and reported.
+  await page.route((url) => url.hostname !== '127.0.0.1', (route) => {
+    logs.push(`blocked: ${route.request().url()}`);
+    route.abort();
+  });
+  await page.goto(`http://127.0.0.1:${port}/page/takram.html?${query}`);
+  await page.waitForFunction(() => window.nimbus && window.nimbus.done, null, { timeout: Number(process.env.TIMEOUT_MS ?? 600000), polling: 500 });
+  const result = await page.evaluate(() => window.nimbus);
+  // Chromium's note that a readPixels waits for the GPU is what the timing loop asks for, not
+  // a problem of the page.
+  const expected = (l) => l.startsWith('debug:') || l.includes('GPU stall due to ReadPixels');
+  const problems = [...result.messages, ...logs.filter((l) => !expected(l))];
+  if (result.error) problems.push(`error: ${result.error}`);
+  await writeFile(`${outPng}.log.json`, JSON.stringify({ renderer: result.renderer, ms: result.ms, times: result.times, problems }, null, 2));
+  if (result.png) await writeFile(outPng, Buffer.from(result.png.split(',')[1], 'base64'));
+  console.log(`renderer: ${result.renderer}`);
+  if (result.ms !== undefined) console.log(`median ms/frame: ${result.ms.toFixed(1)} (${result.times.map((t) => t.toFixed(0)).join(' ')})`);
+  if (problems.length > 0 || !result.png) {
+    console.error(problems.join('\n') || 'no image');
+    status = 1;
+  }
+} finally {
+  await browser.close();
+  server.close();
+}
+process.exit(status);
