@@ -1,0 +1,59 @@
+// What every driver here shares: files served on 127.0.0.1 only (folders by URL prefix, plus
+// generated buffers), and Debian's Chromium started headless with WebGL2 on SwiftShader and no
+// background networking (the machine reaches nothing outside).
+import { createServer } from 'node:http';
+import { readFile } from 'node:fs/promises';
+import { extname, join, normalize } from 'node:path';
+import { chromium } from 'playwright-core';
+
+const TYPES = {
+  '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
+  '.png': 'image/png', '.frag': 'text/plain', '.vert': 'text/plain',
+};
+
+/**
+ * Serves `roots` (URL prefix → folder) and `generated` (path → bytes) on 127.0.0.1 at a free
+ * port; resolves to `{ server, origin }`.
+ */
+export async function serve(roots, generated = {}) {
+  const server = createServer(async (req, res) => {
+    const path = decodeURIComponent(new URL(req.url, 'http://localhost').pathname);
+    if (path === '/favicon.ico') return res.writeHead(204).end();
+    if (generated[path]) {
+      return res.writeHead(200, { 'content-type': 'application/octet-stream' }).end(generated[path]);
+    }
+    const prefix = Object.keys(roots).find((p) => path.startsWith(p));
+    const file = prefix && normalize(join(roots[prefix], path.slice(prefix.length)));
+    if (!file || !file.startsWith(roots[prefix])) return res.writeHead(404).end();
+    try {
+      const body = await readFile(file);
+      return res.writeHead(200, { 'content-type': TYPES[extname(file)] ?? 'application/octet-stream' }).end(body);
+    } catch {
+      return res.writeHead(404).end();
+    }
+  });
+  await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
+  return { server, origin: `http://127.0.0.1:${server.address().port}` };
+}
+
+/** Debian's Chromium (or $CHROMIUM), headless, WebGL2 through SwiftShader. */
+export function launch() {
+  return chromium.launch({
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    args: [
+      '--no-sandbox', '--disable-gpu-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+      '--ignore-gpu-blocklist', '--disable-background-networking', '--disable-component-update',
+      '--disable-sync', '--no-first-run', '--disable-quic',
+    ],
+  });
+}
+
+/** Collects a page's console messages, errors and failed requests into `logs`. */
+export function record(page, logs) {
+  page.on('console', (m) => logs.push(`${m.type()}: ${m.text()}`));
+  page.on('pageerror', (e) => logs.push(`pageerror: ${e.message}`));
+  page.on('response', (r) => { if (r.status() >= 400) logs.push(`http ${r.status()}: ${r.url()}`); });
+}
+
+/** Chromium's note that a readPixels waits for the GPU is what a timing loop asks for. */
+export const expected = (line) => line.startsWith('debug:') || line.includes('GPU stall due to ReadPixels');
