@@ -5,10 +5,9 @@
 //
 // Files are served on 127.0.0.1 only: the package under /pkg/, three.js under /three/, the
 // page under /page/. Exits non-zero, saying why, when the page fails or anything was logged.
-import { writeFile } from 'node:fs/promises';
 import { join, resolve, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { expected, launch, record, serve } from './serve.mjs';
+import { launch, record, report, serve } from './serve.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const [pkgDir, outPng, ...rest] = process.argv.slice(2);
@@ -30,18 +29,7 @@ try {
   const logs = [];
   record(page, logs);
   await page.goto(`${origin}/page/index.html?${query}`);
-  await page.waitForFunction(() => window.nimbus && window.nimbus.done, null, { timeout: 120000 });
-  const result = await page.evaluate(() => window.nimbus);
-  const problems = [...result.messages, ...logs.filter((l) => !expected(l))];
-  if (result.error) problems.push(`error: ${result.error}`);
-  await writeFile(`${outPng}.log.json`, JSON.stringify({ renderer: result.renderer, problems }, null, 2));
-  if (result.png) await writeFile(outPng, Buffer.from(result.png.split(',')[1], 'base64'));
-  console.log(`renderer: ${result.renderer}`);
-  if (result.ms !== undefined) console.log(`median ms/frame: ${result.ms.toFixed(1)} (${result.times.map((t) => t.toFixed(0)).join(' ')})`);
-  if (problems.length > 0 || !result.png) {
-    console.error(problems.join('\n') || 'no image');
-    status = 1;
-  }
+  status = await report(page, logs, outPng);
 } finally {
   await browser.close();
   server.close();

@@ -2,7 +2,7 @@
 // generated buffers), and Debian's Chromium started headless with WebGL2 on SwiftShader and no
 // background networking (the machine reaches nothing outside).
 import { createServer } from 'node:http';
-import { readFile } from 'node:fs/promises';
+import { readFile, writeFile } from 'node:fs/promises';
 import { extname, join, normalize } from 'node:path';
 import { chromium } from 'playwright-core';
 
@@ -57,3 +57,27 @@ export function record(page, logs) {
 
 /** Chromium's note that a readPixels waits for the GPU is what a timing loop asks for. */
 export const expected = (line) => line.startsWith('debug:') || line.includes('GPU stall due to ReadPixels');
+
+/**
+ * Waits for a page's `window.nimbus` result, writes its frame to `outPng` and what it logged to
+ * `outPng.log.json`, prints the renderer (and the timing, if any), and returns the process
+ * status: 1 when the page failed or logged anything unexpected.
+ */
+export async function report(page, logs, outPng, timeout = 120000) {
+  await page.waitForFunction(() => window.nimbus && window.nimbus.done, null, { timeout, polling: 250 });
+  const result = await page.evaluate(() => window.nimbus);
+  const problems = [...result.messages, ...logs.filter((l) => !expected(l))];
+  if (result.error) problems.push(`error: ${result.error}`);
+  const log = { renderer: result.renderer, ms: result.ms, times: result.times, problems };
+  await writeFile(`${outPng}.log.json`, JSON.stringify(log, null, 2));
+  if (result.png) await writeFile(outPng, Buffer.from(result.png.split(',')[1], 'base64'));
+  console.log(`renderer: ${result.renderer}`);
+  if (result.ms !== undefined) {
+    console.log(`median ms/frame: ${result.ms.toFixed(1)} (${result.times.map((t) => t.toFixed(0)).join(' ')})`);
+  }
+  if (problems.length > 0 || !result.png) {
+    console.error(problems.join('\n') || 'no image');
+    return 1;
+  }
+  return 0;
+}

@@ -11,10 +11,9 @@
 // postprocessing and takram's packages with their assets), the page under /page/, and a
 // spatiotemporal blue noise texture made by stbn.mjs under /generated/stbn.bin (npm ships none).
 // Exits non-zero, saying why, when the page fails or anything was logged.
-import { writeFile } from 'node:fs/promises';
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { expected, launch, record, serve } from './serve.mjs';
+import { launch, record, report, serve } from './serve.mjs';
 import { makeSTBN } from './stbn.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
@@ -43,18 +42,7 @@ try {
     route.abort();
   });
   await page.goto(`${origin}/page/takram.html?${query}`);
-  await page.waitForFunction(() => window.nimbus && window.nimbus.done, null, { timeout: Number(process.env.TIMEOUT_MS ?? 600000), polling: 500 });
-  const result = await page.evaluate(() => window.nimbus);
-  const problems = [...result.messages, ...logs.filter((l) => !expected(l))];
-  if (result.error) problems.push(`error: ${result.error}`);
-  await writeFile(`${outPng}.log.json`, JSON.stringify({ renderer: result.renderer, ms: result.ms, times: result.times, problems }, null, 2));
-  if (result.png) await writeFile(outPng, Buffer.from(result.png.split(',')[1], 'base64'));
-  console.log(`renderer: ${result.renderer}`);
-  if (result.ms !== undefined) console.log(`median ms/frame: ${result.ms.toFixed(1)} (${result.times.map((t) => t.toFixed(0)).join(' ')})`);
-  if (problems.length > 0 || !result.png) {
-    console.error(problems.join('\n') || 'no image');
-    status = 1;
-  }
+  status = await report(page, logs, outPng, Number(process.env.TIMEOUT_MS ?? 600000));
 } finally {
   await browser.close();
   server.close();

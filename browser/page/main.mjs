@@ -1,6 +1,7 @@
 // Renders a Nimbus three.js package once, from the camera the query string describes, and
 // publishes the result (a PNG data URL) and every shader message three logged on `window`.
 import * as THREE from 'three';
+import { timeFrames } from './timing.mjs';
 
 const q = new URLSearchParams(location.search);
 const number = (name, fallback) => (q.has(name) ? Number(q.get(name)) : fallback);
@@ -40,22 +41,13 @@ async function run() {
   }
   const gl = renderer.getContext();
   if (q.has('bench')) {
-    // Milliseconds per frame: each frame is drawn and then waited for with a one-pixel
-    // readPixels (gl.finish() returns early in Chromium). The shadow atlas is redrawn every
+    // Milliseconds per frame (timing.mjs). The shadow atlas is redrawn every
     // frame with shadow=every (as @takram/three-clouds does), else only when stale.
-    const pixel = new Uint8Array(4);
-    const times = [];
-    const warmup = number('warmup', 3);
-    for (let i = 0; i < warmup + number('bench', 10); i++) {
+    const draw = () => {
       if (q.get('shadow') === 'every') clouds.shadowDirty = true;
-      const t0 = performance.now();
       clouds.render(renderer);
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
-      if (i >= warmup) times.push(performance.now() - t0);
-    }
-    times.sort((a, b) => a - b);
-    result.ms = times[Math.floor(times.length / 2)];
-    result.times = times;
+    };
+    Object.assign(result, timeFrames(gl, draw, number('warmup', 3), number('bench', 10)));
   } else {
     for (let i = 0; i < number('frames', 1); i++) clouds.render(renderer);
   }

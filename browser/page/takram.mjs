@@ -11,6 +11,7 @@
 // the screenshot), bench=N and warmup=M (time N frames after M), exposure, stbn (URL), ground=0
 // (no ground disc), albedo=R,G,B (the ground's), clouds=0 (no CloudsEffect: a diagnostic).
 import * as THREE from 'three';
+import { timeFrames } from './timing.mjs';
 import { EffectComposer, EffectPass, NormalPass, RenderPass, ToneMappingEffect, ToneMappingMode } from 'postprocessing';
 import { AerialPerspectiveEffect, PrecomputedTexturesLoader } from '@takram/three-atmosphere';
 import { CLOUD_SHAPE_DETAIL_TEXTURE_SIZE, CLOUD_SHAPE_TEXTURE_SIZE, CloudsEffect } from '@takram/three-clouds';
@@ -159,20 +160,8 @@ async function run() {
     renderer.setRenderTarget(null);
   };
   if (q.has('bench')) {
-    // Milliseconds per frame: each frame is drawn and then waited for with a one-pixel
-    // readPixels (gl.finish() returns early in Chromium), as in main.mjs.
-    const pixel = new Uint8Array(4);
-    const times = [];
-    const warmup = number('warmup', 3);
-    for (let i = 0; i < warmup + number('bench', 10); i++) {
-      const t0 = performance.now();
-      frame();
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
-      if (i >= warmup) times.push(performance.now() - t0);
-    }
-    times.sort((a, b) => a - b);
-    result.ms = times[Math.floor(times.length / 2)];
-    result.times = times;
+    // Milliseconds per frame, measured as main.mjs measures Nimbus (timing.mjs).
+    Object.assign(result, timeFrames(gl, frame, number('warmup', 3), number('bench', 10)));
   } else {
     for (let i = 0; i < number('frames', 1); i++) frame();
   }

@@ -70,7 +70,7 @@ fn count_statements(f: &Function, block: &Block, out: &mut FastHashMap<ExprId, u
 
 fn reach(f: &Function, id: ExprId, seen: &mut FastHashSet<ExprId>) {
     if seen.insert(id) {
-        for_each_operand(&f.expr(id).kind, |c| reach(f, c, seen));
+        f.expr(id).kind.for_each_operand(|c| reach(f, c, seen));
     }
 }
 
@@ -177,7 +177,7 @@ impl Numbering {
             return rep;
         }
         let mut kind = f.expr(id).kind.clone();
-        for_each_operand_mut(&mut kind, |op| *op = self.number(f, *op));
+        kind.for_each_operand_mut(|op| *op = self.number(f, *op));
         let rep = match self.by_value.get(&kind) {
             Some(&rep) => rep,
             None => {
@@ -200,7 +200,7 @@ impl Numbering {
         }
         let mut operands = Vec::new();
         if let Some(kind) = self.canonical.get(&rep) {
-            for_each_operand(kind, |op| operands.push(op));
+            kind.for_each_operand(|op| operands.push(op));
         }
         for op in operands {
             self.count_uses(op);
@@ -252,86 +252,4 @@ fn unique_name(f: &Function, base: &str) -> String {
         .map(|i| format!("{base}_part{i}"))
         .find(|n| !taken(n))
         .unwrap_or_else(|| format!("{base}_part"))
-}
-
-/// Calls `visit` on each operand of an expression.
-fn for_each_operand(kind: &ExprKind, mut visit: impl FnMut(ExprId)) {
-    match kind {
-        ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
-        ExprKind::Unary(_, a)
-        | ExprKind::Swizzle(a, _)
-        | ExprKind::Member(a, _)
-        | ExprKind::Convert(_, a)
-        | ExprKind::Bitcast(_, a) => visit(*a),
-        ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
-            visit(*a);
-            visit(*b);
-        }
-        ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
-            args.iter().for_each(|a| visit(*a));
-        }
-        ExprKind::Select {
-            if_false,
-            if_true,
-            cond,
-        } => {
-            visit(*if_false);
-            visit(*if_true);
-            visit(*cond);
-        }
-        ExprKind::Sample {
-            texture,
-            sampler,
-            coords,
-            kind,
-        } => {
-            visit(*texture);
-            visit(*sampler);
-            visit(*coords);
-            if let nimbus_dsl::ir::SampleKind::Level(l) = kind {
-                visit(*l);
-            }
-        }
-    }
-}
-
-/// Calls `visit` on each operand of an expression, which it may replace.
-fn for_each_operand_mut(kind: &mut ExprKind, mut visit: impl FnMut(&mut ExprId)) {
-    match kind {
-        ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
-        ExprKind::Unary(_, a)
-        | ExprKind::Swizzle(a, _)
-        | ExprKind::Member(a, _)
-        | ExprKind::Convert(_, a)
-        | ExprKind::Bitcast(_, a) => visit(a),
-        ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
-            visit(a);
-            visit(b);
-        }
-        ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
-            args.iter_mut().for_each(visit);
-        }
-        ExprKind::Select {
-            if_false,
-            if_true,
-            cond,
-        } => {
-            visit(if_false);
-            visit(if_true);
-            visit(cond);
-        }
-        ExprKind::Sample {
-            texture,
-            sampler,
-            coords,
-            kind,
-        } => {
-            visit(texture);
-            visit(sampler);
-            visit(coords);
-            if let nimbus_dsl::ir::SampleKind::Level(l) = kind {
-                visit(l);
-            }
-        }
-    }
 }

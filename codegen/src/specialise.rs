@@ -624,45 +624,9 @@ pub fn walk_block(f: &Function, block: &Block, visit: &mut impl FnMut(ExprId)) {
 /// Calls `visit` on `id` and every expression it depends on.
 pub fn walk_expr(f: &Function, id: ExprId, visit: &mut impl FnMut(ExprId)) {
     visit(id);
-    match &f.expr(id).kind {
-        ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
-        ExprKind::Unary(_, a)
-        | ExprKind::Swizzle(a, _)
-        | ExprKind::Member(a, _)
-        | ExprKind::Convert(_, a)
-        | ExprKind::Bitcast(_, a) => walk_expr(f, *a, visit),
-        ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
-            walk_expr(f, *a, visit);
-            walk_expr(f, *b, visit);
-        }
-        ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
-            for a in args {
-                walk_expr(f, *a, visit);
-            }
-        }
-        ExprKind::Select {
-            if_false,
-            if_true,
-            cond,
-        } => {
-            walk_expr(f, *if_false, visit);
-            walk_expr(f, *if_true, visit);
-            walk_expr(f, *cond, visit);
-        }
-        ExprKind::Sample {
-            texture,
-            sampler,
-            coords,
-            kind,
-        } => {
-            walk_expr(f, *texture, visit);
-            walk_expr(f, *sampler, visit);
-            walk_expr(f, *coords, visit);
-            if let nimbus_dsl::ir::SampleKind::Level(l) = kind {
-                walk_expr(f, *l, visit);
-            }
-        }
-    }
+    f.expr(id)
+        .kind
+        .for_each_operand(|operand| walk_expr(f, operand, visit));
 }
 
 fn collect_struct(ty: Type, out: &mut BTreeSet<&'static str>) {

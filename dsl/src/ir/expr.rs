@@ -273,6 +273,90 @@ pub enum ExprKind {
     },
 }
 
+impl ExprKind {
+    /// Calls `visit` on each operand, in the order the printer writes them.
+    pub fn for_each_operand(&self, mut visit: impl FnMut(ExprId)) {
+        match self {
+            ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
+            ExprKind::Unary(_, a)
+            | ExprKind::Swizzle(a, _)
+            | ExprKind::Member(a, _)
+            | ExprKind::Convert(_, a)
+            | ExprKind::Bitcast(_, a) => visit(*a),
+            ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
+                visit(*a);
+                visit(*b);
+            }
+            ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
+                args.iter().for_each(|a| visit(*a));
+            }
+            ExprKind::Select {
+                if_false,
+                if_true,
+                cond,
+            } => {
+                visit(*if_false);
+                visit(*if_true);
+                visit(*cond);
+            }
+            ExprKind::Sample {
+                texture,
+                sampler,
+                coords,
+                kind,
+            } => {
+                visit(*texture);
+                visit(*sampler);
+                visit(*coords);
+                if let SampleKind::Level(l) = kind {
+                    visit(*l);
+                }
+            }
+        }
+    }
+
+    /// Calls `visit` on each operand, which it may replace.
+    pub fn for_each_operand_mut(&mut self, mut visit: impl FnMut(&mut ExprId)) {
+        match self {
+            ExprKind::Literal(_) | ExprKind::Arg(_) | ExprKind::Local(_) | ExprKind::Global(_) => {}
+            ExprKind::Unary(_, a)
+            | ExprKind::Swizzle(a, _)
+            | ExprKind::Member(a, _)
+            | ExprKind::Convert(_, a)
+            | ExprKind::Bitcast(_, a) => visit(a),
+            ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
+                visit(a);
+                visit(b);
+            }
+            ExprKind::Builtin(_, args) | ExprKind::Call(_, args) | ExprKind::Construct(_, args) => {
+                args.iter_mut().for_each(visit);
+            }
+            ExprKind::Select {
+                if_false,
+                if_true,
+                cond,
+            } => {
+                visit(if_false);
+                visit(if_true);
+                visit(cond);
+            }
+            ExprKind::Sample {
+                texture,
+                sampler,
+                coords,
+                kind,
+            } => {
+                visit(texture);
+                visit(sampler);
+                visit(coords);
+                if let SampleKind::Level(l) = kind {
+                    visit(l);
+                }
+            }
+        }
+    }
+}
+
 /// A typed node.
 #[derive(Clone, PartialEq, Debug)]
 pub struct Expr {
