@@ -8,7 +8,7 @@ use std::process::Command;
 
 use glam::Vec3;
 use nimbus_clouds::model::march::CloudUniforms;
-use nimbus_clouds::model::sun::{SunLight, host_module, sun_light};
+use nimbus_clouds::model::sun::{SunLight, host_module, sun_direction, sun_light};
 use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_codegen::print_js;
 use nimbus_dsl::ir::Type;
@@ -19,10 +19,9 @@ fn library() -> CloudLibrary {
     CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data")
 }
 
-/// Sun directions from elevation and azimuth, as `Frame` builds them.
+/// Sun directions from elevation and azimuth, as scenes give them.
 fn sun(elevation: f32, azimuth: f32) -> Vec3 {
-    let (el, az) = (elevation.to_radians(), azimuth.to_radians());
-    Vec3::new(el.cos() * az.sin(), el.sin(), -el.cos() * az.cos())
+    sun_direction(elevation, azimuth)
 }
 
 fn cases() -> Vec<(String, CloudUniforms)> {
@@ -109,6 +108,9 @@ fn floats(v: &Value) -> Vec<f64> {
     }
 }
 
+/// Elevations and azimuths the direction twins are compared at (degrees).
+const ANGLES: [(f32, f32); 4] = [(35.0, 150.0), (8.0, 230.0), (-3.0, 90.0), (89.0, 0.0)];
+
 #[test]
 fn the_javascript_twin_of_sun_light_matches_the_cpu_twin() {
     if Command::new("node").arg("--version").output().is_err() {
@@ -121,7 +123,7 @@ fn the_javascript_twin_of_sun_light_matches_the_cpu_twin() {
         return;
     }
     let module = host_module().expect("records");
-    let js = print_js(&module, &["sun_light"]).expect("prints");
+    let js = print_js(&module, &["sun_direction", "sun_light"]).expect("prints");
     let dir = tempfile::tempdir().expect("tempdir");
     std::fs::write(dir.path().join("sun.mjs"), &js).expect("write module");
     let cases = cases();
@@ -137,9 +139,12 @@ fn the_javascript_twin_of_sun_light_matches_the_cpu_twin() {
     std::fs::write(
         dir.path().join("run.mjs"),
         "import { readFileSync } from 'node:fs';\n\
-         import { sun_light } from './sun.mjs';\n\
+         import { sun_direction, sun_light } from './sun.mjs';\n\
          const inputs = JSON.parse(readFileSync(new URL('./inputs.json', import.meta.url)));\n\
-         console.log(JSON.stringify(inputs.map((c) => sun_light(c.u, c.sun))));\n",
+         const lights = inputs.map((c) => sun_light(c.u, c.sun));\n\
+         const directions = ANGLES.map(([el, az]) => sun_direction(el, az));\n\
+         console.log(JSON.stringify({ lights, directions }));\n"
+            .replace("ANGLES", &serde_json::to_string(&ANGLES).expect("json")),
     )
     .expect("write runner");
     let out = Command::new("node")
@@ -151,7 +156,20 @@ fn the_javascript_twin_of_sun_light_matches_the_cpu_twin() {
         "node failed:\n{}\n--- module ---\n{js}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let results: Vec<Value> = serde_json::from_slice(&out.stdout).expect("results");
+    let output: Value = serde_json::from_slice(&out.stdout).expect("results");
+    let results = output["lights"].as_array().cloned().unwrap_or_default();
+    for ((el, az), got) in ANGLES
+        .iter()
+        .zip(output["directions"].as_array().expect("directions"))
+    {
+        let want = sun_direction(*el, *az);
+        for (j, c) in floats(got).iter().zip(want.to_array()) {
+            assert!(
+                (j - f64::from(c)).abs() < 1e-6,
+                "sun_direction({el}, {az}): {j} vs {c}"
+            );
+        }
+    }
     let mut worst = 0.0f64;
     for ((name, u), got) in cases.iter().zip(&results) {
         let want: SunLight = sun_light(*u, u.light.sun_direction);

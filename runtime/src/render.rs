@@ -21,6 +21,7 @@ use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
+use nimbus_clouds::model::sun::sun_direction;
 use nimbus_clouds::{Features, Genus, Quality, ScenePreset, analyse};
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -158,11 +159,7 @@ impl Frame {
     }
 
     fn sun_direction(&self) -> Vec3 {
-        let (el, az) = (
-            self.sun_elevation_deg.to_radians(),
-            self.sun_azimuth_deg.to_radians(),
-        );
-        Vec3::new(el.cos() * az.sin(), el.sin(), -el.cos() * az.cos())
+        sun_direction(self.sun_elevation_deg, self.sun_azimuth_deg)
     }
 
     /// View-projection without translation (the camera is the origin of the local frame).

@@ -302,7 +302,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         // What the sun's position decides, as the host computes it: the JavaScript twin of
         // the same `sun_light` whose CPU twin fills the uniform values above.
         let host = nimbus_clouds::model::sun::host_module()?;
-        let js = print_js(&host, &["sun_light"])?;
+        let js = print_js(&host, &["sun_direction", "sun_light"])?;
         files.push((SUN_MODULE.to_string(), js.into_bytes()));
     }
     if engine == Engine::Three {

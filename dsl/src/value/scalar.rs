@@ -203,6 +203,12 @@ unary_builtins!(I32;
 );
 
 impl F32 {
+    /// Rust's `f32::to_radians`: the same product by the same `f32` constant.
+    #[must_use]
+    pub fn to_radians(self) -> F32 {
+        self * (core::f32::consts::PI / 180.0)
+    }
+
     /// Rust's `f32::fract`: `x - trunc(x)` (keeps the sign of `x`). For GLSL's `fract` use
     /// [`F32::fract_gl`].
     #[must_use]

@@ -13,7 +13,7 @@
 // In an EffectComposer, use `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
 
 import * as THREE from 'three';
-import { sun_light } from './nimbus-sun.js';
+import { sun_direction, sun_light } from './nimbus-sun.js';
 
 /** The bytes of a hex string. */
 function fromHex(hex) {
@@ -310,9 +310,7 @@ export class NimbusClouds {
    * redrawn on the next frame.
    */
   setSun(elevation, azimuth) {
-    const el = (elevation * Math.PI) / 180;
-    const az = (azimuth * Math.PI) / 180;
-    const direction = [Math.cos(el) * Math.sin(az), Math.sin(el), -Math.cos(el) * Math.cos(az)];
+    const direction = sun_direction(elevation, azimuth);
     const u = this.blocks.pair;
     const light = sun_light(u.toObject(), direction);
     u.setFloats('light.sun_direction', light.sun_direction);

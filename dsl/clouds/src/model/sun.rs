@@ -29,6 +29,15 @@ pub struct SunLight {
     pub shadow_inverse_matrix: Mat4,
 }
 
+/// The unit vector towards a sun `elevation_deg` above the horizon and `azimuth_deg` clockwise
+/// from north (−z), in the local frame (y up): how scenes give the sun.
+#[shader_fn]
+pub fn sun_direction(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
+    let el = elevation_deg.to_radians();
+    let az = azimuth_deg.to_radians();
+    Vec3::new(el.cos() * az.sin(), el.sin(), -el.cos() * az.cos())
+}
+
 /// The sun-dependent members of `u` for a sun in `sun_direction` (a unit vector, y up), from
 /// its atmosphere, layers, camera height and shadow settings.
 #[shader_fn]
@@ -65,11 +74,10 @@ pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
         "Host functions: what the sun's position decides.",
         loc!(),
         |m| {
-            m.fragment("fs_host", "The sun's irradiance.", loc!(), |_frag_coord| {
+            m.fragment("fs_host", "The sun's irradiance.", loc!(), |frag_coord| {
                 let u = CLOUDS.read();
-                sun_light::shader(u, u.light.sun_direction)
-                    .sun_irradiance
-                    .extend(1.0)
+                let direction = sun_direction::shader(frag_coord.x, frag_coord.y);
+                sun_light::shader(u, direction).sun_irradiance.extend(1.0)
             });
         },
     )
