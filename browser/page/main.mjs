@@ -1,6 +1,7 @@
 // Renders a Nimbus three.js package once, from the camera the query string describes, and
 // publishes the result (a PNG data URL) and every shader message three logged on `window`.
 import * as THREE from 'three';
+import { publish } from './publish.mjs';
 import { timeFrames } from './timing.mjs';
 
 const q = new URLSearchParams(location.search);
@@ -9,11 +10,9 @@ const width = number('width', 160);
 const height = number('height', 90);
 const degrees = Math.PI / 180;
 
-const messages = [];
-const result = { done: false, error: null, png: null, messages };
-window.nimbus = result;
 
-async function run() {
+async function run(result) {
+  const { messages } = result;
   const base = new URL(q.get('pkg') ?? '/pkg/', location.href);
   const { NimbusClouds } = await import(new URL('nimbus-clouds.js', base).href);
   const canvas = document.createElement('canvas');
@@ -51,13 +50,7 @@ async function run() {
   } else {
     for (let i = 0; i < number('frames', 1); i++) clouds.render(renderer);
   }
-  const error = gl.getError();
-  if (error !== gl.NO_ERROR) messages.push(`WebGL error 0x${error.toString(16)}`);
-  const info = gl.getExtension('WEBGL_debug_renderer_info');
-  result.renderer = gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER);
-  result.png = canvas.toDataURL('image/png');
+  return { gl, canvas };
 }
 
-run()
-  .catch((e) => { result.error = String(e && e.stack ? e.stack : e); })
-  .finally(() => { result.done = true; });
+publish(run);

@@ -11,6 +11,7 @@
 // the screenshot), bench=N and warmup=M (time N frames after M), exposure, stbn (URL), ground=0
 // (no ground disc), albedo=R,G,B (the ground's), clouds=0 (no CloudsEffect: a diagnostic).
 import * as THREE from 'three';
+import { publish } from './publish.mjs';
 import { timeFrames } from './timing.mjs';
 import { EffectComposer, EffectPass, NormalPass, RenderPass, ToneMappingEffect, ToneMappingMode } from 'postprocessing';
 import { AerialPerspectiveEffect, PrecomputedTexturesLoader } from '@takram/three-atmosphere';
@@ -26,9 +27,6 @@ const [sunElevation, sunAzimuth] = q.has('sun')
   ? q.get('sun').split(',').map(Number)
   : [number('elevation', 35), number('azimuth', 150)];
 
-const messages = [];
-const result = { done: false, error: null, png: null, messages };
-window.nimbus = result;
 
 const node = '/node_modules/';
 const cloudsAssets = `${node}@takram/three-clouds/assets/`;
@@ -53,7 +51,8 @@ function tile(texture, is3D) {
 
 const shapeLoader = (size) => new DataTextureLoader(THREE.Data3DTexture, parseUint8Array, { width: size, height: size, depth: size });
 
-async function run() {
+async function run(result) {
+  const { messages } = result;
   const canvas = document.createElement('canvas');
   document.body.appendChild(canvas);
   const renderer = new THREE.WebGLRenderer({ canvas, depth: false, antialias: false, preserveDrawingBuffer: true });
@@ -165,13 +164,7 @@ async function run() {
   } else {
     for (let i = 0; i < number('frames', 1); i++) frame();
   }
-  const error = gl.getError();
-  if (error !== gl.NO_ERROR) messages.push(`WebGL error 0x${error.toString(16)}`);
-  const info = gl.getExtension('WEBGL_debug_renderer_info');
-  result.renderer = gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER);
-  result.png = canvas.toDataURL('image/png');
+  return { gl, canvas };
 }
 
-run()
-  .catch((e) => { result.error = String(e && e.stack ? e.stack : e); })
-  .finally(() => { result.done = true; });
+publish(run);

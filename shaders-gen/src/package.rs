@@ -209,17 +209,17 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         if let Some(k) = a.shadow
             && let Some(g) = shader(ShaderKey::Shadow(k))
         {
-            passes.push(pass_json("shadow", g, engine));
+            passes.push(pass_json(Pass::Shadow, g, engine));
         }
         if let Some(g) = shader(ShaderKey::Clouds(a.clouds)) {
-            passes.push(pass_json("clouds", g, engine));
+            passes.push(pass_json(Pass::Clouds, g, engine));
         }
-        for (name, key) in [
-            ("resolve", ShaderKey::Resolve),
-            ("display", ShaderKey::Display),
+        for (pass, key) in [
+            (Pass::Resolve, ShaderKey::Resolve),
+            (Pass::Display, ShaderKey::Display),
         ] {
             if let Some(g) = shader(key) {
-                passes.push(pass_json(name, g, engine));
+                passes.push(pass_json(pass, g, engine));
             }
         }
         pairs.push(json!({
@@ -329,43 +329,68 @@ fn pretty(v: &Value) -> Vec<u8> {
     s.into_bytes()
 }
 
-/// What a pass's binding slot holds: a uniform block file, a texture file, another pass's
-/// target, or a sampler.
-fn resource(pass: &str, b: &BindingInfo) -> Value {
-    let (group, binding) = (b.group, b.binding);
-    let (kind, name) = match pass {
-        "shadow" | "clouds" => match CloudBinding::at(group, binding) {
-            Some(CloudBinding::Uniforms) => ("uniform block", "uniforms/<pair>.json"),
-            Some(CloudBinding::Weather) => ("texture", "weather"),
-            Some(CloudBinding::Shape) => ("texture", "shape"),
-            Some(CloudBinding::Detail) => ("texture", "detail"),
-            Some(CloudBinding::Turbulence) => ("texture", "turbulence"),
-            Some(CloudBinding::ShadowMap) => ("target", "shadow_atlas"),
-            Some(CloudBinding::Sampler) => ("sampler", "linear, repeat"),
-            Some(CloudBinding::Key) | None => ("unknown", "?"),
-        },
-        "resolve" => match ResolveBinding::at(group, binding) {
-            Some(ResolveBinding::Params) => ("uniform block", "uniforms/resolve.json"),
-            Some(ResolveBinding::Current) => ("target", "clouds_hdr"),
-            Some(ResolveBinding::History) => ("target", "history (the one written last frame)"),
-            Some(ResolveBinding::Nearest) => ("sampler", "nearest, clamp"),
-            Some(ResolveBinding::Linear) => ("sampler", "linear, clamp"),
-            None => ("unknown", "?"),
-        },
-        _ => match DisplayBinding::at(group, binding) {
-            Some(DisplayBinding::Params) => ("uniform block", "uniforms/display.json"),
-            Some(DisplayBinding::Source) => (
-                "target",
-                "history (the one resolve wrote), or clouds_hdr when there is no resolve",
-            ),
-            Some(DisplayBinding::Sampler) => ("sampler", "nearest, clamp"),
-            None => ("unknown", "?"),
-        },
-    };
-    json!({ "kind": kind, "holds": name })
+/// The passes of a frame, in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pass {
+    Shadow,
+    Clouds,
+    Resolve,
+    Display,
 }
 
-fn pass_json(pass: &str, g: &Generated, engine: Engine) -> Value {
+impl Pass {
+    fn name(self) -> &'static str {
+        match self {
+            Pass::Shadow => "shadow",
+            Pass::Clouds => "clouds",
+            Pass::Resolve => "resolve",
+            Pass::Display => "display",
+        }
+    }
+}
+
+/// What a pass's binding slot holds, found by slot: its kind, a stable id a host can switch on
+/// (a uniform file, a texture, a target, a sampler), and the same in words.
+fn resource(pass: Pass, b: &BindingInfo) -> Value {
+    let (group, binding) = (b.group, b.binding);
+    let (kind, id, words) = match pass {
+        Pass::Shadow | Pass::Clouds => match CloudBinding::at(group, binding) {
+            Some(CloudBinding::Uniforms) => ("uniform block", "pair", "uniforms/<pair>.json"),
+            Some(CloudBinding::Weather) => ("texture", "weather", "textures: weather"),
+            Some(CloudBinding::Shape) => ("texture", "shape", "textures: shape"),
+            Some(CloudBinding::Detail) => ("texture", "detail", "textures: detail"),
+            Some(CloudBinding::Turbulence) => ("texture", "turbulence", "textures: turbulence"),
+            Some(CloudBinding::ShadowMap) => ("target", "shadow_atlas", "the shadow pass's target"),
+            Some(CloudBinding::Sampler) => ("sampler", "linear_repeat", "linear, repeat"),
+            Some(CloudBinding::Key) | None => ("unknown", "unknown", "?"),
+        },
+        Pass::Resolve => match ResolveBinding::at(group, binding) {
+            Some(ResolveBinding::Params) => ("uniform block", "resolve", "uniforms/resolve.json"),
+            Some(ResolveBinding::Current) => ("target", "clouds_hdr", "the cloud pass's target"),
+            Some(ResolveBinding::History) => (
+                "target",
+                "history_read",
+                "the history target written last frame",
+            ),
+            Some(ResolveBinding::Nearest) => ("sampler", "nearest_clamp", "nearest, clamp"),
+            Some(ResolveBinding::Linear) => ("sampler", "linear_clamp", "linear, clamp"),
+            None => ("unknown", "unknown", "?"),
+        },
+        Pass::Display => match DisplayBinding::at(group, binding) {
+            Some(DisplayBinding::Params) => ("uniform block", "display", "uniforms/display.json"),
+            Some(DisplayBinding::Source) => (
+                "target",
+                "shown",
+                "the history target resolve wrote, or clouds_hdr when there is no resolve",
+            ),
+            Some(DisplayBinding::Sampler) => ("sampler", "nearest_clamp", "nearest, clamp"),
+            None => ("unknown", "unknown", "?"),
+        },
+    };
+    json!({ "kind": kind, "id": id, "holds": words })
+}
+
+fn pass_json(pass: Pass, g: &Generated, engine: Engine) -> Value {
     let files: Vec<Value> = g
         .files
         .iter()
@@ -415,7 +440,7 @@ fn pass_json(pass: &str, g: &Generated, engine: Engine) -> Value {
         })
         .collect();
     let mut v = json!({
-        "pass": pass,
+        "pass": pass.name(),
         "shader": g.id(),
         "language": engine.language(),
         "files": files,

@@ -210,22 +210,23 @@ export class NimbusClouds {
       .find((n) => n.combined_sampler).combined_sampler;
   }
 
-  /** What a binding of `pass` is bound to: a texture, or a uniform block. */
-  resourceFor(pass, binding) {
-    const holds = binding.holds.holds;
-    switch (binding.holds.kind) {
-      case 'texture':
-        return this.textures[holds];
-      case 'target':
-        if (holds === 'shadow_atlas') return this.shadowTarget.texture;
-        if (holds.startsWith('history')) return this.history[0].texture;
+  /** What a binding is bound to, by the stable id the package gives its resource. */
+  resourceFor(binding) {
+    const id = binding.holds.id;
+    switch (id) {
+      case 'pair':
+      case 'resolve':
+      case 'display':
+        return this.blocks[id];
+      case 'shadow_atlas':
+        return this.shadowTarget.texture;
+      case 'clouds_hdr':
+      case 'shown':
         return this.cloudTarget.texture;
-      case 'uniform block':
-        if (pass === 'resolve') return this.blocks.resolve;
-        if (pass === 'display') return this.blocks.display;
-        return this.blocks.pair;
+      case 'history_read':
+        return this.history[0].texture;
       default:
-        return null;
+        return this.textures[id] ?? null;
     }
   }
 
@@ -234,7 +235,7 @@ export class NimbusClouds {
     const groups = [];
     for (const b of pass.bindings) {
       if (b.kind === 'sampler') continue;
-      const resource = this.resourceFor(pass.pass, b);
+      const resource = this.resourceFor(b);
       for (const named of b.in_files) {
         if (b.kind === 'uniform' && named.name) {
           const group = new THREE.UniformsGroup();
@@ -246,7 +247,7 @@ export class NimbusClouds {
         } else if (named.combined_sampler) {
           const uniform = { value: resource };
           uniforms[named.combined_sampler] = uniform;
-          if (b.holds.holds.startsWith('history')) this.dynamic.push({ pass: pass.pass, uniform });
+          if (b.holds.id === 'history_read') this.dynamic.push({ pass: pass.pass, uniform });
         }
       }
     }
