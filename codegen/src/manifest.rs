@@ -70,6 +70,24 @@ pub struct ManifestOverride {
     pub value: f64,
 }
 
+/// MSL's `_mslBufferSizes` argument: a `uint` per runtime-sized storage buffer, holding its
+/// size in bytes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BufferSizes {
+    /// `[[buffer(N)]]`: the slot after the declared buffers.
+    pub target_name: String,
+    pub members: Vec<BufferSize>,
+}
+
+/// One member of [`BufferSizes`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BufferSize {
+    /// `size1`.
+    pub member: String,
+    /// The WGSL name of the storage buffer whose byte size it holds.
+    pub binding: String,
+}
+
 /// Everything a host needs to bind one entry point of one target.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BindingManifest {
@@ -82,6 +100,10 @@ pub struct BindingManifest {
     /// GLSL only: every combined sampler the entry point declares.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub combined_samplers: Vec<CombinedSampler>,
+    /// MSL only, when a storage buffer is runtime-sized: the extra buffer of byte sizes the
+    /// host binds beside the declared ones.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub buffer_sizes: Option<BufferSizes>,
     pub structs: Vec<ManifestStruct>,
     pub overrides: Vec<ManifestOverride>,
 }

@@ -347,6 +347,76 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// Dispatches one workgroup of compute entry point `entry` that reads the uniform block
+    /// `uniform` at binding `uniform_binding` of group 0 and writes the storage buffer at
+    /// `output_binding` (`output_bytes` long, zeroed first); returns what it wrote. How an
+    /// engine runs a kernel that completes a uniform block (the `sun_light` pass).
+    pub fn run_uniform_kernel(
+        &self,
+        generated: &Generated,
+        entry: &str,
+        (uniform_binding, uniform): (u32, &[u8]),
+        (output_binding, output_bytes): (u32, usize),
+    ) -> Result<Vec<u8>, RuntimeError> {
+        let device = &self.device;
+        let (pipeline, layout) = self.compute_pipeline(generated, entry)?;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let uniform_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("kernel uniform"),
+            contents: uniform,
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let size = output_bytes.max(4).next_multiple_of(4) as u64;
+        let output_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("kernel output"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::UNIFORM
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("kernel readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: uniform_binding,
+                    resource: uniform_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: output_binding,
+                    resource: output_buf.as_entire_binding(),
+                },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&output_buf, 0, &readback, 0, size);
+        self.queue.submit([encoder.finish()]);
+        let mut data = self.map_read(&readback)?;
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Pipeline {
+                what: format!("dispatch of `{entry}`"),
+                reason: e.to_string(),
+            });
+        }
+        data.truncate(output_bytes);
+        Ok(data)
+    }
+}
+
 /// A texture or sampler for a compute dispatch. Texel values travel as f16 (`Rgba16Float`, the
 /// filterable float format every adapter has); callers choose values f16 represents exactly so
 /// the CPU twin sees the same texels.

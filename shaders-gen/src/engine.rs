@@ -102,6 +102,12 @@ impl Engine {
         matches!(self, Engine::Three | Engine::Webgpu)
     }
 
+    /// Whether the package carries the `sun_light` kernel: hosts without JavaScript complete
+    /// the cloud block on the GPU (every such engine has compute).
+    pub(crate) fn sun_kernel(self) -> bool {
+        !self.javascript_host()
+    }
+
     /// Whether uniform blocks are bound as arrays of `uvec4` words (three.js's `UniformsGroup`
     /// cannot describe nested structs with `u32` members; one typed array of the bytes it can).
     pub(crate) fn flat_uniforms(self) -> bool {
@@ -166,6 +172,25 @@ impl Engine {
             }
             Engine::Webgpu | Engine::Wgpu | Engine::Vulkan | Engine::Unity | Engine::Metal => {
                 c.push(("cull", "none, or counter-clockwise front faces".to_string()));
+                if self.sun_kernel() {
+                    c.push((
+                        "sun",
+                        "the shadow and clouds passes bind the buffer the sun_light pass writes \
+                         (storage + uniform usage, the block's size), not the one the host \
+                         fills: run sun_light (one invocation) after writing the block whenever \
+                         light.sun_direction or camera_altitude changed"
+                            .to_string(),
+                    ));
+                }
+                if self == Engine::Unity {
+                    c.push((
+                        "compute",
+                        "a Unity compute shader needs `#pragma kernel cs_sun_light` above the \
+                         sun_light HLSL (put both in a .compute file); bind the completed block \
+                         as a GraphicsBuffer with Target.Raw | Target.Constant"
+                            .to_string(),
+                    ));
+                }
                 c.push((
                     "rows",
                     "top-down (row 0 at the top), the API's own convention; display.flip_y = 0"

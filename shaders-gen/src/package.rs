@@ -9,7 +9,9 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use nimbus_clouds::catalog::{Assignment, ShaderKey};
-use nimbus_clouds::model::bindings::{CloudBinding, DisplayBinding, ResolveBinding};
+use nimbus_clouds::model::bindings::{
+    CloudBinding, DisplayBinding, ResolveBinding, SunLightBinding,
+};
 use nimbus_clouds::model::display::DisplayParams;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
@@ -175,6 +177,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         }
     }
     keys.extend([ShaderKey::Resolve, ShaderKey::Display]);
+    if engine.sun_kernel() {
+        keys.push(ShaderKey::SunLight);
+    }
     let target = engine.target();
     let shaders: Vec<Generated> = keys
         .iter()
@@ -206,6 +211,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         let uniforms_file = format!("uniforms/{}.json", a.name());
         files.push((uniforms_file.clone(), pretty(&uniform_file(a, u))));
         let mut passes = Vec::new();
+        if let Some(g) = shader(ShaderKey::SunLight) {
+            passes.push(pass_json(Pass::SunLight, g, engine));
+        }
         if let Some(k) = a.shadow
             && let Some(g) = shader(ShaderKey::Shadow(k))
         {
@@ -284,7 +292,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         "language": engine.language(),
         "conventions": conventions,
         "bindings": engine.binding_note(),
-        "frame": FRAME_ORDER,
+        "frame": frame_order(engine),
         "temporal": {
             "bayer_offsets": nimbus_clouds::model::resolve::BAYER_OFFSETS,
             "sequence": "frame i (from 0): pixel_offset = bayer_offsets[i % 16] when upscaling \
@@ -332,6 +340,7 @@ fn pretty(v: &Value) -> Vec<u8> {
 /// The passes of a frame, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Pass {
+    SunLight,
     Shadow,
     Clouds,
     Resolve,
@@ -341,6 +350,7 @@ enum Pass {
 impl Pass {
     fn name(self) -> &'static str {
         match self {
+            Pass::SunLight => "sun_light",
             Pass::Shadow => "shadow",
             Pass::Clouds => "clouds",
             Pass::Resolve => "resolve",
@@ -354,6 +364,20 @@ impl Pass {
 fn resource(pass: Pass, b: &BindingInfo) -> Value {
     let (group, binding) = (b.group, b.binding);
     let (kind, id, words) = match pass {
+        Pass::SunLight => match SunLightBinding::at(group, binding) {
+            Some(SunLightBinding::Inputs) => (
+                "uniform block",
+                "pair_inputs",
+                "uniforms/<pair>.json as the host fills it, light.sun_direction set",
+            ),
+            Some(SunLightBinding::Block) => (
+                "storage buffer",
+                "pair",
+                "the completed cloud block (storage + uniform usage, uniforms/<pair>.json's \
+                 size) that the shadow and clouds passes bind",
+            ),
+            None => ("unknown", "unknown", "?"),
+        },
         Pass::Shadow | Pass::Clouds => match CloudBinding::at(group, binding) {
             Some(CloudBinding::Uniforms) => ("uniform block", "pair", "uniforms/<pair>.json"),
             Some(CloudBinding::Weather) => ("texture", "weather", "textures: weather"),
@@ -400,6 +424,7 @@ fn pass_json(pass: Pass, g: &Generated, engine: Engine) -> Value {
                 "entry_point": f.entry_point.as_ref().map(|(e, _)| e.clone()),
                 "stage": f.entry_point.as_ref().map(|(_, s)| format!("{s:?}").to_lowercase()),
                 "manifest": f.manifest.as_ref().map(|_| format!("{}.json", f.file_name)),
+                "buffer_sizes": f.manifest.as_ref().and_then(|m| m.buffer_sizes.as_ref()),
             })
         })
         .collect();
@@ -448,6 +473,9 @@ fn pass_json(pass: Pass, g: &Generated, engine: Engine) -> Value {
     });
     if let (Some(layout), Value::Object(map)) = (layout_json(g, engine), &mut v) {
         map.insert(layout.0.to_string(), layout.1);
+    }
+    if let (Pass::SunLight, Value::Object(map)) = (pass, &mut v) {
+        map.insert("dispatch".into(), json!([1, 1, 1]));
     }
     v
 }
@@ -562,17 +590,29 @@ fn sampler_descriptor(desc: SamplerDesc) -> Value {
 }
 
 /// The frame, in order.
-const FRAME_ORDER: &[&str] = &[
-    "shadow: draw into shadow_atlas when the pair has one and the sun, the layers or the weather \
-     offset changed since it was last drawn (Nimbus's runtime caches it; drawing it every frame \
-     is correct too)",
-    "clouds: draw into clouds_hdr every frame (full size, or a quarter of each side when \
-     upscaling: then set pixel_scale = 4 and pixel_offset to the frame's Bayer offset)",
-    "resolve: when upscaling or accumulating, draw into the history target not read this frame, \
-     reading clouds_hdr and the other history target; swap them after the frame",
-    "display: draw into the screen (or the engine's next pass), reading the history target \
-     resolve wrote, or clouds_hdr when there is no resolve",
-];
+fn frame_order(engine: Engine) -> Vec<&'static str> {
+    let mut steps = Vec::new();
+    if engine.sun_kernel() {
+        steps.push(
+            "sun_light: when light.sun_direction or camera_altitude changed, write the block \
+             (uniforms/<pair>.json, the new direction, any non-zero length) into the inputs \
+             buffer and dispatch 1 × 1 × 1 workgroups; it writes the completed block that the \
+             shadow and clouds passes bind",
+        );
+    }
+    steps.extend([
+        "shadow: draw into shadow_atlas when the pair has one and the sun, the layers or the \
+         weather offset changed since it was last drawn (Nimbus's runtime caches it; drawing it \
+         every frame is correct too)",
+        "clouds: draw into clouds_hdr every frame (full size, or a quarter of each side when \
+         upscaling: then set pixel_scale = 4 and pixel_offset to the frame's Bayer offset)",
+        "resolve: when upscaling or accumulating, draw into the history target not read this \
+         frame, reading clouds_hdr and the other history target; swap them after the frame",
+        "display: draw into the screen (or the engine's next pass), reading the history target \
+         resolve wrote, or clouds_hdr when there is no resolve",
+    ]);
+    steps
+}
 
 fn targets_json() -> Value {
     json!({
@@ -632,7 +672,8 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
     (
         "light.sun_irradiance",
         "when the sun or camera altitude moves: sun_light(u, sun_direction).sun_irradiance \
-         (nimbus-sun.js in JavaScript packages; the values here are for the pair's scene)",
+         (nimbus-sun.js in JavaScript packages, the sun_light pass in the others; the values \
+         here are for the pair's scene)",
     ),
     (
         "light.sky_irradiance",
@@ -760,7 +801,7 @@ fn readme(engine: Engine, table: &[Assignment]) -> String {
         .into_iter()
         .map(|(k, v)| format!("- **{k}**: {v}\n"))
         .collect();
-    let frame: String = FRAME_ORDER
+    let frame: String = frame_order(engine)
         .iter()
         .enumerate()
         .map(|(i, s)| format!("{}. {s}\n", i + 1))

@@ -80,9 +80,10 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
-    // 2 previews + resolve + display + 6 cloud keys + 3 shadow keys, for 11 genera × 4 presets.
+    // 2 previews + resolve + display + sun light + 6 cloud keys + 3 shadow keys, for 11 genera
+    // × 4 presets.
     assert!(
-        s.contains("13 shader(s),") && s.contains("0 failure(s)"),
+        s.contains("14 shader(s),") && s.contains("0 failure(s)"),
         "{s}"
     );
     assert!(

@@ -50,12 +50,38 @@ fn every_engine_gets_a_complete_package() {
             .iter()
             .filter_map(|x| x["pass"].as_str())
             .collect();
-        // cumulus at low samples a shadow map, so it draws all four passes.
+        // cumulus at low samples a shadow map, so it draws all four passes; hosts without
+        // JavaScript first complete the block on the GPU (the sun_light kernel).
+        let javascript = matches!(engine, "three" | "webgpu");
+        let expected: &[&str] = if javascript {
+            &["shadow", "clouds", "resolve", "display"]
+        } else {
+            &["sun_light", "shadow", "clouds", "resolve", "display"]
+        };
+        assert_eq!(passes, expected, "{engine}");
         assert_eq!(
-            passes,
-            ["shadow", "clouds", "resolve", "display"],
-            "{engine}"
+            out.join("nimbus-sun.js").is_file(),
+            javascript,
+            "{engine}: the sun's JavaScript twin ships with JavaScript hosts only"
         );
+        if !javascript {
+            let sun = &pair["passes"][0];
+            assert_eq!(sun["dispatch"], serde_json::json!([1, 1, 1]), "{engine}");
+            let holds: Vec<&str> = sun["bindings"]
+                .as_array()
+                .expect("bindings")
+                .iter()
+                .filter_map(|b| b["holds"]["id"].as_str())
+                .collect();
+            assert_eq!(holds, ["pair_inputs", "pair"], "{engine}");
+            // Metal's runtime-sized output needs naga's buffer of sizes, named in the graph.
+            let sizes = &sun["files"][0]["buffer_sizes"];
+            assert_eq!(
+                sizes["target_name"].as_str().is_some(),
+                engine == "metal",
+                "{engine}: {sizes}"
+            );
+        }
         for pass in pair["passes"].as_array().expect("passes") {
             for f in pass["files"].as_array().expect("files") {
                 let file = f["file"].as_str().expect("file name");

@@ -14,8 +14,8 @@ use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 use nimbus_dsl::ir::{GlobalKind, Module as DslModule, SamplerDesc, Stage};
 
 use crate::manifest::{
-    BindingManifest, CombinedSampler, ManifestBinding, ManifestField, ManifestOverride,
-    ManifestSampler, ManifestStruct,
+    BindingManifest, BufferSize, BufferSizes, CombinedSampler, ManifestBinding, ManifestField,
+    ManifestOverride, ManifestSampler, ManifestStruct,
 };
 use crate::target::Target;
 use crate::validate::Validated;
@@ -113,6 +113,7 @@ pub(crate) fn translate(
     entry: &str,
 ) -> Result<(Contents, Option<BindingManifest>), String> {
     let mut combined = Vec::new();
+    let mut sizes_slot = None;
     let (contents, names) = match target {
         Target::Wgsl => return Err("WGSL is printed, not translated".into()),
         Target::GlslEs300 | Target::Glsl450 => {
@@ -121,13 +122,18 @@ pub(crate) fn translate(
             (contents, names)
         }
         Target::Hlsl => hlsl::write(baked, stage, entry)?,
-        Target::Msl => msl::write(baked, dsl, stage, entry)?,
+        Target::Msl => {
+            let (contents, names, sizes) = msl::write(baked, dsl, stage, entry)?;
+            sizes_slot = sizes;
+            (contents, names)
+        }
         Target::SpirV => (spirv::write(baked, stage, entry)?, Vec::new()),
     };
     if !target.has_binding_manifest() {
         return Ok((contents, None));
     }
     let mut manifest = manifest_for(baked, dsl, variant, target, stage, entry, constants, &names);
+    manifest.buffer_sizes = sizes_slot.map(|target_name| buffer_sizes(baked, target_name));
     manifest.combined_samplers = combined
         .into_iter()
         .map(|(name, texture, sampler)| {
@@ -147,6 +153,28 @@ pub(crate) fn translate(
         })
         .collect();
     Ok((contents, Some(manifest)))
+}
+
+/// MSL's buffer of runtime-sized arrays' byte sizes: naga names one `uint size<N>` member per
+/// such global, `N` being the global's index in the module.
+fn buffer_sizes(baked: &Baked, target_name: String) -> BufferSizes {
+    let members = baked
+        .module
+        .global_variables
+        .iter()
+        .filter(|(_, g)| {
+            let inner = &baked.module.types[g.ty].inner;
+            inner.is_dynamically_sized(&baked.module.types)
+        })
+        .map(|(h, g)| BufferSize {
+            member: format!("size{}", h.index()),
+            binding: g.name.clone().unwrap_or_default(),
+        })
+        .collect();
+    BufferSizes {
+        target_name,
+        members,
+    }
 }
 
 /// naga's namer appends `_` to identifiers that end in a digit, in every backend.
@@ -250,6 +278,7 @@ fn manifest_for(
         stage: stage.wgsl().to_string(),
         bindings,
         combined_samplers: Vec::new(),
+        buffer_sizes: None,
         structs,
         overrides,
     }

@@ -14,7 +14,7 @@ pub(super) fn write(
     _dsl: &DslModule,
     stage: Stage,
     entry: &str,
-) -> Result<(Contents, TargetNames), String> {
+) -> Result<(Contents, TargetNames, Option<String>), String> {
     let mut globals: Vec<_> = baked
         .module
         .global_variables
@@ -73,5 +73,9 @@ pub(super) fn write(
         }
     }
     names.sort();
-    Ok((Contents::Text(strip_trailing_ws(&text)), names))
+    // naga declares the sizes buffer only when a runtime-sized array needs it.
+    let sizes = text
+        .contains("_mslBufferSizes")
+        .then(|| format!("[[buffer({buffers})]]"));
+    Ok((Contents::Text(strip_trailing_ws(&text)), names, sizes))
 }

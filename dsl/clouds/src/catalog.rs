@@ -29,6 +29,9 @@ pub enum ShaderKey {
     Resolve,
     /// The display transform: HDR to display sRGB (one for every key).
     Display,
+    /// The kernel that completes the cloud block for a moved sun, for engine hosts without
+    /// JavaScript (one for every key).
+    SunLight,
 }
 
 impl ShaderKey {
@@ -40,6 +43,7 @@ impl ShaderKey {
             ShaderKey::Shadow(k) => k.name(),
             ShaderKey::Resolve => "temporal".into(),
             ShaderKey::Display => "aces-srgb".into(),
+            ShaderKey::SunLight => "light".into(),
         }
     }
 
@@ -51,6 +55,7 @@ impl ShaderKey {
             ShaderKey::Shadow(_) => 2,
             ShaderKey::Resolve => 3,
             ShaderKey::Display => 4,
+            ShaderKey::SunLight => 5,
         };
         (m, self.key_name())
     }
@@ -64,6 +69,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Shadow(_) => "shadow",
             ShaderKey::Resolve => "resolve",
             ShaderKey::Display => "display",
+            ShaderKey::SunLight => "sun",
         }
     }
 
@@ -78,6 +84,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Shadow(k) => shadow_module(k),
             ShaderKey::Resolve => resolve_module(),
             ShaderKey::Display => display_module(),
+            ShaderKey::SunLight => crate::model::sun::sun_light_module(),
         }
     }
 }
@@ -137,6 +144,11 @@ fn describe(key: &ShaderKey) -> String {
             "temporal upscaling and accumulation, reprojection, history clipping".into()
         }
         ShaderKey::Display => "display transform: exposure, ACES, sRGB".into(),
+        ShaderKey::SunLight => {
+            "sun and sky irradiance and shadow cascades for a moved sun, written into the \
+             cloud block (engine hosts without JavaScript)"
+                .into()
+        }
     }
 }
 
@@ -145,7 +157,7 @@ pub fn catalog() -> Vec<CatalogEntry> {
     PhaseModel::ALL
         .iter()
         .map(|m| ShaderKey::Preview(*m))
-        .chain([ShaderKey::Resolve, ShaderKey::Display])
+        .chain([ShaderKey::Resolve, ShaderKey::Display, ShaderKey::SunLight])
         .map(|key| CatalogEntry {
             description: describe(&key),
             key,

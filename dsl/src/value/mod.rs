@@ -3,6 +3,7 @@
 //! type-checks against both. Mixing types that WGSL would reject (`Vec3 + U32`) does not compile.
 
 mod array;
+mod block_words;
 mod matrix;
 mod resource;
 pub(crate) mod scalar;

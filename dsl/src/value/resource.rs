@@ -109,6 +109,11 @@ impl<T: StorageElement> StorageArray<T> {
         }
     }
 
+    /// The expression naming the array.
+    pub(crate) fn expr(self) -> ExprId {
+        self.id
+    }
+
     /// `array[index]`.
     pub fn get(self, index: impl Into<U32>) -> T {
         T::from_id(push_expr(

@@ -242,6 +242,36 @@ impl DisplayBinding {
     }
 }
 
+/// Where the `sun_light` kernel writes the completed cloud block: a storage buffer that the
+/// host then binds as [`CLOUDS`] in the shadow and cloud passes.
+pub const SUN_LIGHT_BLOCK: (u32, u32) = (0, 1);
+
+/// What an engine binds at each slot of the `sun_light` kernel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum SunLightBinding {
+    /// The cloud block as the host filled it (with `light.sun_direction` set).
+    Inputs,
+    /// The same block with what the sun decides filled in.
+    Block,
+}
+
+impl SunLightBinding {
+    pub const ALL: [SunLightBinding; 2] = [SunLightBinding::Inputs, SunLightBinding::Block];
+
+    /// `(group, binding)`, from the binding's one declaration.
+    pub fn slot(self) -> (u32, u32) {
+        match self {
+            SunLightBinding::Inputs => CLOUDS.slot(),
+            SunLightBinding::Block => SUN_LIGHT_BLOCK,
+        }
+    }
+
+    /// The binding at `(group, binding)`.
+    pub fn at(group: u32, binding: u32) -> Option<SunLightBinding> {
+        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
+    }
+}
+
 /// The textures of the cloud passes on the CPU, shared (not copied) with every binding.
 #[derive(Clone, Debug)]
 pub struct CloudTextures {

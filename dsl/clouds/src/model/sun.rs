@@ -4,14 +4,16 @@
 //! `#[shader_fn]`: Nimbus's runtime fills the block with its CPU twin (through
 //! [`CloudUniforms::for_genus`]), and an engine package's JavaScript host calls its JavaScript
 //! twin ([`nimbus_codegen::print_js`], `nimbus-sun.js` in a three.js package), so the formulas
-//! exist once.
+//! exist once. Hosts without JavaScript (wgpu, Vulkan, Unity, Metal) run it on the GPU
+//! instead: [`sun_light_module`] is a one-invocation kernel that completes the block the host
+//! filled, so moving the sun needs no host code beyond writing its direction.
 
 use glam::{Mat4, Vec3};
 
 use nimbus_dsl::prelude::*;
 use nimbus_dsl::{DslError, ModuleBuilder, loc};
 
-use super::bindings::CLOUDS;
+use super::bindings::{CLOUDS, SunLightBinding};
 use super::march::CloudUniforms;
 use super::shadow::shadow_matrices;
 use super::sky::{sky_irradiance_at, sun_irradiance_at};
@@ -79,6 +81,58 @@ pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
                 let direction = sun_direction::shader(frag_coord.x, frag_coord.y);
                 sun_light::shader(u, direction).sun_irradiance.extend(1.0)
             });
+        },
+    )
+}
+
+/// The `sun_light` kernel: reads the cloud block as the host filled it (any non-zero
+/// `light.sun_direction`; the rest as in the pair's uniform file) and writes the whole block,
+/// with the direction normalised and what the sun decides filled in, into a storage buffer the
+/// host then binds as the shadow and cloud passes' block. One invocation; run it when the sun
+/// or the camera's altitude moves.
+pub fn sun_light_module() -> Result<nimbus_dsl::ir::Module, DslError> {
+    ModuleBuilder::build(
+        "sun",
+        "What the sun's position decides, derived on the GPU: sun and sky irradiance at the \
+         camera and the shadow cascades' transforms, written into the cloud block.",
+        loc!(),
+        |m| {
+            let (group, binding) = SunLightBinding::Block.slot();
+            let block = m.storage::<nimbus_dsl::value::U32>(
+                "block",
+                group,
+                binding,
+                true,
+                "The completed cloud block: bind this buffer as `clouds` in the shadow and \
+                 cloud passes.",
+            );
+            m.compute(
+                "cs_sun_light",
+                "Completes the cloud block (one invocation).",
+                loc!(),
+                [1, 1, 1],
+                |_| {
+                    let u = CLOUDS.read();
+                    let out = block.array();
+                    // One evaluation, read by every store below.
+                    let light = nimbus_dsl::control::bind(
+                        "light",
+                        loc!(),
+                        sun_light::shader(u, u.light.sun_direction.normalize()),
+                    );
+                    out.write_uniform(0, u);
+                    out.write_uniform_member(0, u, u.light.sun_direction, light.sun_direction);
+                    out.write_uniform_member(0, u, u.light.sun_irradiance, light.sun_irradiance);
+                    out.write_uniform_member(0, u, u.light.sky_irradiance, light.sky_irradiance);
+                    out.write_uniform_member(0, u, u.shadow.matrix, light.shadow_matrix);
+                    out.write_uniform_member(
+                        0,
+                        u,
+                        u.shadow.inverse_matrix,
+                        light.shadow_inverse_matrix,
+                    );
+                },
+            );
         },
     )
 }
