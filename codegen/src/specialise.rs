@@ -24,6 +24,7 @@ pub fn specialise(module: &mut Module) {
         // Pruned branches can leave a `var` never assigned again: as a `let` it may be a literal
         // that folds further.
         tidy(f);
+        drop_unread_lets(f);
         fold_to_fixed_point(f);
         let body = std::mem::take(&mut f.body);
         f.body = prune_block(f, body);
@@ -138,6 +139,61 @@ fn tidy(f: &mut Function) {
         if l.mutable && !written.contains(&LocalId(i as u32)) {
             l.mutable = false;
         }
+    }
+}
+
+/// Removes each `let` that nothing reads and whose value calls no function (so dropping it
+/// drops no effect): what a branch specialisation removed leaves behind (`let second =
+/// vec4(0.0);` once the second layer group is gone). Repeats, since a removed `let` may have
+/// been the only reader of another.
+fn drop_unread_lets(f: &mut Function) {
+    fn drop(block: Block, gone: &BTreeSet<LocalId>) -> Block {
+        block
+            .into_iter()
+            .filter(|s| !matches!(s, Stmt::Let { local, .. } if gone.contains(local)))
+            .map(|s| map_nested(s, &mut |b| drop(b, gone)))
+            .collect()
+    }
+    fn lets(block: &Block, out: &mut Vec<(LocalId, ExprId)>) {
+        for stmt in block {
+            match stmt {
+                Stmt::Let { local, value, .. } => out.push((*local, *value)),
+                Stmt::If {
+                    then, otherwise, ..
+                } => {
+                    lets(then, out);
+                    lets(otherwise, out);
+                }
+                Stmt::For { body, .. } => lets(body, out),
+                _ => {}
+            }
+        }
+    }
+    loop {
+        let mut read = BTreeSet::new();
+        walk_block(f, &f.body, &mut |id| {
+            if let ExprKind::Local(l) = f.expr(id).kind {
+                read.insert(l);
+            }
+        });
+        let mut declared = Vec::new();
+        lets(&f.body, &mut declared);
+        let gone: BTreeSet<LocalId> = declared
+            .into_iter()
+            .filter(|(local, value)| {
+                let mut calls = false;
+                walk_expr(f, *value, &mut |id| {
+                    calls |= matches!(f.expr(id).kind, ExprKind::Call(..));
+                });
+                !read.contains(local) && !calls
+            })
+            .map(|(local, _)| local)
+            .collect();
+        if gone.is_empty() {
+            return;
+        }
+        let body = std::mem::take(&mut f.body);
+        f.body = drop(body, &gone);
     }
 }
 

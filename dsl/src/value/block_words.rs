@@ -1,8 +1,8 @@
 //! A uniform-block value written word by word into a storage array, in the uniform address
 //! space's layout: the shader twin of [`crate::layout::UniformBytes::write`]. A kernel that
-//! derives part of a block on the GPU (an engine package's `sun_light` pass) writes the whole
-//! block this way into a buffer the API then binds as that uniform block, so the host needs no
-//! copy and no knowledge of the layout beyond the block's size.
+//! derives part of a block on the GPU writes the whole block this way into a buffer the API
+//! then binds as that uniform block, so the host needs no copy and no knowledge of the layout
+//! beyond the block's size.
 
 use super::{StorageArray, U32, Value};
 use crate::ir::{ExprId, ExprKind, Literal, Scalar, SourceLoc, Stmt, Type};
@@ -20,7 +20,7 @@ impl StorageArray<U32> {
     }
 
     /// Writes `value` where `place` lies in `root`'s uniform layout, `root` starting at word
-    /// `word_offset`. `place` is `root` reached through fields (`u.light.sun_irradiance`), so
+    /// `word_offset`. `place` is `root` reached through fields (`u.material.albedo`), so
     /// the offset comes from the struct definitions, not from member names.
     #[track_caller]
     pub fn write_uniform_member<R: Value, P: Value>(

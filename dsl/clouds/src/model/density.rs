@@ -125,10 +125,24 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32) -> Vec4 {
 /// with the erosion stages of `key`.
 #[shader_fn]
 pub fn layer_density(position: Vec3, altitude: f32, group: u32, #[spec] key: CloudKey) -> Vec4 {
+    let coverage = weather_density(position, altitude, group);
+    eroded_density(position, altitude, group, coverage, key)
+}
+
+/// [`layer_density`] from the coverage-stage density `coverage` ([`weather_density`]) already
+/// read at the same point: the primary march tests coverage before it pays for erosion, and
+/// reads the weather once for both.
+#[shader_fn]
+pub fn eroded_density(
+    position: Vec3,
+    altitude: f32,
+    group: u32,
+    coverage: Vec4,
+    #[spec] key: CloudKey,
+) -> Vec4 {
     let layers = CLOUDS.get().groups[group as usize];
     let media = CLOUDS.get().media;
     let smp = LINEAR_REPEAT.get();
-    let coverage = weather_density(position, altitude, group);
     let eta = height_fraction(altitude, layers);
     let mut p = position;
     if gate(key, TURBULENCE_ON) {

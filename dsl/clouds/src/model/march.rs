@@ -16,7 +16,7 @@ use super::choices::{
     APPROXIMATE_MIE, DUAL_LOBE, GROUND_BOUNCE, GROUPS, HAZE, HENYEY_GREENSTEIN, LIGHT_SHAFTS,
     OCTAVES, POWDER, SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
 };
-use super::density::{MediaParams, layer_density, weather_density};
+use super::density::{MediaParams, eroded_density, layer_density, weather_density};
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
 use super::phase::{approximate_mie, henyey_greenstein, isotropic_phase};
@@ -440,17 +440,26 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
             continue;
         }
         let p = direction * t;
-        // Cheap coverage test before the full density: no weather here, take a long step.
-        let mut coverage = 0.0f32;
-        for group in 0u32..key_count(key, GROUPS) {
-            coverage += weather_density(p + u.camera_offset, h, group).dot(Vec4::ONE);
+        // Cheap coverage test before the full density: no weather here, take a long step. The
+        // coverage-stage densities it reads are the erosion's input too (a key has at most
+        // two layer groups).
+        let q = p + u.camera_offset;
+        let first = weather_density(q, h, 0u32);
+        let mut coverage = first.dot(Vec4::ONE);
+        let mut second = Vec4::ZERO;
+        if key_count(key, GROUPS) > 1u32 {
+            second = weather_density(q, h, 1u32);
+            coverage += second.dot(Vec4::ONE);
         }
         if coverage <= m.min_density {
             t += empty_step(t, step);
             step = march_step(t);
             continue;
         }
-        let rho = total_density(p, h, key);
+        let mut rho = eroded_density(q, h, 0u32, first, key).dot(Vec4::ONE);
+        if key_count(key, GROUPS) > 1u32 {
+            rho += eroded_density(q, h, 1u32, second, key).dot(Vec4::ONE);
+        }
         samples += 1.0;
         let sigma_s = rho * l.scattering_coefficient;
         let sigma_t = rho * sigma_ratio;
