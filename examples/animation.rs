@@ -36,7 +36,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         frame.camera_yaw_deg = 0.1 * t;
         let image = renderer.render(&frame)?;
         let file = out.join(format!("frame_{i:04}.png"));
-        image.save_png(&file, 8.0)?;
+        image.save_png(&file, 8.0, nimbus_output::Overwrite::OwnOnly)?;
         println!("{}", file.display());
         frame.frames = 1;
         frame.continue_history = true;

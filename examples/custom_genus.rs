@@ -31,7 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     frame.sun_elevation_deg = 20.0;
     frame.weather_offset = glam::Vec2::new(0.1, 0.1);
     let image = Renderer::new(&gpu, TextureSizes::default()).render(&frame)?;
-    image.save_png(&out, 8.0)?;
+    image.save_png(&out, 8.0, nimbus_output::Overwrite::OwnOnly)?;
     println!("wrote {}", out.display());
     Ok(())
 }

@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let start = std::time::Instant::now();
         let image = renderer.render(&frame)?;
         let file = out.join(format!("{name}.png"));
-        image.save_png(&file, 8.0)?;
+        image.save_png(&file, 8.0, nimbus_output::Overwrite::OwnOnly)?;
         println!(
             "{name:>16}: {:.2} s -> {}",
             start.elapsed().as_secs_f64(),

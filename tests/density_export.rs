@@ -49,7 +49,8 @@ fn vol_file_holds_the_models_extinction_at_voxel_centres() {
     let grid = density_grid(&f, region, size, &t).expect("grid");
     let dir = tempfile::tempdir().expect("tmp");
     let path = dir.path().join("clouds.vol");
-    grid.save_mitsuba_vol(&path).expect("write");
+    grid.save_mitsuba_vol(&path, nimbus_output::Overwrite::OwnOnly)
+        .expect("write");
     let b = std::fs::read(&path).expect("read back");
     assert_eq!(&b[..4], b"VOL\x03");
     assert_eq!(i32_at(&b, 4), 1, "encoding: f32");

@@ -9,6 +9,7 @@ use nimbus_dsl::cpu::{Sampler, Texture3d};
 use nimbus_dsl::prelude::*;
 use nimbus_dsl::shader;
 use nimbus_dsl::{ModuleBuilder, loc};
+use nimbus_output::{OutputError, Overwrite};
 
 #[test]
 fn unknown_target_is_named_with_the_known_ones() {
@@ -134,8 +135,12 @@ fn an_unwritable_output_folder_is_named_and_leaves_nothing_behind() {
     std::fs::write(&blocker, "not a folder").expect("write");
     let target = blocker.join("out");
     let g = generate_variant(&catalog()[0], &[Target::Wgsl]).expect("generate");
-    let err = emit(&[g], &EmitExtras::default(), &target).expect_err("cannot write under a file");
-    assert!(matches!(err, CodegenError::Output { .. }), "{err:?}");
+    let err = emit(&[g], &EmitExtras::default(), &target, Overwrite::OwnOnly)
+        .expect_err("cannot write under a file");
+    assert!(
+        matches!(err, CodegenError::Destination(OutputError::NoFolder { .. })),
+        "{err:?}"
+    );
     assert!(err.to_string().contains("a-file"), "{err}");
     let left: Vec<_> = std::fs::read_dir(tmp.path()).expect("read").collect();
     assert_eq!(left.len(), 1, "only the blocking file remains");
@@ -147,8 +152,12 @@ fn a_foreign_folder_is_not_replaced() {
     let precious = tmp.path().join("notes.txt");
     std::fs::write(&precious, "mine").expect("write");
     let g = generate_variant(&catalog()[0], &[Target::Wgsl]).expect("generate");
-    let err = emit(&[g], &EmitExtras::default(), tmp.path()).expect_err("refuses");
-    assert!(matches!(err, CodegenError::ForeignOutput { .. }), "{err:?}");
+    let err =
+        emit(&[g], &EmitExtras::default(), tmp.path(), Overwrite::OwnOnly).expect_err("refuses");
+    assert!(
+        matches!(err, CodegenError::Destination(OutputError::NotOurs { .. })),
+        "{err:?}"
+    );
     assert_eq!(
         std::fs::read_to_string(&precious).expect("still there"),
         "mine"
@@ -160,10 +169,16 @@ fn a_previous_output_is_replaced_whole() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let out = tmp.path().join("shaders");
     let all = generate_variant(&catalog()[0], &Target::ALL).expect("generate");
-    let first = emit(&[all], &EmitExtras::default(), &out).expect("first emit");
+    let first = emit(&[all], &EmitExtras::default(), &out, Overwrite::OwnOnly).expect("first emit");
     assert!(first.files.len() > 2);
     let wgsl_only = generate_variant(&catalog()[0], &[Target::Wgsl]).expect("generate");
-    emit(&[wgsl_only], &EmitExtras::default(), &out).expect("second emit");
+    emit(
+        &[wgsl_only],
+        &EmitExtras::default(),
+        &out,
+        Overwrite::OwnOnly,
+    )
+    .expect("second emit");
     let mut names: Vec<String> = std::fs::read_dir(&out)
         .expect("read")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())

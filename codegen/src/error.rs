@@ -98,6 +98,7 @@ pub enum CodegenError {
         source: std::io::Error,
     },
 
-    #[error("output folder `{}` exists and is not a Nimbus output folder (no {marker}); refusing to replace it", path.display())]
-    ForeignOutput { path: PathBuf, marker: &'static str },
+    /// The destination folder: a file, not Nimbus's, not writable, or a failed replace.
+    #[error(transparent)]
+    Destination(#[from] nimbus_output::OutputError),
 }

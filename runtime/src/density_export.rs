@@ -14,6 +14,8 @@
 
 use std::path::Path;
 
+use nimbus_output::{Overwrite, Signature, write_file};
+
 use glam::{Vec3, Vec4};
 use nimbus_clouds::model::march::total_density;
 use nimbus_clouds::model::shadow::altitude_at;
@@ -22,7 +24,6 @@ use std::sync::Arc;
 use nimbus_clouds::model::bindings::CloudTextures;
 use nimbus_dsl::cpu::{Texture2d, Texture3d};
 
-use crate::atomic_write::write_atomically;
 use crate::error::RuntimeError;
 use crate::render::{Frame, Renderer, TextureSizes};
 use crate::textures::NoiseKind;
@@ -160,10 +161,11 @@ impl DensityGrid {
         out
     }
 
-    /// Writes the grid to `path` atomically (a temporary file renamed into place).
-    pub fn save_mitsuba_vol(&self, path: &Path) -> Result<(), RuntimeError> {
-        write_atomically(path, |tmp| {
-            std::fs::write(tmp, self.to_mitsuba_vol()).map_err(|e| e.to_string())
-        })
+    /// Writes the grid to `path` all or nothing ([`nimbus_output::write_file`]). A volume file
+    /// has no room for Nimbus's signature, so an existing file is replaced only when
+    /// `overwrite` is forced.
+    pub fn save_mitsuba_vol(&self, path: &Path, overwrite: Overwrite) -> Result<(), RuntimeError> {
+        write_file(path, Signature::Unsigned, overwrite, &self.to_mitsuba_vol())?;
+        Ok(())
     }
 }

@@ -33,6 +33,17 @@ pub enum RuntimeError {
         file: std::path::PathBuf,
         reason: String,
     },
+    #[error(transparent)]
+    Destination(#[from] nimbus_output::OutputError),
+    /// A frame value outside its accepted range.
+    #[error(transparent)]
+    Value(#[from] nimbus_clouds::DataError),
+    #[error("Frame::genus `{genus}`: {field}: {reason}")]
+    Genus {
+        genus: String,
+        field: String,
+        reason: String,
+    },
     #[error("density export: {field} {reason}")]
     Region { field: &'static str, reason: String },
     #[error("parity kernel: {0}")]

@@ -6,7 +6,6 @@
 //! need (shadow atlas, clouds, temporal resolve) with pipelines cached by shader key, and runs
 //! compute kernels (the noise textures; the parity harness of `nimbus-testkit`).
 
-mod atomic_write;
 pub mod density_export;
 mod error;
 mod gpu;

@@ -1,17 +1,19 @@
 //! Display output: tonemapped 8-bit sRGB through the same `tonemap` shader function the model
 //! defines, written to PNG atomically (a temporary file renamed into place), and refused when
-//! the frame is broken (non-finite) or black, so a failed render is never passed off as one.
+//! the frame is broken (non-finite), so a failed render is never passed off as one.
 
 use std::path::Path;
 
+use nimbus_output::{Overwrite, Signature, signed_png, write_file};
+
 use nimbus_clouds::model::tonemap::tonemap;
 
-use crate::atomic_write::write_atomically;
 use crate::error::RuntimeError;
 use crate::render::Image;
 
 impl Image {
-    /// Checks that the frame is usable: every value finite, and not uniformly black.
+    /// Checks that the frame is usable: every value finite. (A black frame is a result: the
+    /// renderer tells a dark scene from an adapter that drew nothing.)
     pub fn check(&self) -> Result<(), RuntimeError> {
         if let Some(i) = self
             .pixels
@@ -23,16 +25,6 @@ impl Image {
                 "pixel ({x}, {y}) is not finite: {:?}",
                 self.pixels[i]
             )));
-        }
-        let brightest = self
-            .pixels
-            .iter()
-            .map(|p| p[0].max(p[1]).max(p[2]))
-            .fold(0.0f32, f32::max);
-        if brightest <= 0.0 {
-            return Err(RuntimeError::BadFrame(
-                "every pixel is black: the adapter produced no output".into(),
-            ));
         }
         Ok(())
     }
@@ -47,14 +39,24 @@ impl Image {
         })
     }
 
-    /// Writes the tonemapped frame to `path` (PNG) after [`Image::check`]; nothing is left
-    /// behind on failure.
-    pub fn save_png(&self, path: &Path, exposure: f32) -> Result<(), RuntimeError> {
+    /// Writes the tonemapped frame to `path` (PNG, signed as Nimbus's) after [`Image::check`],
+    /// all or nothing ([`nimbus_output::write_file`]): an existing file there is replaced only
+    /// when Nimbus wrote it or `overwrite` is forced.
+    pub fn save_png(
+        &self,
+        path: &Path,
+        exposure: f32,
+        overwrite: Overwrite,
+    ) -> Result<(), RuntimeError> {
         self.check()?;
-        write_atomically(path, |tmp| {
-            self.to_rgba8(exposure)
-                .save_with_format(tmp, image::ImageFormat::Png)
-                .map_err(|e| e.to_string())
-        })
+        let rgba = self.to_rgba8(exposure);
+        let bytes = signed_png(rgba.width(), rgba.height(), rgba.as_raw()).map_err(|reason| {
+            RuntimeError::Output {
+                file: path.to_path_buf(),
+                reason,
+            }
+        })?;
+        write_file(path, Signature::Png, overwrite, &bytes)?;
+        Ok(())
     }
 }

@@ -17,6 +17,7 @@ use glam::{Mat4, Vec2, Vec3};
 use half::f16;
 use nimbus_clouds::CloudKey;
 use nimbus_clouds::catalog::ShaderKey;
+use nimbus_clouds::limits::{self, Limit, Origin};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
@@ -151,6 +152,41 @@ impl Frame {
         f
     }
 
+    /// Checks every value against [`nimbus_clouds::limits`], the same ranges a scene file and
+    /// the command line are held to; the error names the field (`Frame::fov_deg`).
+    pub fn validate(&self) -> Result<(), RuntimeError> {
+        let api = |l: &Limit| Origin::Api(format!("Frame::{}", l.field));
+        let check = |l: &Limit, v: f64| l.check(v, api(l));
+        for (field, side) in [("Frame::width", self.width), ("Frame::height", self.height)] {
+            limits::IMAGE_SIDE.check(f64::from(side), Origin::Api(field.into()))?;
+        }
+        check(&limits::FRAMES, f64::from(self.frames))?;
+        check(&limits::SUN_ELEVATION, f64::from(self.sun_elevation_deg))?;
+        check(&limits::SUN_AZIMUTH, f64::from(self.sun_azimuth_deg))?;
+        check(&limits::CAMERA_ALTITUDE, f64::from(self.camera_altitude))?;
+        check(&limits::CAMERA_PITCH, f64::from(self.camera_pitch_deg))?;
+        check(&limits::CAMERA_YAW, f64::from(self.camera_yaw_deg))?;
+        check(&limits::FOV, f64::from(self.fov_deg))?;
+        check(&limits::COVERAGE, f64::from(self.genus.coverage))?;
+        check(&limits::HAZE_DENSITY, f64::from(self.haze_density))?;
+        check(
+            &limits::TURBULENCE_DISPLACEMENT,
+            f64::from(self.turbulence_displacement),
+        )?;
+        for v in self.weather_offset.to_array() {
+            check(&limits::WEATHER_OFFSET, f64::from(v))?;
+        }
+        check(&limits::OCTAVES, f64::from(self.features.octaves))?;
+        self.genus
+            .validate()
+            .map_err(|(field, reason)| RuntimeError::Genus {
+                genus: self.genus.name.clone(),
+                field,
+                reason,
+            })?;
+        Ok(())
+    }
+
     /// The cloud variant this frame renders.
     pub fn variant(&self) -> CloudVariant {
         let mut v = CloudVariant::new(&self.genus, self.quality, self.features);
@@ -173,9 +209,16 @@ impl Frame {
             pitch.sin(),
             -pitch.cos() * yaw.cos(),
         );
-        let view = Mat4::look_to_rh(Vec3::ZERO, forward, Vec3::Y);
+        // The camera's up from its right (east at yaw 0, always horizontal), so a camera
+        // looking straight up or down still has a basis (y-up would be parallel to forward).
+        let right = Vec3::new(yaw.cos(), 0.0, yaw.sin());
+        let up = right.cross(forward);
+        let view = Mat4::look_to_rh(Vec3::ZERO, forward, up);
         let aspect = self.width as f32 / self.height as f32;
-        Mat4::perspective_rh(self.fov_deg.to_radians(), aspect, 1.0, 1e6) * view
+        // Infinite far plane, reversed depth: the shader unprojects depth 1, the near plane,
+        // where w is well conditioned at any field of view (unprojecting a far plane 1e6
+        // times further than the near one loses w to cancellation and flips wide rays).
+        Mat4::perspective_infinite_reverse_rh(self.fov_deg.to_radians(), aspect, 1.0) * view
     }
 }
 
@@ -185,6 +228,13 @@ pub struct Image {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<[f32; 4]>,
+}
+
+impl Image {
+    /// Whether no pixel has any light (a night sky, or an adapter that drew nothing).
+    pub fn is_black(&self) -> bool {
+        self.pixels.iter().all(|p| p[0].max(p[1]).max(p[2]) <= 0.0)
+    }
 }
 
 /// What the renderer has created, for tests and reports: a toggle that is off must leave no
@@ -686,11 +736,39 @@ impl<'g> Renderer<'g> {
     }
 
     /// Renders `frame` (all its accumulation frames); `progress` hears of each frame done.
+    ///
+    /// A frame may be black (a night sky, the sun far below the horizon): that is a result.
+    /// An adapter that draws nothing also gives black, so a black frame is followed by a small
+    /// daylight probe of the same genus through the same renderer; only when that is black too
+    /// is the adapter blamed ([`RuntimeError::BadFrame`]).
     pub fn render_with_progress(
         &mut self,
         frame: &Frame,
         progress: &mut dyn FnMut(u32, u32),
     ) -> Result<Image, RuntimeError> {
+        let image = self.render_frames(frame, progress)?;
+        if image.is_black() {
+            let mut probe = Frame::new(frame.genus.clone(), Quality::Low, 16, 9);
+            probe.frames = 1;
+            probe.sun_elevation_deg = 45.0;
+            probe.genus.coverage = 0.5;
+            if self.render_frames(&probe, &mut |_, _| {})?.is_black() {
+                return Err(RuntimeError::BadFrame(
+                    "every pixel is black, and so is a daylight probe frame: the adapter \
+                     produced no output"
+                        .into(),
+                ));
+            }
+        }
+        Ok(image)
+    }
+
+    fn render_frames(
+        &mut self,
+        frame: &Frame,
+        progress: &mut dyn FnMut(u32, u32),
+    ) -> Result<Image, RuntimeError> {
+        frame.validate()?;
         self.check_size("the image", frame.width, frame.height)?;
         self.ensure_readback(frame.width, frame.height);
         let frames = frame.frames.max(1);

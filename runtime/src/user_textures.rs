@@ -6,7 +6,7 @@
 //! `N³` or `4·N³` for a power-of-two `N`. That is what most noise tools write and what a
 //! `numpy.ndarray.tofile` of a `uint8` cube gives.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use wgpu::util::DeviceExt;
 
@@ -69,30 +69,78 @@ impl Gpu {
 
     /// Loads a 2D texture from a PNG file (any colour type; stored as RGBA8, linear).
     pub fn load_png_texture(&self, file: &Path) -> Result<GpuTexture, RuntimeError> {
-        let img = image::open(file).map_err(|e| texture_error(file, e.to_string()))?;
-        let rgba = img.to_rgba8();
-        let (w, h) = rgba.dimensions();
-        let max = self.device().limits().max_texture_dimension_2d;
-        if w > max || h > max {
-            return Err(texture_error(
-                file,
-                format!("{w}x{h} exceeds this adapter's {max} texels per side"),
-            ));
-        }
-        Ok(self.upload_rgba8(
-            &file.display().to_string(),
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            wgpu::TextureDimension::D2,
-            rgba.as_raw(),
-        ))
+        self.upload_texture(&DecodedTexture::png(file)?)
     }
 
     /// Loads a 3D texture from a raw R8 or RGBA8 cube (see the module documentation).
     pub fn load_raw_volume(&self, file: &Path) -> Result<GpuTexture, RuntimeError> {
+        self.upload_texture(&DecodedTexture::raw_volume(file)?)
+    }
+
+    /// Uploads a decoded texture, after checking it fits this adapter.
+    pub fn upload_texture(&self, t: &DecodedTexture) -> Result<GpuTexture, RuntimeError> {
+        let limits = self.device().limits();
+        let (max, dimension, depth) = if t.volume {
+            (
+                limits.max_texture_dimension_3d,
+                wgpu::TextureDimension::D3,
+                t.size[2],
+            )
+        } else {
+            (
+                limits.max_texture_dimension_2d,
+                wgpu::TextureDimension::D2,
+                1,
+            )
+        };
+        if t.size.iter().any(|s| *s > max) {
+            return Err(texture_error(
+                &t.file,
+                format!(
+                    "{}x{}x{} exceeds this adapter's {max} texels per side",
+                    t.size[0], t.size[1], t.size[2]
+                ),
+            ));
+        }
+        Ok(self.upload_rgba8(
+            &t.file.display().to_string(),
+            wgpu::Extent3d {
+                width: t.size[0],
+                height: t.size[1],
+                depth_or_array_layers: depth,
+            },
+            dimension,
+            &t.rgba,
+        ))
+    }
+}
+
+/// A user texture read and checked on the CPU, before any GPU work: RGBA8 texels, x fastest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DecodedTexture {
+    pub file: PathBuf,
+    /// Width, height, depth (1 for a 2D texture).
+    pub size: [u32; 3],
+    pub volume: bool,
+    pub rgba: Vec<u8>,
+}
+
+impl DecodedTexture {
+    /// A 2D texture from a PNG file (any colour type; stored as RGBA8, linear).
+    pub fn png(file: &Path) -> Result<DecodedTexture, RuntimeError> {
+        let img = image::open(file).map_err(|e| texture_error(file, e.to_string()))?;
+        let rgba = img.to_rgba8();
+        let (w, h) = rgba.dimensions();
+        Ok(DecodedTexture {
+            file: file.to_path_buf(),
+            size: [w, h, 1],
+            volume: false,
+            rgba: rgba.into_raw(),
+        })
+    }
+
+    /// A 3D texture from a raw R8 or RGBA8 cube (see the module documentation).
+    pub fn raw_volume(file: &Path) -> Result<DecodedTexture, RuntimeError> {
         let bytes = std::fs::read(file).map_err(|e| texture_error(file, e.to_string()))?;
         let (side, channels) = raw_cube_side(bytes.len()).ok_or_else(|| {
             texture_error(
@@ -103,27 +151,16 @@ impl Gpu {
                 ),
             )
         })?;
-        let max = self.device().limits().max_texture_dimension_3d;
-        if side > max {
-            return Err(texture_error(
-                file,
-                format!("{side}³ exceeds this adapter's {max} texels per side"),
-            ));
-        }
         let rgba = if channels == 4 {
             bytes
         } else {
             bytes.iter().flat_map(|b| [*b, *b, *b, *b]).collect()
         };
-        Ok(self.upload_rgba8(
-            &file.display().to_string(),
-            wgpu::Extent3d {
-                width: side,
-                height: side,
-                depth_or_array_layers: side,
-            },
-            wgpu::TextureDimension::D3,
-            &rgba,
-        ))
+        Ok(DecodedTexture {
+            file: file.to_path_buf(),
+            size: [side, side, side],
+            volume: true,
+            rgba,
+        })
     }
 }

@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::data_folder::DataFolder;
 use crate::error::CliError;
 use nimbus_clouds::catalog::{
     Assignment, CatalogEntry, ShaderKey, assign, catalog, distinct, select,
@@ -12,15 +13,25 @@ use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::layout::{UniformBytes, read_members};
 use nimbus_runtime::render::{Frame, Renderer};
 
-/// The data folder: `--data`, else `NIMBUS_DATA`, else this repository's `examples/`.
-pub(crate) fn data_dir(flag: Option<&Path>) -> PathBuf {
-    flag.map(Path::to_path_buf)
-        .or_else(|| std::env::var_os("NIMBUS_DATA").map(PathBuf::from))
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples"))
+/// The data folder (see [`DataFolder`]).
+pub(crate) fn data_dir(flag: Option<&Path>) -> Result<PathBuf, CliError> {
+    Ok(DataFolder::find(flag)?.dir)
 }
 
+/// The library of the data folder. Files that failed to load are reported on stderr and left
+/// out; a command that names one gets its error.
 pub(crate) fn load(flag: Option<&Path>) -> Result<CloudLibrary, CliError> {
-    Ok(CloudLibrary::load(&data_dir(flag))?)
+    let folder = DataFolder::find(flag)?;
+    load_dir(&folder.dir)
+}
+
+/// The library of `dir`, reporting the files that failed to load.
+pub(crate) fn load_dir(dir: &Path) -> Result<CloudLibrary, CliError> {
+    let lib = CloudLibrary::load(dir)?;
+    for p in &lib.problems {
+        eprintln!("warning: skipped: {p}");
+    }
+    Ok(lib)
 }
 
 /// A scene file and the library genus it names (an unknown genus is an error naming the file).
@@ -29,13 +40,7 @@ pub(crate) fn scene_with_genus<'a>(
     file: &Path,
 ) -> Result<(ScenePreset, &'a Genus), Box<dyn std::error::Error>> {
     let scene = load_scene(file)?;
-    let genus = lib.genus(&scene.genus).ok_or_else(|| {
-        format!(
-            "{}: genus `{}` is not in the library",
-            file.display(),
-            scene.genus
-        )
-    })?;
+    let genus = lib.require_genus(file, &scene.genus)?;
     Ok((scene, genus))
 }
 
@@ -116,11 +121,17 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
         });
     }
     if let Some(genus) = sel.genus {
-        let g = lib.genus(genus).ok_or_else(|| CliError::Unknown {
-            kind: "genus",
-            given: genus.to_string(),
-            known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
-        })?;
+        let g = match (lib.genus(genus), lib.problem_of(genus)) {
+            (Some(g), _) => g,
+            (None, Some(problem)) => return Err(problem.clone().into()),
+            (None, None) => {
+                return Err(CliError::Unknown {
+                    kind: "genus",
+                    given: genus.to_string(),
+                    known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
+                });
+            }
+        };
         let qualities = quality.map_or_else(|| Quality::ALL.to_vec(), |q| vec![q]);
         let table: Vec<Assignment> = qualities
             .into_iter()

@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use nimbus_codegen::{EmitExtras, Target, emit, generate_variant};
+use nimbus_codegen::{EmitExtras, MARKER_FILE, Target, emit, generate_variant};
+use nimbus_output::{Overwrite, check_folder};
 
 use crate::data::{Resolved, Selection, keys_json, load, resolve, table_text};
 
@@ -15,8 +16,9 @@ pub(crate) fn run(
     sel: &Selection<'_>,
     scene: Option<&Path>,
     targets: &[Target],
-    out: &Path,
+    (out, overwrite): (&Path, Overwrite),
 ) -> Result<(), Box<dyn std::error::Error>> {
+    check_folder(out, MARKER_FILE, overwrite)?;
     let resolved = match scene {
         Some(file) => crate::explain::resolved(data, file)?,
         None => resolve(sel, &load(data)?)?,
@@ -34,7 +36,7 @@ pub(crate) fn run(
         manifest_appendix: table_text(table),
         files,
     };
-    let report = emit(&generated, &extras, out)?;
+    let report = emit(&generated, &extras, out, overwrite)?;
     for g in &generated {
         println!("{}", g.stats.manifest_line(&g.id()));
     }

@@ -11,6 +11,26 @@ pub(crate) enum CliError {
     #[error(transparent)]
     Data(#[from] DataError),
 
+    #[error(transparent)]
+    Output(#[from] nimbus_output::OutputError),
+
+    #[error("{flag}: {source}")]
+    Texture {
+        flag: &'static str,
+        source: Box<nimbus_runtime::RuntimeError>,
+    },
+
+    #[error(
+        "data folder {} (from {source_name}): {reason}; point --data or NIMBUS_DATA at a folder \
+         holding genera/ (and scenes/), or unset them to use the built-in examples",
+        dir.display()
+    )]
+    DataFolder {
+        dir: std::path::PathBuf,
+        source_name: String,
+        reason: String,
+    },
+
     #[error(
         "an engine package is made for genus × preset pairs: name a genus (--genus, with or \
          without --quality) or a scene (--scene), not a catalogue entry"

@@ -8,7 +8,7 @@ use nimbus_clouds::{Analysis, CloudLibrary, ScenePreset, analyse, load_scene};
 
 use nimbus_dsl::ShaderVariant;
 
-use crate::render::{genus_of, library_for};
+use crate::render::{library_for, scene_genus};
 
 /// The scene file, its genus and the derived variant.
 pub(crate) fn derive(
@@ -17,7 +17,7 @@ pub(crate) fn derive(
 ) -> Result<(ScenePreset, CloudVariant, Analysis), Box<dyn std::error::Error>> {
     let lib: CloudLibrary = library_for(data, Some(scene_file))?;
     let scene = load_scene(scene_file)?;
-    let mut genus = genus_of(&lib, &scene.genus)?;
+    let mut genus = scene_genus(&lib, scene_file, &scene)?;
     if let Some(c) = scene.coverage {
         genus.coverage = c;
     }
@@ -33,7 +33,7 @@ pub(crate) fn resolved(
 ) -> Result<crate::data::Resolved, Box<dyn std::error::Error>> {
     let lib: CloudLibrary = library_for(data, Some(scene_file))?;
     let scene = load_scene(scene_file)?;
-    let mut genus = genus_of(&lib, &scene.genus)?;
+    let mut genus = scene_genus(&lib, scene_file, &scene)?;
     if let Some(c) = scene.coverage {
         genus.coverage = c;
     }

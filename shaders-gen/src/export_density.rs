@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::Vec3;
+use nimbus_output::{Overwrite, Signature, check_file};
 use nimbus_runtime::density_export::{Region, density_grid, generate_cpu_textures};
 use nimbus_runtime::render::{Frame, TextureSizes};
 
@@ -20,6 +21,10 @@ pub(crate) struct ExportDensityArgs {
     /// centred on the camera's ground point). Default: 20 km square over the scene's layers.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     region: Option<Vec<f32>>,
+    /// Replace the output file even when it exists (a volume file carries no mark of who
+    /// wrote it, so an existing one is only replaced with --force).
+    #[arg(long)]
+    force: bool,
     /// Voxels per axis: NX,NY,NZ.
     #[arg(long, value_delimiter = ',', default_values_t = [128u32, 32, 128])]
     size: Vec<u32>,
@@ -29,13 +34,14 @@ pub(crate) fn run(
     data: Option<&Path>,
     a: &ExportDensityArgs,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let lib = crate::data::load(data)?;
-    let file = a
-        .scene
-        .clone()
-        .unwrap_or_else(|| crate::data::data_dir(data).join("scenes/default.toml"));
-    let (scene, genus) = crate::data::scene_with_genus(&lib, &file)?;
-    let frame = Frame::from_scene(&scene, genus, 1, 1);
+    let file = match &a.scene {
+        Some(f) => f.clone(),
+        None => crate::data::data_dir(data)?.join("scenes/default.toml"),
+    };
+    let lib = crate::render::library_for(data, Some(&file))?;
+    let scene = nimbus_clouds::load_scene(&file)?;
+    let genus = crate::render::scene_genus(&lib, &file, &scene)?;
+    let frame = Frame::from_scene(&scene, &genus, 1, 1);
     if a.size.len() != 3 {
         return Err(format!("--size takes NX,NY,NZ (3 numbers), got {}", a.size.len()).into());
     }
@@ -62,9 +68,11 @@ pub(crate) fn run(
         }
     };
     let size = [a.size[0], a.size[1], a.size[2]];
+    let overwrite = Overwrite::forced(a.force);
+    check_file(&a.out, Signature::Unsigned, overwrite)?;
     let textures = generate_cpu_textures(TextureSizes::default());
     let grid = density_grid(&frame, region, size, &textures)?;
-    grid.save_mitsuba_vol(&a.out)?;
+    grid.save_mitsuba_vol(&a.out, overwrite)?;
     let max = grid.values.iter().copied().fold(0.0f32, f32::max);
     let mean = grid.values.iter().map(|v| f64::from(*v)).sum::<f64>() / grid.values.len() as f64;
     let cloudy = grid.values.iter().filter(|v| **v > 0.0).count();

@@ -8,11 +8,17 @@ use nimbus_codegen::Target;
 
 use crate::error::CliError;
 
-use crate::data::{data_dir, load};
+use crate::data::load_dir;
+use crate::data_folder::DataFolder;
 
 pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
-    let lib = load(data)?;
-    println!("genera ({}):", data_dir(data).join("genera").display());
+    let folder = DataFolder::find(data)?;
+    let lib = load_dir(&folder.dir)?;
+    println!(
+        "genera ({}, from {}):",
+        folder.dir.join("genera").display(),
+        folder.source
+    );
     for (name, (_, g)) in &lib.genera {
         println!(
             "  {name:<16} {} layer(s), coverage {:.2}: {}",

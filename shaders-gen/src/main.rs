@@ -4,6 +4,7 @@ mod bench;
 mod bench_frames;
 mod check;
 mod data;
+mod data_folder;
 mod diff;
 mod emit;
 mod engine;
@@ -23,6 +24,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use nimbus_clouds::{Quality, Toggle};
 use nimbus_codegen::Target;
+use nimbus_output::Overwrite;
 
 /// Nimbus: volumetric-cloud shaders written once in Rust, emitted for every target.
 #[derive(Parser)]
@@ -147,6 +149,9 @@ enum Command {
         /// Output folder (created; replaced only if it is empty or a previous Nimbus output).
         #[arg(short, long, default_value = "nimbus-out")]
         out: PathBuf,
+        /// Replace the output folder even when Nimbus did not write it (its files are lost).
+        #[arg(long)]
+        force: bool,
     },
     /// Generate and validate variants for every target (naga, plus glslangValidator and
     /// spirv-val when installed); exits non-zero on any failure.
@@ -229,19 +234,27 @@ fn main() -> ExitCode {
             targets: _,
             engine: Some(engine),
             out,
-        } => package::run(data, &variants.selection(), scene.as_deref(), *engine, out),
+            force,
+        } => package::run(
+            data,
+            &variants.selection(),
+            scene.as_deref(),
+            *engine,
+            (out, Overwrite::forced(*force)),
+        ),
         Command::Emit {
             variants,
             scene,
             targets,
             engine: None,
             out,
+            force,
         } => emit::run(
             data,
             &variants.selection(),
             scene.as_deref(),
             &TargetChoice::resolve(targets),
-            out,
+            (out, Overwrite::forced(*force)),
         ),
         Command::Check {
             variants,
@@ -257,7 +270,6 @@ fn main() -> ExitCode {
             resolution,
             iterations,
         } => render::parse_resolution(resolution)
-            .map_err(Into::into)
             .and_then(|r| bench_frames::run_scenes(data, r, (*iterations).max(1))),
         Command::Tradeoff(args) => tradeoff::run(data, args),
         Command::ExportDensity(args) => export_density::run(data, args),

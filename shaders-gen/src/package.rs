@@ -17,12 +17,14 @@ use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{
-    BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_js,
+    BindingInfo, EmitExtras, Generated, MARKER_FILE, emit, flatten_uniform_blocks, generate,
+    print_js,
 };
 use nimbus_codegen::{BindingKind, TextureDimension};
 use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::ir::{AddressMode, FilterMode, SamplerDesc, Type};
 use nimbus_dsl::layout::{UniformBytes, member_layout};
+use nimbus_output::{Overwrite, check_folder};
 use nimbus_runtime::render::TextureSizes;
 use nimbus_runtime::textures::NoiseKind;
 use serde_json::{Value, json};
@@ -61,8 +63,9 @@ pub(crate) fn run(
     sel: &Selection<'_>,
     scene: Option<&Path>,
     engine: Engine,
-    out: &Path,
+    (out, overwrite): (&Path, Overwrite),
 ) -> Result<(), Box<dyn std::error::Error>> {
+    check_folder(out, MARKER_FILE, overwrite)?;
     let resolved = match scene {
         Some(file) => crate::explain::resolved(data, file)?,
         None => resolve(sel, &load(data)?)?,
@@ -91,7 +94,7 @@ pub(crate) fn run(
         Some(tool) => format!("naga and {tool} ({} files)", checked.len()),
         None => format!("naga; {}", engine.unchecked_note()),
     };
-    let report = emit(&package.shaders, &package.extras, out)?;
+    let report = emit(&package.shaders, &package.extras, out, overwrite)?;
     println!("validated by {validated_by}");
     println!(
         "{} package: {} pass shader(s) for {} genus × preset pair(s), {} texture(s) from {}",

@@ -1,8 +1,7 @@
 //! The tradeoff plot: error against time per frame, one point per row, the presets drawn
 //! large and named, the Pareto front as a staircase through the points nothing beats.
 
-use std::path::Path;
-
+use nimbus_output::TEXT_MARKER;
 use plotters::prelude::*;
 
 /// One point of the plot.
@@ -13,10 +12,21 @@ pub(crate) struct Point<'a> {
     pub preset: bool,
 }
 
-/// Writes the SVG plot to `path`; `front` lists indices of `points` on the Pareto front in
-/// order of time.
-pub(crate) fn write_svg(
-    path: &Path,
+/// The SVG plot, its first line a comment with Nimbus's text signature; `front` lists
+/// indices of `points` on the Pareto front in order of time.
+pub(crate) fn svg_plot(
+    title: &str,
+    error_name: &str,
+    points: &[Point<'_>],
+    front: &[usize],
+) -> Result<String, Box<dyn std::error::Error>> {
+    let mut svg = String::new();
+    draw(&mut svg, title, error_name, points, front)?;
+    Ok(format!("<!-- {TEXT_MARKER}: nimbus tradeoff -->\n{svg}"))
+}
+
+fn draw(
+    out: &mut String,
     title: &str,
     error_name: &str,
     points: &[Point<'_>],
@@ -24,7 +34,7 @@ pub(crate) fn write_svg(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let max_ms = points.iter().map(|p| p.ms).fold(0.0, f64::max) * 1.15;
     let max_err = points.iter().map(|p| p.error).fold(0.0, f64::max) * 1.15;
-    let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
+    let root = SVGBackend::with_string(out, (900, 560)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 18))

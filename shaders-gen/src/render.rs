@@ -7,12 +7,15 @@ use std::time::Instant;
 use crate::error::CliError;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use nimbus_clouds::limits::{self, Limit, Origin};
 use nimbus_clouds::{
     CloudLibrary, Features, Genus, Quality, ScenePreset, analyse, load_genus, load_scene,
 };
+use nimbus_output::{Overwrite, Signature, check_file};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes, TextureSource};
 use nimbus_runtime::textures::NoiseKind;
+use nimbus_runtime::user_textures::DecodedTexture;
 
 use crate::data;
 
@@ -24,6 +27,9 @@ pub(crate) struct RenderArgs {
     /// Output PNG.
     #[arg(short, long, default_value = "clouds.png")]
     out: PathBuf,
+    /// Replace the output file even when Nimbus did not write it.
+    #[arg(long)]
+    force: bool,
     /// Genus: a name from genera/, or the path of a genus TOML file.
     #[arg(short, long)]
     genus: Option<String>,
@@ -49,7 +55,7 @@ pub(crate) struct RenderArgs {
     #[arg(long, allow_hyphen_values = true)]
     sun_azimuth: Option<f32>,
     /// Camera altitude above the ground (m).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     camera_altitude: Option<f32>,
     /// Camera pitch above the horizon (degrees).
     #[arg(long, allow_hyphen_values = true)]
@@ -58,16 +64,16 @@ pub(crate) struct RenderArgs {
     #[arg(long, allow_hyphen_values = true)]
     yaw: Option<f32>,
     /// Vertical field of view (degrees).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     fov: Option<f32>,
     /// Sky coverage 0..1 (overrides the scene's and the genus').
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     coverage: Option<f32>,
     /// Seed of the jitter sequence.
     #[arg(long, default_value_t = 0)]
     seed: u32,
     /// Exposure applied before the ACES tone curve.
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     exposure: f32,
     /// Weather texture (PNG; R, G, B, A = coverage of the layer channels).
     #[arg(long)]
@@ -83,12 +89,70 @@ pub(crate) struct RenderArgs {
     detail_texture: Option<PathBuf>,
 }
 
-pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("resolution `{s}`: expected WIDTHxHEIGHT, e.g. 640x360");
+/// `WIDTHxHEIGHT`, each side checked against [`limits::IMAGE_SIDE`]; errors name `flag`.
+pub(crate) fn parse_resolution_flag(
+    flag: &'static str,
+    s: &str,
+) -> Result<(u32, u32), Box<dyn std::error::Error>> {
+    let bad = || format!("{flag}: `{s}` is not WIDTHxHEIGHT (e.g. 640x360)");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    for side in [w, h] {
+        limits::IMAGE_SIDE.check(f64::from(side), Origin::Flag(flag))?;
+    }
     Ok((w, h))
+}
+
+/// `--resolution WIDTHxHEIGHT`.
+pub(crate) fn parse_resolution(s: &str) -> Result<(u32, u32), Box<dyn std::error::Error>> {
+    parse_resolution_flag("--resolution", s)
+}
+
+/// The textures given by flags, read and checked on the CPU; an error names the flag.
+fn user_textures(
+    a: &RenderArgs,
+) -> Result<Vec<(NoiseKind, &'static str, DecodedTexture)>, CliError> {
+    let given = [
+        (
+            NoiseKind::Weather,
+            "--weather-texture",
+            &a.weather_texture,
+            false,
+        ),
+        (
+            NoiseKind::Turbulence,
+            "--turbulence-texture",
+            &a.turbulence_texture,
+            false,
+        ),
+        (NoiseKind::Shape, "--shape-texture", &a.shape_texture, true),
+        (
+            NoiseKind::Detail,
+            "--detail-texture",
+            &a.detail_texture,
+            true,
+        ),
+    ];
+    let mut out = Vec::new();
+    for (kind, flag, path, volume) in given {
+        if let Some(p) = path {
+            let t = if volume {
+                DecodedTexture::raw_volume(p)
+            } else {
+                DecodedTexture::png(p)
+            };
+            out.push((
+                kind,
+                flag,
+                t.map_err(|source| CliError::Texture {
+                    flag,
+                    source: Box::new(source),
+                })?,
+            ));
+        }
+    }
+    Ok(out)
 }
 
 /// The library a scene's genus names refer to: `--data`, else `$NIMBUS_DATA`, else the folder
@@ -103,7 +167,7 @@ pub(crate) fn library_for(
             .and_then(Path::parent)
             .filter(|d| d.join("genera").is_dir());
         if let Some(dir) = beside {
-            return Ok(CloudLibrary::load(dir)?);
+            return data::load_dir(dir);
         }
     }
     data::load(data)
@@ -113,11 +177,31 @@ pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CliError
     if name.ends_with(".toml") || name.contains('/') {
         return Ok(load_genus(Path::new(name))?);
     }
-    lib.genus(name).cloned().ok_or_else(|| CliError::Unknown {
+    if let Some(g) = lib.genus(name) {
+        return Ok(g.clone());
+    }
+    if let Some(problem) = lib.problem_of(name) {
+        return Err(problem.clone().into());
+    }
+    Err(CliError::Unknown {
         kind: "genus",
         given: name.to_string(),
         known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
     })
+}
+
+/// The genus a scene file names: a library name (an unknown one is an error naming the scene
+/// file, or the genus file's own error when that failed to load), or a genus file's path.
+pub(crate) fn scene_genus(
+    lib: &CloudLibrary,
+    scene_file: &Path,
+    scene: &ScenePreset,
+) -> Result<Genus, CliError> {
+    let name = scene.genus.as_str();
+    if name.ends_with(".toml") || name.contains('/') {
+        return Ok(load_genus(Path::new(name))?);
+    }
+    Ok(lib.require_genus(scene_file, name)?.clone())
 }
 
 /// The scene's derived features (see `nimbus explain`), with what the flags changed in the
@@ -140,85 +224,108 @@ fn derive_features(
         t.set(&mut features, false);
     }
     if let Some(o) = toggles.octaves {
-        if !(1..=12).contains(&o) {
-            return Err(format!("--octaves must be in 1..=12, got {o}").into());
-        }
+        limits::OCTAVES.check(f64::from(o), Origin::Flag(limits::OCTAVES.flag))?;
         features.octaves = o;
     }
     Ok(features)
 }
 
-/// Builds the frame the arguments describe (no GPU needed: bad input fails here first).
+/// Builds the frame the arguments describe. Every value is checked here, before any GPU work,
+/// through the one path every command shares ([`nimbus_clouds::limits`]): the scene file's own
+/// values when it is loaded, then the flags' overrides, each error naming the flag or the
+/// file and field the value came from.
 pub(crate) fn frame(
     data: Option<&Path>,
     a: &RenderArgs,
 ) -> Result<Frame, Box<dyn std::error::Error>> {
     let (width, height) = parse_resolution(&a.resolution)?;
+    limits::EXPOSURE.check(f64::from(a.exposure), Origin::Flag(limits::EXPOSURE.flag))?;
     let lib = library_for(data, a.scene.as_deref())?;
     let scene_file = match &a.scene {
         Some(p) => p.clone(),
-        None => data::data_dir(data).join("scenes/default.toml"),
+        None => data::data_dir(data)?.join("scenes/default.toml"),
     };
     let scene = load_scene(&scene_file)?;
-    let mut genus = genus_of(&lib, a.genus.as_deref().unwrap_or(&scene.genus))?;
-    if let Some(c) = a.coverage.or(scene.coverage) {
-        if !(c.is_finite() && (0.0..=1.0).contains(&c)) {
-            return Err(format!("--coverage must be in [0, 1], got {c}").into());
+    let mut genus = match a.genus.as_deref() {
+        Some(name) => genus_of(&lib, name)?,
+        None => scene_genus(&lib, &scene_file, &scene)?,
+    };
+
+    // The flags override the scene; what they set is checked as theirs.
+    let mut seen = scene.clone();
+    let mut flagged: Vec<&'static str> = Vec::new();
+    let mut set = |limit: &Limit, flag: Option<f32>, field: &mut f32| {
+        if let Some(v) = flag {
+            *field = v;
+            flagged.push(limit.field);
         }
+    };
+    set(
+        &limits::SUN_ELEVATION,
+        a.sun_elevation,
+        &mut seen.sun_elevation_deg,
+    );
+    set(
+        &limits::SUN_AZIMUTH,
+        a.sun_azimuth,
+        &mut seen.sun_azimuth_deg,
+    );
+    set(
+        &limits::CAMERA_ALTITUDE,
+        a.camera_altitude,
+        &mut seen.camera_altitude,
+    );
+    set(&limits::CAMERA_PITCH, a.pitch, &mut seen.camera_pitch_deg);
+    set(&limits::CAMERA_YAW, a.yaw, &mut seen.camera_yaw_deg);
+    set(&limits::FOV, a.fov, &mut seen.fov_deg);
+    if let Some(c) = a.coverage {
+        seen.coverage = Some(c);
+        flagged.push(limits::COVERAGE.field);
+    }
+    if let Some(q) = a.quality {
+        seen.quality = q;
+    }
+    seen.validate_from(&|l: &Limit| {
+        if flagged.contains(&l.field) {
+            Origin::Flag(l.flag)
+        } else {
+            Origin::File {
+                file: scene_file.clone(),
+                field: l.field.to_string(),
+            }
+        }
+    })?;
+    if let Some(c) = seen.coverage {
         genus.coverage = c;
     }
-    let quality = a.quality.unwrap_or(scene.quality);
-    let mut seen = scene.clone();
-    seen.quality = quality;
-    seen.coverage = None; // already in the genus, with --coverage applied
+    seen.coverage = None; // now in the genus
+    let frames = a.frames.unwrap_or(if a.upscale { 16 } else { 4 });
+    limits::FRAMES.check(f64::from(frames), Origin::Flag(limits::FRAMES.flag))?;
     let mut frame = Frame::from_scene(&seen, &genus, width, height);
-    frame.sun_elevation_deg = a.sun_elevation.unwrap_or(scene.sun_elevation_deg);
-    frame.sun_azimuth_deg = a.sun_azimuth.unwrap_or(scene.sun_azimuth_deg);
-    frame.camera_altitude = a.camera_altitude.unwrap_or(scene.camera_altitude);
-    frame.camera_pitch_deg = a.pitch.unwrap_or(scene.camera_pitch_deg);
-    frame.camera_yaw_deg = a.yaw.unwrap_or(scene.camera_yaw_deg);
-    frame.fov_deg = a.fov.unwrap_or(scene.fov_deg);
     frame.upscale = a.upscale;
-    frame.frames = a.frames.unwrap_or(if a.upscale { 16 } else { 4 });
+    frame.frames = frames;
     frame.seed = a.seed;
-    let checks = [
-        ("--sun-elevation", frame.sun_elevation_deg, -90.0, 90.0),
-        ("--camera-altitude", frame.camera_altitude, 0.0, 1e6),
-        ("--pitch", frame.camera_pitch_deg, -90.0, 90.0),
-        ("--fov", frame.fov_deg, 1.0, 179.0),
-    ];
-    for (flag, v, lo, hi) in checks {
-        if !(v.is_finite() && (lo..=hi).contains(&v)) {
-            return Err(format!("{flag} must be in [{lo}, {hi}], got {v}").into());
-        }
-    }
-    if frame.frames == 0 || frame.frames > 4096 {
-        return Err(format!("--frames must be in 1..=4096, got {}", frame.frames).into());
-    }
     frame.features = derive_features(&scene, &frame, &a.toggles)?;
+    frame.validate()?;
     Ok(frame)
 }
 
 pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std::error::Error>> {
     let frame = frame(data, a)?;
+    // The destination and the user's textures are checked before any GPU work: a bad -o or
+    // texture fails now, not after the render.
+    let overwrite = Overwrite::forced(a.force);
+    check_file(&a.out, Signature::Png, overwrite)?;
+    let user = user_textures(a)?;
     let gpu = Gpu::new()?;
     println!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
-    let user = [
-        (NoiseKind::Weather, &a.weather_texture, false),
-        (NoiseKind::Turbulence, &a.turbulence_texture, false),
-        (NoiseKind::Shape, &a.shape_texture, true),
-        (NoiseKind::Detail, &a.detail_texture, true),
-    ];
-    for (kind, path, volume) in user {
-        if let Some(p) = path {
-            let t = if volume {
-                gpu.load_raw_volume(p)?
-            } else {
-                gpu.load_png_texture(p)?
-            };
-            renderer.set_texture(kind, TextureSource::User(t));
-        }
+    for (kind, flag, t) in &user {
+        let t = gpu.upload_texture(t).map_err(|source| CliError::Texture {
+            flag,
+            source: Box::new(source),
+        })?;
+        renderer.set_texture(*kind, TextureSource::User(t));
     }
     let variant = frame.variant();
     println!(
@@ -245,7 +352,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     });
     bar.finish_and_clear();
     let image = image?;
-    image.save_png(&a.out, a.exposure)?;
+    image.save_png(&a.out, a.exposure, overwrite)?;
     let stats = renderer.stats();
     let mut passes: Vec<(&str, usize)> = Vec::new();
     for p in &stats.passes {

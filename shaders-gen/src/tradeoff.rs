@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use nimbus_clouds::Quality;
+use nimbus_clouds::limits::{self, Origin};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 use nimbus_testkit::metrics::ImageError;
@@ -16,7 +17,8 @@ use nimbus_testkit::tradeoff::{
     Clock, Measurement, StudyOptions, dominators, measure, pareto_front, reference, rows,
 };
 
-use crate::plot::{Point, write_svg};
+use crate::plot::{Point, svg_plot};
+use nimbus_output::{Overwrite, Signature, TEXT_MARKER, check_file, write_file};
 
 /// What `nimbus tradeoff` takes.
 #[derive(Args)]
@@ -37,7 +39,7 @@ pub(crate) struct TradeoffArgs {
     #[arg(long, default_value_t = 16)]
     reference_frames: u32,
     /// Exposure of the display values the error is measured on (as `render`'s).
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     exposure: f32,
     /// Timed renders per row; the median time is reported.
     #[arg(short = 'n', long, default_value_t = 3)]
@@ -45,6 +47,10 @@ pub(crate) struct TradeoffArgs {
     /// Only these rows (comma-separated labels: `low`, `high - shadows`...); default all.
     #[arg(long, value_delimiter = ',')]
     rows: Vec<String>,
+    /// Replace tradeoff.md, tradeoff.svg and reference PNGs even when Nimbus did not write
+    /// them.
+    #[arg(long)]
+    force: bool,
 }
 
 /// Mean over the views of one row.
@@ -56,6 +62,11 @@ struct Summary {
     rmse: f64,
     psnr: f64,
     ssim: f64,
+}
+
+/// Where the reference image of view `name` goes.
+fn reference_png(out: &Path, name: &str) -> PathBuf {
+    out.join(format!("reference-{name}.png"))
 }
 
 fn mean(values: impl Iterator<Item = f64>) -> f64 {
@@ -79,6 +90,15 @@ fn view_files(dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
 
 pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn std::error::Error>> {
     let (width, height) = crate::render::parse_resolution(&a.resolution)?;
+    // Every flag is checked before any work, through the limits render uses.
+    for (flag, v) in [
+        ("--frames", a.frames),
+        ("--reference-frames", a.reference_frames),
+        ("--repeats", a.repeats),
+    ] {
+        limits::FRAMES.check(f64::from(v), Origin::Flag(flag))?;
+    }
+    limits::EXPOSURE.check(f64::from(a.exposure), Origin::Flag(limits::EXPOSURE.flag))?;
     let mut specs = rows();
     if !a.rows.is_empty() {
         let wanted: Vec<&str> = a.rows.iter().map(|r| r.trim()).collect();
@@ -99,10 +119,10 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         specs.retain(|s| wanted.contains(&s.label.as_str()));
     }
     let lib = crate::data::load(data)?;
-    let dir = a
-        .views
-        .clone()
-        .unwrap_or_else(|| crate::data::data_dir(data).join("views"));
+    let dir = match &a.views {
+        Some(d) => d.clone(),
+        None => crate::data::data_dir(data)?.join("views"),
+    };
     // Every view file is read and checked before any GPU work.
     let mut views: Vec<(String, Frame)> = Vec::new();
     for file in view_files(&dir)? {
@@ -112,13 +132,30 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
             Frame::from_scene(&scene, genus, width, height),
         ));
     }
+    // Every output is checked before any GPU work: a folder, writable, and holding no file of
+    // these names that Nimbus did not write (unless --force).
+    if a.out.exists() && !a.out.is_dir() {
+        return Err(nimbus_output::OutputError::IsFile {
+            path: a.out.clone(),
+        }
+        .into());
+    }
     std::fs::create_dir_all(&a.out)
         .map_err(|e| format!("output folder {}: {e}", a.out.display()))?;
+    let overwrite = Overwrite::forced(a.force);
+    let md = a.out.join("tradeoff.md");
+    let svg = a.out.join("tradeoff.svg");
+    let text = Signature::FirstLine(TEXT_MARKER);
+    check_file(&md, text, overwrite)?;
+    check_file(&svg, text, overwrite)?;
+    for (name, _) in &views {
+        check_file(&reference_png(&a.out, name), Signature::Png, overwrite)?;
+    }
     let options = StudyOptions {
-        frames: a.frames.max(1),
-        reference_frames: a.reference_frames.max(1),
+        frames: a.frames,
+        reference_frames: a.reference_frames,
         exposure: a.exposure,
-        repeats: a.repeats.max(1),
+        repeats: a.repeats,
     };
     let gpu = Gpu::new()?;
     println!("adapter: {}", gpu.info());
@@ -135,7 +172,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         bar.set_message(format!("{name}: reference"));
         let r = reference(&mut renderer, view, &options)?;
         r.image
-            .save_png(&a.out.join(format!("reference-{name}.png")), a.exposure)?;
+            .save_png(&reference_png(&a.out, name), a.exposure, overwrite)?;
         bar.inc(1);
         for spec in &specs {
             bar.set_message(format!("{name}: {}", spec.label));
@@ -178,9 +215,8 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         &measurements,
         &references,
     );
-    let md = a.out.join("tradeoff.md");
-    std::fs::write(&md, &report).map_err(|e| format!("{}: {e}", md.display()))?;
-    let plot: Vec<Point<'_>> = summaries
+    write_file(&md, text, overwrite, report.as_bytes())?;
+    let points: Vec<Point<'_>> = summaries
         .iter()
         .map(|s| Point {
             label: &s.label,
@@ -189,18 +225,17 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
             preset: s.preset,
         })
         .collect();
-    let svg = a.out.join("tradeoff.svg");
-    write_svg(
-        &svg,
+    let plot = svg_plot(
         &format!(
             "Error against time, mean of {} views ({width}x{height}, {})",
             views.len(),
             gpu.info().name
         ),
         "RMSE against the reference (display values)",
-        &plot,
+        &points,
         &front,
     )?;
+    write_file(&svg, text, overwrite, plot.as_bytes())?;
     print!("{report}");
     println!("wrote {} and {}", md.display(), svg.display());
     Ok(())
@@ -230,6 +265,7 @@ fn report(
         .iter()
         .find(|r| r.label == Quality::High.name())
         .map_or(f64::NAN, |r| r.ms);
+    let _ = writeln!(s, "<!-- {TEXT_MARKER}: nimbus tradeoff -->");
     let _ = writeln!(s, "# Accuracy against time\n");
     let _ = writeln!(
         s,

@@ -14,6 +14,7 @@ use nimbus_clouds::{CloudLibrary, Toggle};
 use nimbus_codegen::{EmitExtras, Target, emit, generate};
 use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::ir::{ExprKind, Literal, Module};
+use nimbus_output::Overwrite;
 
 /// The one-line edit, on a recorded module; returns whether the module had the line.
 fn edit_sun_attenuation(m: &mut Module) -> bool {
@@ -65,8 +66,8 @@ fn diff_names_exactly_the_keys_a_one_line_model_edit_changes() {
 
     let dir = tempfile::tempdir().expect("tmp");
     let (old, new) = (dir.path().join("old"), dir.path().join("new"));
-    emit(&before, &EmitExtras::default(), &old).expect("emit old");
-    emit(&after, &EmitExtras::default(), &new).expect("emit new");
+    emit(&before, &EmitExtras::default(), &old, Overwrite::OwnOnly).expect("emit old");
+    emit(&after, &EmitExtras::default(), &new, Overwrite::OwnOnly).expect("emit new");
     let out = nimbus(&[
         "diff",
         &old.display().to_string(),

@@ -262,7 +262,7 @@ fn requests_an_engine_cannot_run_are_refused_and_nothing_is_written() {
         mine.to_str().expect("utf8"),
     ]);
     assert!(!o.status.success());
-    assert!(text(&o.stderr).contains("not a Nimbus output folder"));
+    assert!(text(&o.stderr).contains("not written by Nimbus"));
     let left: Vec<_> = std::fs::read_dir(&mine).expect("read").collect();
     assert_eq!(left.len(), 1);
     assert_eq!(

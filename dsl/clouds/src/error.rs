@@ -5,8 +5,18 @@ use std::path::PathBuf;
 
 use thiserror::Error;
 
-#[derive(Debug, Error, PartialEq)]
+use crate::limits::Origin;
+
+#[derive(Clone, Debug, Error, PartialEq)]
 pub enum DataError {
+    /// A number outside its accepted range ([`crate::limits`]), from a file, a flag or code.
+    #[error("{origin}: {value} is out of range; allowed: {allowed} ({hint})")]
+    OutOfRange {
+        origin: Origin,
+        value: String,
+        allowed: String,
+        hint: &'static str,
+    },
     #[error("{}: cannot read: {reason}", file.display())]
     Read { file: PathBuf, reason: String },
     #[error("{}: {field}: {reason}", file.display())]
@@ -33,6 +43,21 @@ pub enum DataError {
 }
 
 impl DataError {
+    /// The data file the error is about, if it is about one.
+    pub fn file(&self) -> Option<&std::path::Path> {
+        match self {
+            DataError::Read { file, .. }
+            | DataError::Invalid { file, .. }
+            | DataError::UnknownReference { file, .. }
+            | DataError::Duplicate { file, .. } => Some(file),
+            DataError::OutOfRange {
+                origin: Origin::File { file, .. },
+                ..
+            } => Some(file),
+            DataError::OutOfRange { .. } => None,
+        }
+    }
+
     pub(crate) fn invalid(
         file: &std::path::Path,
         field: impl Into<String>,

@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::limits::format_value;
+
 /// Channel of the local weather texture a layer reads its coverage from. Several layers may
 /// share a channel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
@@ -92,6 +94,11 @@ impl Default for CloudLayer {
         }
     }
 }
+
+/// Largest magnitude a density profile may reach in its layer: ample for any density (it is
+/// clamped to 1 after scaling), and 340 times below f32's 3.4e38, so `a·e^(b·η)` is finite and
+/// the shader never multiplies an infinite profile by a zero coverage (a NaN).
+pub const MAX_PROFILE_VALUE: f64 = 1e36;
 
 /// Largest |b| accepted in a density profile: e^(b·η) stays finite in f32 up to b ≈ 88.7.
 pub const MAX_PROFILE_EXPONENT: f32 = 80.0;
@@ -190,6 +197,22 @@ impl CloudLayer {
             format!(
                 "|b| must be ≤ {MAX_PROFILE_EXPONENT} so e^(b·η) stays finite in f32, got {}",
                 self.density_profile.b
+            ),
+        )?;
+        // The profile's largest magnitude over the layer (η in 0..1) bounds every term the
+        // shader computes; past f32's range it would be infinite, and 0·∞ a NaN.
+        let p = self.density_profile;
+        let peak = f64::from(p.a).abs() * f64::from(p.b).max(0.0).exp()
+            + f64::from(p.c).abs()
+            + f64::from(p.d).abs();
+        check(
+            peak <= MAX_PROFILE_VALUE,
+            "density_profile.a",
+            format!(
+                "a·e^(b·η) + c·η + d reaches {peak:.3e} in the layer (a = {}, b = {}), beyond \
+                 {MAX_PROFILE_VALUE:e}, where f32 arithmetic overflows; lower |a| or b",
+                format_value(f64::from(p.a)),
+                format_value(f64::from(p.b))
             ),
         )?;
         Ok(())

@@ -55,27 +55,68 @@ fn read(file: &Path) -> Result<String, DataError> {
     })
 }
 
+/// Whether `name` is a valid genus or scene name: lowercase ASCII letters, digits and '-'.
+fn valid_name(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+}
+
+/// `name` made valid: lowercased, anything else than letters and digits turned into '-'.
+fn suggested_name(name: &str) -> String {
+    let s: String = name
+        .trim()
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    let s = s.trim_matches('-').to_string();
+    if s.is_empty() { "my-clouds".into() } else { s }
+}
+
+/// A file's `name` must be a valid name and equal its file name (stem), so that what a scene
+/// or a flag names is found by file name; the error says which to change, and to what.
 fn check_name(file: &Path, name: &str) -> Result<(), DataError> {
     let stem = file
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or_default();
-    if name.is_empty()
-        || !name
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
-    {
+    let ext = file.extension().and_then(|s| s.to_str()).unwrap_or("toml");
+    if !valid_name(stem) {
+        let better = suggested_name(if valid_name(name) { name } else { stem });
         return Err(DataError::invalid(
             file,
             "name",
-            format!("must be lowercase letters, digits and '-', got `{name}`"),
+            format!(
+                "the file name `{stem}` is not a valid name (lowercase letters, digits and '-'); \
+                 rename the file to `{better}.{ext}` and set name = \"{better}\""
+            ),
+        ));
+    }
+    if !valid_name(name) {
+        return Err(DataError::invalid(
+            file,
+            "name",
+            format!(
+                "must be lowercase letters, digits and '-', got `{name}`; set name = \"{stem}\" \
+                 to match the file name"
+            ),
         ));
     }
     if name != stem {
         return Err(DataError::invalid(
             file,
             "name",
-            format!("must match the file name `{stem}`, got `{name}`"),
+            format!(
+                "`{name}` does not match the file name `{stem}`; set name = \"{stem}\", or \
+                 rename the file to `{name}.{ext}`"
+            ),
         ));
     }
     Ok(())
@@ -99,8 +140,7 @@ pub fn load_genus(file: &Path) -> Result<Genus, DataError> {
 pub fn parse_scene(file: &Path, text: &str) -> Result<ScenePreset, DataError> {
     let s: ScenePreset = parse(file, text)?;
     check_name(file, &s.name)?;
-    s.validate()
-        .map_err(|(f, r)| DataError::invalid(file, f, r))?;
+    s.validate(file)?;
     Ok(s)
 }
 
@@ -109,11 +149,15 @@ pub fn load_scene(file: &Path) -> Result<ScenePreset, DataError> {
     parse_scene(file, &read(file)?)
 }
 
-/// Every genus and scene preset of a data folder (`genera/*.toml`, `scenes/*.toml`).
+/// Every genus and scene preset of a data folder (`genera/*.toml`, `scenes/*.toml`). A file
+/// that fails to load does not stop the others: it is kept in [`CloudLibrary::problems`], so
+/// commands about other genera run, and one that names it gets its error.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CloudLibrary {
     pub genera: BTreeMap<String, (PathBuf, Genus)>,
     pub scenes: BTreeMap<String, (PathBuf, ScenePreset)>,
+    /// The files that could not be loaded, each with its error.
+    pub problems: Vec<DataError>,
 }
 
 fn toml_files(dir: &Path) -> Result<Vec<PathBuf>, DataError> {
@@ -132,23 +176,30 @@ fn toml_files(dir: &Path) -> Result<Vec<PathBuf>, DataError> {
 
 impl CloudLibrary {
     /// Loads `dir/genera/*.toml` and `dir/scenes/*.toml` (a missing `scenes` folder is empty).
+    /// Fails only when `dir/genera` cannot be read; a bad file is kept in `problems`.
     pub fn load(dir: &Path) -> Result<CloudLibrary, DataError> {
         let mut lib = CloudLibrary::default();
         for file in toml_files(&dir.join("genera"))? {
-            let g = load_genus(&file)?;
-            lib.genera.insert(g.name.clone(), (file, g));
+            match load_genus(&file) {
+                Ok(g) => {
+                    lib.genera.insert(g.name.clone(), (file, g));
+                }
+                Err(e) => lib.problems.push(e),
+            }
         }
         let scenes = dir.join("scenes");
         if scenes.is_dir() {
             for file in toml_files(&scenes)? {
-                let s = load_scene(&file)?;
+                let s = match load_scene(&file) {
+                    Ok(s) => s,
+                    Err(e) => {
+                        lib.problems.push(e);
+                        continue;
+                    }
+                };
                 if !lib.genera.contains_key(&s.genus) {
-                    return Err(DataError::UnknownReference {
-                        file,
-                        kind: "genus",
-                        name: s.genus.clone(),
-                        known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
-                    });
+                    lib.problems.push(lib.missing_genus(&file, &s.genus));
+                    continue;
                 }
                 lib.scenes.insert(s.name.clone(), (file, s));
             }
@@ -158,5 +209,33 @@ impl CloudLibrary {
 
     pub fn genus(&self, name: &str) -> Option<&Genus> {
         self.genera.get(name).map(|(_, g)| g)
+    }
+
+    /// The genus `name`, or why there is none: the error of its file when that failed to load
+    /// (`genera/<name>.toml`), else an unknown name with the known ones (`file` is who asked).
+    pub fn require_genus(&self, file: &Path, name: &str) -> Result<&Genus, DataError> {
+        self.genus(name)
+            .ok_or_else(|| self.missing_genus(file, name))
+    }
+
+    fn missing_genus(&self, file: &Path, name: &str) -> DataError {
+        if let Some(e) = self.problem_of(name) {
+            return e.clone();
+        }
+        DataError::UnknownReference {
+            file: file.to_path_buf(),
+            kind: "genus",
+            name: name.to_string(),
+            known: self.genera.keys().cloned().collect::<Vec<_>>().join(", "),
+        }
+    }
+
+    /// The load error of the file named `name` (by file stem), if it had one.
+    pub fn problem_of(&self, name: &str) -> Option<&DataError> {
+        self.problems.iter().find(|e| {
+            e.file()
+                .and_then(Path::file_stem)
+                .is_some_and(|s| s == name)
+        })
     }
 }

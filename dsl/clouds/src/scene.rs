@@ -1,6 +1,11 @@
 //! Scene presets: a genus seen under a given sky (coverage, sun, camera) at a quality preset.
 
+use std::path::Path;
+
 use serde::{Deserialize, Serialize};
+
+use crate::error::DataError;
+use crate::limits::{self, Limit, Origin};
 
 use super::features::FeatureOverrides;
 use super::quality::Quality;
@@ -41,12 +46,24 @@ pub struct ScenePreset {
     #[serde(default = "default_turbulence_displacement")]
     pub turbulence_displacement: f32,
     /// Offset of the weather texture in tiles (one tile is 100 km): moves the clouds.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exactly_two")]
     pub weather_offset: [f32; 2],
     #[serde(default)]
     pub quality: Quality,
     #[serde(default)]
     pub features: FeatureOverrides,
+}
+
+/// A pair of numbers, refusing a list of any other length (serde's fixed arrays accept and drop
+/// extra elements from TOML).
+fn exactly_two<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f32; 2], D::Error> {
+    let v: Vec<f32> = Vec::deserialize(d)?;
+    <[f32; 2]>::try_from(v.as_slice()).map_err(|_| {
+        serde::de::Error::custom(format!(
+            "expected 2 numbers (x and z, in tiles), got {}: {v:?}",
+            v.len()
+        ))
+    })
 }
 
 fn default_sun_elevation() -> f32 {
@@ -74,79 +91,39 @@ fn default_fov() -> f32 {
 }
 
 impl ScenePreset {
-    pub fn validate(&self) -> Result<(), (String, String)> {
-        if let Some(c) = self.coverage
-            && !(c.is_finite() && (0.0..=1.0).contains(&c))
-        {
-            return Err(("coverage".into(), format!("must be in [0, 1], got {c}")));
+    /// Checks every value against its [`crate::limits`], naming `file` and the field in an
+    /// error.
+    pub fn validate(&self, file: &Path) -> Result<(), DataError> {
+        self.validate_from(&|limit: &Limit| Origin::File {
+            file: file.to_path_buf(),
+            field: limit.field.to_string(),
+        })
+    }
+
+    /// Checks every value against its [`crate::limits`]; `origin` says where the value of each
+    /// limit's field came from (a flag for what the command line overrode, the file for the
+    /// rest), and the error names it.
+    pub fn validate_from(&self, origin: &dyn Fn(&Limit) -> Origin) -> Result<(), DataError> {
+        let check = |limit: &Limit, v: f32| limit.check(f64::from(v), origin(limit));
+        if let Some(c) = self.coverage {
+            check(&limits::COVERAGE, c)?;
         }
-        if !(self.sun_elevation_deg.is_finite() && (-90.0..=90.0).contains(&self.sun_elevation_deg))
-        {
-            return Err((
-                "sun_elevation_deg".into(),
-                format!("must be in [-90, 90], got {}", self.sun_elevation_deg),
-            ));
+        check(&limits::SUN_ELEVATION, self.sun_elevation_deg)?;
+        check(&limits::SUN_AZIMUTH, self.sun_azimuth_deg)?;
+        check(&limits::CAMERA_ALTITUDE, self.camera_altitude)?;
+        check(&limits::CAMERA_PITCH, self.camera_pitch_deg)?;
+        check(&limits::CAMERA_YAW, self.camera_yaw_deg)?;
+        check(&limits::FOV, self.fov_deg)?;
+        check(&limits::HAZE_DENSITY, self.haze_density)?;
+        check(
+            &limits::TURBULENCE_DISPLACEMENT,
+            self.turbulence_displacement,
+        )?;
+        for v in self.weather_offset {
+            check(&limits::WEATHER_OFFSET, v)?;
         }
-        if !self.sun_azimuth_deg.is_finite() {
-            return Err((
-                "sun_azimuth_deg".into(),
-                format!("must be finite, got {}", self.sun_azimuth_deg),
-            ));
-        }
-        if !(self.camera_altitude.is_finite() && self.camera_altitude >= 0.0) {
-            return Err((
-                "camera_altitude".into(),
-                format!("must be ≥ 0 m, got {}", self.camera_altitude),
-            ));
-        }
-        if !(self.camera_pitch_deg.is_finite() && (-90.0..=90.0).contains(&self.camera_pitch_deg)) {
-            return Err((
-                "camera_pitch_deg".into(),
-                format!("must be in [-90, 90], got {}", self.camera_pitch_deg),
-            ));
-        }
-        if !(self.haze_density.is_finite() && (0.0..=1e-2).contains(&self.haze_density)) {
-            return Err((
-                "haze_density".into(),
-                format!("must be in [0, 0.01] per metre, got {}", self.haze_density),
-            ));
-        }
-        if !(self.turbulence_displacement.is_finite()
-            && (0.0..=5000.0).contains(&self.turbulence_displacement))
-        {
-            return Err((
-                "turbulence_displacement".into(),
-                format!(
-                    "must be in [0, 5000] m, got {}",
-                    self.turbulence_displacement
-                ),
-            ));
-        }
-        if !self.weather_offset.iter().all(|v| v.is_finite()) {
-            return Err((
-                "weather_offset".into(),
-                format!("must be finite, got {:?}", self.weather_offset),
-            ));
-        }
-        if !self.camera_yaw_deg.is_finite() {
-            return Err((
-                "camera_yaw_deg".into(),
-                format!("must be finite, got {}", self.camera_yaw_deg),
-            ));
-        }
-        if !(self.fov_deg.is_finite() && self.fov_deg > 0.0 && self.fov_deg < 180.0) {
-            return Err((
-                "fov_deg".into(),
-                format!("must be in (0, 180), got {}", self.fov_deg),
-            ));
-        }
-        if let Some(o) = self.features.octaves
-            && !(1..=12).contains(&o)
-        {
-            return Err((
-                "features.octaves".into(),
-                format!("must be in 1..=12, got {o}"),
-            ));
+        if let Some(o) = self.features.octaves {
+            limits::OCTAVES.check(f64::from(o), origin(&limits::OCTAVES))?;
         }
         Ok(())
     }

@@ -183,9 +183,13 @@ fn a_scene_naming_a_missing_genus_is_refused() {
         "name = \"foggy\"\ndescription = \"x\"\ngenus = \"fog\"\n",
     )
     .expect("write");
-    let err = CloudLibrary::load(tmp.path()).expect_err("unknown genus");
+    // The scene is left out and its error kept; the good genus still loads.
+    let lib = CloudLibrary::load(tmp.path()).expect("the folder loads");
+    assert!(lib.genus("test").is_some());
+    assert!(lib.scenes.is_empty());
+    let err = lib.problems.first().expect("the scene's problem is kept");
     assert!(
-        matches!(&err, DataError::UnknownReference { name, .. } if name == "fog"),
+        matches!(err, DataError::UnknownReference { name, .. } if name == "fog"),
         "{err}"
     );
     assert!(err.to_string().contains("foggy.toml"), "{err}");

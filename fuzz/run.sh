@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Runs every fuzz target for SECONDS seconds each (default 120) on the nightly toolchain, from a
+# seed corpus of the example genera and scenes (renamed to the fuzzed file's name), with a
+# dictionary of the files' keys. Prints executions, time and findings per target; exits
+# non-zero if any target found a crash. Needs `cargo install cargo-fuzz`.
+#
+#   fuzz/run.sh            # 2 minutes per target
+#   SECONDS_PER_TARGET=600 fuzz/run.sh
+set -euo pipefail
+cd "$(dirname "$0")"
+per=${SECONDS_PER_TARGET:-120}
+jobs=${JOBS:-1}
+root=..
+mkdir -p corpus/genus corpus/scene
+for f in "$root"/examples/genera/*.toml "$root"/examples/custom/*.toml; do
+  n=$(basename "$f" .toml)
+  sed "s/^name = \"$n\"/name = \"fuzzed\"/" "$f" > "corpus/genus/$n.toml"
+done
+for f in "$root"/examples/scenes/*.toml "$root"/examples/views/*.toml; do
+  n=$(basename "$f" .toml)
+  sed "s/^name = \"$n\"/name = \"fuzzed\"/; s/^genus = \".*\"/genus = \"fuzzed\"/" "$f" > "corpus/scene/$n.toml"
+done
+status=0
+report=""
+for target in genus_parser scene_parser genus_codegen scene_codegen; do
+  case $target in
+    genus_*) corpus=corpus/genus ;;
+    *) corpus=corpus/scene ;;
+  esac
+  mkdir -p "work/$target"
+  log="work/$target.log"
+  start=$(date +%s)
+  if cargo +nightly fuzz run "$target" "work/$target" "$corpus" -- \
+      -max_total_time="$per" -dict=nimbus.dict -jobs="$jobs" -workers="$jobs" \
+      -print_final_stats=1 > "$log" 2>&1; then
+    found=0
+  else
+    found=1
+    status=1
+  fi
+  took=$(( $(date +%s) - start ))
+  execs=$(grep -h "stat::number_of_executed_units" "$log" fuzz-*.log 2>/dev/null | awk '{s+=$2} END {print s+0}')
+  report+="$target: $execs executions in ${took} s, $( [ $found = 0 ] && echo 'no crash' || echo "CRASH (see $log and artifacts/$target)")"$'\n'
+done
+printf '%s' "$report"
+exit $status
