@@ -30,8 +30,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     {
         std::fs::create_dir_all(dir)?;
     }
-    img.save(&out)
-        .map_err(|e| format!("cannot write {out}: {e}"))?;
+    // All or nothing, and never over a file Nimbus did not write.
+    let bytes = nimbus_output::signed_png(img.width(), img.height(), img.as_raw())?;
+    nimbus_output::write_file(
+        std::path::Path::new(&out),
+        nimbus_output::Signature::Png,
+        nimbus_output::Overwrite::OwnOnly,
+        &bytes,
+    )?;
     println!("wrote {out} ({w}x{h}, {model:?}, CPU twin of preview_fragment)");
     Ok(())
 }

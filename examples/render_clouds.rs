@@ -50,7 +50,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let to8 = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
         image::Rgba([to8(c.x), to8(c.y), to8(c.z), 255])
     });
-    png.save(&out)?;
+    // All or nothing, and never over a file Nimbus did not write.
+    let bytes = nimbus_output::signed_png(png.width(), png.height(), png.as_raw())?;
+    nimbus_output::write_file(
+        std::path::Path::new(&out),
+        nimbus_output::Signature::Png,
+        nimbus_output::Overwrite::OwnOnly,
+        &bytes,
+    )?;
     println!("wrote {out}");
     Ok(())
 }
