@@ -12,6 +12,10 @@ fn main() {
         let dir = root.join(sub);
         println!("cargo::rerun-if-changed={}", dir.display());
         let Ok(read) = std::fs::read_dir(&dir) else {
+            println!(
+                "cargo::warning=no {} to embed: the built nimbus will have no built-in {sub}",
+                dir.display()
+            );
             continue;
         };
         let mut files: Vec<_> = read

@@ -20,6 +20,13 @@ pub enum OutputError {
     IsFile { path: PathBuf },
 
     #[error(
+        "{}: an output folder needs a name of its own (it is replaced whole); give one, e.g. \
+         `out`",
+        path.display()
+    )]
+    NoName { path: PathBuf },
+
+    #[error(
         "{}: its folder {} does not exist; create it first",
         path.display(),
         folder.display()

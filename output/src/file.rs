@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::OutputError;
-use crate::leftovers::{alive, pid_after};
+use crate::leftovers::{alive, pid_of_file};
 use crate::{Overwrite, Signature};
 
 /// The folder a file path writes into (`.` for a bare file name).
@@ -72,20 +72,44 @@ pub fn write_file(
     bytes: &[u8],
 ) -> Result<(), OutputError> {
     check_file(path, signature, overwrite)?;
+    let existed = path.exists();
     let folder = folder_of(path);
     remove_dead_temporaries(&folder);
-    let mut tmp = tempfile::Builder::new()
-        .prefix(&temp_prefix())
-        .suffix(".partial")
+    let prefix = temp_prefix();
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".partial");
+    // An output is as readable as any file the user writes (0666 less the umask), not
+    // tempfile's private 0600.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder
         .tempfile_in(&folder)
         .map_err(OutputError::io("create a temporary file beside", path))?;
     tmp.write_all(bytes)
         .and_then(|()| tmp.as_file().sync_all())
         .map_err(OutputError::io("write", path))?;
-    tmp.persist(path).map_err(|e| OutputError::Io {
-        action: "move the written file into place",
-        path: path.to_path_buf(),
-        source: e.error,
+    // A file that did not exist when checked must not be replaced if one appeared since.
+    let persisted = if existed {
+        tmp.persist(path).map(|_| ())
+    } else {
+        tmp.persist_noclobber(path).map(|_| ())
+    };
+    persisted.map_err(|e| {
+        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+            OutputError::NotOurs {
+                path: path.to_path_buf(),
+                why: "another program created it while Nimbus was writing".into(),
+            }
+        } else {
+            OutputError::Io {
+                action: "move the written file into place",
+                path: path.to_path_buf(),
+                source: e.error,
+            }
+        }
     })?;
     // The rename itself reaches the disk when the folder is flushed (where a folder can be).
     if let Ok(dir) = std::fs::File::open(&folder) {
@@ -102,7 +126,7 @@ fn remove_dead_temporaries(folder: &Path) {
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let ours = name.ends_with(".partial") || name.ends_with(".probe");
-        if let Some(pid) = pid_after(&name, ".nimbus-")
+        if let Some(pid) = pid_of_file(&name, ".nimbus-")
             && ours
             && !alive(pid)
         {

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::Overwrite;
 use crate::error::OutputError;
-use crate::leftovers::{alive, pid_after};
+use crate::leftovers::{alive, pid_of_folder};
 
 fn parent_and_leaf(dir: &Path) -> (PathBuf, String) {
     let parent = match dir.parent() {
@@ -18,7 +18,7 @@ fn parent_and_leaf(dir: &Path) -> (PathBuf, String) {
     let leaf = dir
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
+        .unwrap_or_default();
     (parent, leaf)
 }
 
@@ -26,6 +26,12 @@ fn parent_and_leaf(dir: &Path) -> (PathBuf, String) {
 /// empty, it holds `marker` (Nimbus wrote it) or `overwrite` is forced; the nearest existing
 /// folder above it is writable. Call it before the work; [`replace_folder`] checks again.
 pub fn check_folder(dir: &Path, marker: &str, overwrite: Overwrite) -> Result<(), OutputError> {
+    // `.`, `..` or `/` cannot be moved aside and replaced: an output folder needs a name.
+    if dir.file_name().is_none() {
+        return Err(OutputError::NoName {
+            path: dir.to_path_buf(),
+        });
+    }
     if dir.exists() && !dir.is_dir() {
         return Err(OutputError::IsFile {
             path: dir.to_path_buf(),
@@ -86,11 +92,11 @@ fn recover(dir: &Path) -> Result<(), OutputError> {
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let path = e.path();
-        if let Some(pid) = pid_after(&name, &old) {
+        if let Some(pid) = pid_of_folder(&name, &old) {
             if !alive(pid) {
                 olds.push(path);
             }
-        } else if let Some(pid) = pid_after(&name, &new).or_else(|| pid_after(&name, &tmp))
+        } else if let Some(pid) = pid_of_folder(&name, &new).or_else(|| pid_of_folder(&name, &tmp))
             && !alive(pid)
         {
             std::fs::remove_dir_all(&path)
@@ -120,7 +126,10 @@ fn sync_tree(dir: &Path) -> Result<(), OutputError> {
         if path.is_dir() {
             sync_tree(&path)?;
         } else {
-            std::fs::File::open(&path)
+            // Write access: Windows refuses to flush a file opened for reading only.
+            std::fs::OpenOptions::new()
+                .write(true)
+                .open(&path)
                 .and_then(|f| f.sync_all())
                 .map_err(OutputError::io("flush", &path))?;
         }
@@ -137,6 +146,7 @@ pub fn replace_folder<T, E: From<OutputError>>(
     overwrite: Overwrite,
     fill: impl FnOnce(&Path) -> Result<T, E>,
 ) -> Result<T, E> {
+    check_folder(dir, marker, overwrite)?;
     recover(dir)?;
     check_folder(dir, marker, overwrite)?;
     let (parent, leaf) = parent_and_leaf(dir);

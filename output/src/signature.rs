@@ -56,9 +56,10 @@ fn png_software(bytes: &[u8]) -> Option<String> {
     const MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
     let mut rest = bytes.strip_prefix(MAGIC)?;
     while rest.len() >= 8 {
-        let len = u32::from_be_bytes(rest[..4].try_into().ok()?) as usize;
+        let len = usize::try_from(u32::from_be_bytes(rest[..4].try_into().ok()?)).ok()?;
         let kind = &rest[4..8];
-        let data = rest.get(8..8 + len)?;
+        let end = len.checked_add(8)?;
+        let data = rest.get(8..end)?;
         if kind == b"IDAT" {
             return None;
         }
@@ -67,7 +68,7 @@ fn png_software(bytes: &[u8]) -> Option<String> {
         {
             return Some(String::from_utf8_lossy(text).into_owned());
         }
-        rest = rest.get(8 + len + 4..)?;
+        rest = rest.get(end.checked_add(4)?..)?;
     }
     None
 }

@@ -84,6 +84,7 @@ pub fn density_grid(
     size: [u32; 3],
     textures: &CloudTextures,
 ) -> Result<DensityGrid, RuntimeError> {
+    frame.validate()?;
     let bad = |field, reason| RuntimeError::Region { field, reason };
     if size.iter().any(|n| *n == 0 || *n > 1024) {
         return Err(bad(

@@ -748,11 +748,14 @@ impl<'g> Renderer<'g> {
     ) -> Result<Image, RuntimeError> {
         let image = self.render_frames(frame, progress)?;
         if image.is_black() {
+            // A renderer of its own, so this one's history, targets, passes and timings stay
+            // those of the user's frames.
             let mut probe = Frame::new(frame.genus.clone(), Quality::Low, 16, 9);
             probe.frames = 1;
             probe.sun_elevation_deg = 45.0;
             probe.genus.coverage = 0.5;
-            if self.render_frames(&probe, &mut |_, _| {})?.is_black() {
+            let mut prober = Renderer::new(self.gpu, self.sizes);
+            if prober.render_frames(&probe, &mut |_, _| {})?.is_black() {
                 return Err(RuntimeError::BadFrame(
                     "every pixel is black, and so is a daylight probe frame: the adapter \
                      produced no output"

@@ -8,7 +8,7 @@ use nimbus_clouds::catalog::{
     Assignment, CatalogEntry, ShaderKey, assign, catalog, distinct, select,
 };
 use nimbus_clouds::model::march::CloudUniforms;
-use nimbus_clouds::{CloudLibrary, Genus, Quality, ScenePreset, Toggle, load_scene};
+use nimbus_clouds::{CloudLibrary, Genus, Quality, Toggle};
 use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::layout::{UniformBytes, read_members};
 use nimbus_runtime::render::{Frame, Renderer};
@@ -32,16 +32,6 @@ pub(crate) fn load_dir(dir: &Path) -> Result<CloudLibrary, CliError> {
         eprintln!("warning: skipped: {p}");
     }
     Ok(lib)
-}
-
-/// A scene file and the library genus it names (an unknown genus is an error naming the file).
-pub(crate) fn scene_with_genus<'a>(
-    lib: &'a CloudLibrary,
-    file: &Path,
-) -> Result<(ScenePreset, &'a Genus), Box<dyn std::error::Error>> {
-    let scene = load_scene(file)?;
-    let genus = lib.require_genus(file, &scene.genus)?;
-    Ok((scene, genus))
 }
 
 /// What the user asked to emit or check.

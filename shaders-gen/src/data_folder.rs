@@ -85,9 +85,9 @@ fn embedded_hash() -> u64 {
     h
 }
 
-/// The user's data directory: `$XDG_DATA_HOME`, else `~/.local/share`, else the temporary
-/// directory.
-fn user_data_dir() -> PathBuf {
+/// The user's data directory: `$XDG_DATA_HOME`, else `~/.local/share`; `None` without a home
+/// (a shared temporary folder could be planted by another user).
+fn user_data_dir() -> Option<PathBuf> {
     std::env::var_os("XDG_DATA_HOME")
         .filter(|v| !v.is_empty())
         .map(PathBuf::from)
@@ -96,14 +96,47 @@ fn user_data_dir() -> PathBuf {
                 .filter(|v| !v.is_empty())
                 .map(|h| PathBuf::from(h).join(".local/share"))
         })
-        .unwrap_or_else(std::env::temp_dir)
+}
+
+/// Writes the embedded files and the marker into `dir`, each flushed to disk, so a marker is
+/// never there beside truncated files.
+fn write_examples(dir: &Path) -> Result<(), CliError> {
+    let files = EXAMPLES.iter().copied().chain([(
+        EXTRACTED_MARKER,
+        "The example genera, scenes and views built into nimbus, written here on first use. \
+         Point --data or NIMBUS_DATA at a copy to edit them.\n",
+    )]);
+    for (name, text) in files {
+        let path = dir.join(name);
+        if let Some(p) = path.parent() {
+            std::fs::create_dir_all(p).map_err(|e| io(&path, e))?;
+        }
+        std::fs::File::create(&path)
+            .and_then(|mut f| {
+                std::io::Write::write_all(&mut f, text.as_bytes())?;
+                f.sync_all()
+            })
+            .map_err(|e| io(&path, e))?;
+    }
+    Ok(())
 }
 
 /// The embedded examples as a folder, written on first use: into a temporary folder beside
-/// it, then renamed into place. A concurrent first use that renamed first wins; the other copy
-/// is dropped (the contents are the same: the name is their hash).
+/// it (named after this process, so a killed run's is recognised and removed), then renamed
+/// into place. A concurrent first use that renamed first wins; the other copy is dropped (the
+/// contents are the same: the name is their hash). Without a home folder, a private temporary
+/// folder is written for this run alone.
 fn extract_embedded() -> Result<PathBuf, CliError> {
-    let dir = user_data_dir().join(format!(
+    let Some(data) = user_data_dir() else {
+        let tmp = tempfile::Builder::new()
+            .prefix("nimbus-examples-")
+            .tempdir()
+            .map_err(|e| io(&std::env::temp_dir(), e))?;
+        write_examples(tmp.path())?;
+        // Kept for the rest of this run; the system's temporary folder is cleaned by it.
+        return Ok(tmp.keep());
+    };
+    let dir = data.join(format!(
         "nimbus/examples-{}-{:016x}",
         env!("CARGO_PKG_VERSION"),
         embedded_hash()
@@ -113,32 +146,39 @@ fn extract_embedded() -> Result<PathBuf, CliError> {
     }
     let parent = dir.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
-    let tmp = tempfile::Builder::new()
-        .prefix(".nimbus-examples-")
-        .tempdir_in(parent)
-        .map_err(|e| io(parent, e))?;
-    for (name, text) in EXAMPLES {
-        let path = tmp.path().join(name);
-        if let Some(p) = path.parent() {
-            std::fs::create_dir_all(p).map_err(|e| io(&path, e))?;
-        }
-        std::fs::write(&path, text).map_err(|e| io(&path, e))?;
+    remove_dead_extractions(parent);
+    let tmp = parent.join(format!(".nimbus-examples-{}", std::process::id()));
+    if tmp.exists() {
+        std::fs::remove_dir_all(&tmp).map_err(|e| io(&tmp, e))?;
     }
-    let marker = tmp.path().join(EXTRACTED_MARKER);
-    std::fs::write(
-        &marker,
-        "The example genera, scenes and views built into nimbus, written here on first use. \
-         Point --data or NIMBUS_DATA at a copy to edit them.\n",
-    )
-    .map_err(|e| io(&marker, e))?;
-    let tmp = tmp.keep();
-    if let Err(e) = std::fs::rename(&tmp, &dir) {
-        let _ = std::fs::remove_dir_all(&tmp);
-        if !dir.join(EXTRACTED_MARKER).is_file() {
-            return Err(io(&dir, e));
+    let written = write_examples(&tmp);
+    let moved = written.and_then(|()| match std::fs::rename(&tmp, &dir) {
+        Ok(()) => Ok(()),
+        Err(_) if dir.join(EXTRACTED_MARKER).is_file() => Ok(()),
+        Err(e) => Err(io(&dir, e)),
+    });
+    let _ = std::fs::remove_dir_all(&tmp);
+    moved.map(|()| dir)
+}
+
+/// Removes `.nimbus-examples-<pid>` folders of processes that are no longer running (where
+/// `/proc` tells; elsewhere they are left).
+fn remove_dead_extractions(parent: &Path) {
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = name
+            .strip_prefix(".nimbus-examples-")
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if Path::new("/proc").is_dir() && !Path::new("/proc").join(pid.to_string()).exists() {
+            let _ = std::fs::remove_dir_all(e.path());
         }
     }
-    Ok(dir)
 }
 
 fn io(path: &Path, e: std::io::Error) -> CliError {

@@ -94,10 +94,10 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     for (flag, v) in [
         ("--frames", a.frames),
         ("--reference-frames", a.reference_frames),
-        ("--repeats", a.repeats),
     ] {
         limits::FRAMES.check(f64::from(v), Origin::Flag(flag))?;
     }
+    limits::REPEATS.check(f64::from(a.repeats), Origin::Flag(limits::REPEATS.flag))?;
     limits::EXPOSURE.check(f64::from(a.exposure), Origin::Flag(limits::EXPOSURE.flag))?;
     let mut specs = rows();
     if !a.rows.is_empty() {
@@ -118,18 +118,19 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         }
         specs.retain(|s| wanted.contains(&s.label.as_str()));
     }
-    let lib = crate::data::load(data)?;
     let dir = match &a.views {
         Some(d) => d.clone(),
         None => crate::data::data_dir(data)?.join("views"),
     };
-    // Every view file is read and checked before any GPU work.
+    // Every view file is read and checked before any GPU work, as `render` reads a scene.
     let mut views: Vec<(String, Frame)> = Vec::new();
     for file in view_files(&dir)? {
-        let (scene, genus) = crate::data::scene_with_genus(&lib, &file)?;
+        let lib = crate::render::library_for(data, Some(&file))?;
+        let scene = nimbus_clouds::load_scene(&file)?;
+        let genus = crate::render::scene_genus(&lib, &file, &scene)?;
         views.push((
             scene.name.clone(),
-            Frame::from_scene(&scene, genus, width, height),
+            Frame::from_scene(&scene, &genus, width, height),
         ));
     }
     // Every output is checked before any GPU work: a folder, writable, and holding no file of

@@ -330,6 +330,11 @@ fn cases() -> Vec<Case> {
         )
         .with_file("notes.txt", "mine"),
     );
+    all.push(case(
+        "emit -o . (a folder that cannot be replaced whole)",
+        &["emit", "-g", "cumulus", "-q", "low", "-o", "."],
+        &["needs a name of its own"],
+    ));
     all.push(
         case(
             "emit -o a folder Nimbus did not write",

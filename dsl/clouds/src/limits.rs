@@ -219,6 +219,16 @@ pub const FRAMES: Limit = Limit {
     hint: "at least one frame is rendered",
 };
 
+/// Timed repetitions of a measurement (the median is reported).
+pub const REPEATS: Limit = Limit {
+    field: "repeats",
+    flag: "--repeats",
+    min: 1.0,
+    max: 1000.0,
+    unit: "",
+    hint: "timed renders per row; the median is reported",
+};
+
 /// Exposure of the display transform.
 pub const EXPOSURE: Limit = Limit {
     field: "exposure",

@@ -230,12 +230,15 @@ impl CloudLibrary {
         }
     }
 
-    /// The load error of the file named `name` (by file stem), if it had one.
+    /// The load error of the genus file named `name` (`genera/<name>.toml`), if it had one.
     pub fn problem_of(&self, name: &str) -> Option<&DataError> {
         self.problems.iter().find(|e| {
-            e.file()
-                .and_then(Path::file_stem)
-                .is_some_and(|s| s == name)
+            e.file().is_some_and(|f| {
+                f.file_stem().is_some_and(|s| s == name)
+                    && f.parent()
+                        .and_then(Path::file_name)
+                        .is_some_and(|d| d == "genera")
+            })
         })
     }
 }
