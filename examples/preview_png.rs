@@ -31,12 +31,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         std::fs::create_dir_all(dir)?;
     }
     // All or nothing, and never over a file Nimbus did not write.
-    let bytes = nimbus_output::signed_png(img.width(), img.height(), img.as_raw())?;
-    nimbus_output::write_file(
+    nimbus_output::write_png(
         std::path::Path::new(&out),
-        nimbus_output::Signature::Png,
+        (img.width(), img.height()),
+        img.as_raw(),
         nimbus_output::Overwrite::OwnOnly,
-        &bytes,
     )?;
     println!("wrote {out} ({w}x{h}, {model:?}, CPU twin of preview_fragment)");
     Ok(())

@@ -51,12 +51,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         image::Rgba([to8(c.x), to8(c.y), to8(c.z), 255])
     });
     // All or nothing, and never over a file Nimbus did not write.
-    let bytes = nimbus_output::signed_png(png.width(), png.height(), png.as_raw())?;
-    nimbus_output::write_file(
+    nimbus_output::write_png(
         std::path::Path::new(&out),
-        nimbus_output::Signature::Png,
+        (png.width(), png.height()),
+        png.as_raw(),
         nimbus_output::Overwrite::OwnOnly,
-        &bytes,
     )?;
     println!("wrote {out}");
     Ok(())

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# Runs every fuzz target for SECONDS seconds each (default 120) on the nightly toolchain, from a
-# seed corpus of the example genera and scenes (renamed to the fuzzed file's name), with a
-# dictionary of the files' keys. Prints executions, time and findings per target; exits
-# non-zero if any target found a crash. Needs `cargo install cargo-fuzz`.
+# Runs every fuzz target for a bounded time on the nightly toolchain, from a seed corpus of the
+# example genera and scenes (renamed to the fuzzed file's name), with a dictionary of the files'
+# keys. Prints executions, time and findings per target; exits non-zero if any target found a
+# crash. Needs `cargo install cargo-fuzz`.
 #
-#   fuzz/run.sh            # 2 minutes per target
-#   SECONDS_PER_TARGET=600 fuzz/run.sh
+#   fuzz/run.sh                                  # 2 minutes per target, one worker
+#   PARSER_SECONDS=420 CODEGEN_SECONDS=240 JOBS=2 fuzz/run.sh
 set -euo pipefail
 cd "$(dirname "$0")"
-per=${SECONDS_PER_TARGET:-120}
+parser_seconds=${PARSER_SECONDS:-${SECONDS_PER_TARGET:-120}}
+codegen_seconds=${CODEGEN_SECONDS:-${SECONDS_PER_TARGET:-120}}
 jobs=${JOBS:-1}
 root=..
 mkdir -p corpus/genus corpus/scene
@@ -27,8 +28,13 @@ for target in genus_parser scene_parser genus_codegen scene_codegen; do
     genus_*) corpus=corpus/genus ;;
     *) corpus=corpus/scene ;;
   esac
+  case $target in
+    *_parser) per=$parser_seconds ;;
+    *) per=$codegen_seconds ;;
+  esac
   mkdir -p "work/$target"
   log="work/$target.log"
+  rm -f fuzz-*.log
   start=$(date +%s)
   if cargo +nightly fuzz run "$target" "work/$target" "$corpus" -- \
       -max_total_time="$per" -dict=nimbus.dict -jobs="$jobs" -workers="$jobs" \
@@ -39,7 +45,12 @@ for target in genus_parser scene_parser genus_codegen scene_codegen; do
     status=1
   fi
   took=$(( $(date +%s) - start ))
-  execs=$(grep -h "stat::number_of_executed_units" "$log" fuzz-*.log 2>/dev/null | awk '{s+=$2} END {print s+0}')
+  # With JOBS > 1 each worker's statistics are in its fuzz-N.log (and echoed in the main log);
+  # count each worker once.
+  if ls fuzz-*.log >/dev/null 2>&1; then counted=(fuzz-*.log); else counted=("$log"); fi
+  execs=$(grep -h "stat::number_of_executed_units" "${counted[@]}" | awk '{s+=$2} END {print s+0}')
+  cat fuzz-*.log >> "$log" 2>/dev/null || true
+  rm -f fuzz-*.log
   report+="$target: $execs executions in ${took} s, $( [ $found = 0 ] && echo 'no crash' || echo "CRASH (see $log and artifacts/$target)")"$'\n'
 done
 printf '%s' "$report"

@@ -134,3 +134,19 @@ fn remove_dead_temporaries(folder: &Path) {
         }
     }
 }
+
+/// Writes an 8-bit RGBA image (`width × height`, rows top to bottom) as a PNG signed as
+/// Nimbus's ([`crate::signed_png`]), through [`write_file`].
+pub fn write_png(
+    path: &Path,
+    (width, height): (u32, u32),
+    rgba: &[u8],
+    overwrite: Overwrite,
+) -> Result<(), OutputError> {
+    let bytes = crate::signed_png(width, height, rgba).map_err(|reason| OutputError::Io {
+        action: "encode the PNG for",
+        path: path.to_path_buf(),
+        source: std::io::Error::other(reason),
+    })?;
+    write_file(path, Signature::Png, overwrite, &bytes)
+}

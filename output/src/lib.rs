@@ -16,7 +16,7 @@ mod leftovers;
 mod signature;
 
 pub use error::OutputError;
-pub use file::{check_file, write_file};
+pub use file::{check_file, write_file, write_png};
 pub use folder::{check_folder, replace_folder};
 pub use signature::{Signature, TEXT_MARKER, signed_png};
 

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use nimbus_output::{Overwrite, Signature, signed_png, write_file};
+use nimbus_output::{Overwrite, write_png};
 
 use nimbus_clouds::model::tonemap::tonemap;
 
@@ -50,13 +50,7 @@ impl Image {
     ) -> Result<(), RuntimeError> {
         self.check()?;
         let rgba = self.to_rgba8(exposure);
-        let bytes = signed_png(rgba.width(), rgba.height(), rgba.as_raw()).map_err(|reason| {
-            RuntimeError::Output {
-                file: path.to_path_buf(),
-                reason,
-            }
-        })?;
-        write_file(path, Signature::Png, overwrite, &bytes)?;
+        write_png(path, rgba.dimensions(), rgba.as_raw(), overwrite)?;
         Ok(())
     }
 }

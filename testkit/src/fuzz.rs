@@ -11,7 +11,7 @@ use std::path::Path;
 use std::collections::HashSet;
 use std::sync::Mutex;
 
-use nimbus_clouds::catalog::{ShaderKey, assign};
+use nimbus_clouds::catalog::{Assignment, ShaderKey, assign};
 use nimbus_clouds::{Genus, Quality, ScenePreset, analyse, parse_genus, parse_scene};
 use nimbus_codegen::{Target, generate};
 use nimbus_dsl::ShaderVariant as _;
@@ -46,14 +46,10 @@ pub fn genus_codegen(data: &[u8], targets: &[Target]) -> Outcome {
     let Ok(genus) = parse_genus(Path::new("genera/fuzzed.toml"), &text) else {
         return Outcome::default();
     };
-    let mut modules = 0;
-    for q in Quality::ALL {
-        let a = assign(&genus, q, q.features());
-        for key in a.keys() {
-            check_key(key, targets, &text);
-            modules += 1;
-        }
-    }
+    let modules = Quality::ALL
+        .iter()
+        .map(|&q| check_assignment(&assign(&genus, q, q.features()), targets, &text))
+        .sum();
     Outcome {
         accepted: true,
         modules,
@@ -67,23 +63,22 @@ pub fn scene_codegen(data: &[u8], genus_text: &str, targets: &[Target]) -> Outco
     let Ok(scene) = parse_scene(Path::new("scenes/fuzzed.toml"), &text) else {
         return Outcome::default();
     };
-    let Ok(mut genus) = parse_genus(Path::new("genera/fuzzed.toml"), genus_text) else {
+    let Ok(genus) = parse_genus(Path::new("genera/fuzzed.toml"), genus_text) else {
         return Outcome::default();
     };
-    if let Some(c) = scene.coverage {
-        genus.coverage = c;
-    }
-    let features = analyse(&scene, &genus).features;
-    let a = assign(&genus, scene.quality, features);
-    let mut modules = 0;
-    for key in a.keys() {
-        check_key(key, targets, &text);
-        modules += 1;
-    }
     Outcome {
         accepted: true,
-        modules,
+        modules: check_scene_keys(&genus, &scene, targets),
     }
+}
+
+/// Generates and validates every key of one genus × preset assignment; returns their count.
+fn check_assignment(a: &Assignment, targets: &[Target], input: &str) -> usize {
+    let keys = a.keys();
+    for key in &keys {
+        check_key(*key, targets, input);
+    }
+    keys.len()
 }
 
 /// Keys already generated and validated in this process. Generation is deterministic, so a
@@ -94,13 +89,13 @@ static CHECKED: Mutex<Option<HashSet<ShaderKey>>> = Mutex::new(None);
 /// Generates and validates (for `targets`) the keys `scene` derives for `genus`, as `render`
 /// would pick them; returns how many keys that is. Both must be valid already.
 pub fn check_scene_keys(genus: &Genus, scene: &ScenePreset, targets: &[Target]) -> usize {
-    let features = analyse(scene, genus).features;
-    let a = assign(genus, scene.quality, features);
-    let keys = a.keys();
-    for key in &keys {
-        check_key(*key, targets, &format!("{genus:?}\n{scene:?}"));
+    let mut genus = genus.clone();
+    if let Some(c) = scene.coverage {
+        genus.coverage = c;
     }
-    keys.len()
+    let features = analyse(scene, &genus).features;
+    let a = assign(&genus, scene.quality, features);
+    check_assignment(&a, targets, &format!("{genus:?}\n{scene:?}"))
 }
 
 fn check_key(key: ShaderKey, targets: &[Target], input: &str) {
