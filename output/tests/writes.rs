@@ -98,3 +98,50 @@ fn a_failed_fill_leaves_the_previous_folder_untouched() {
     )
     .expect("ok");
 }
+
+#[test]
+fn a_run_killed_between_its_two_renames_is_repaired_by_the_next() {
+    // What a run killed after moving the old folder aside and before moving the new one in
+    // leaves: no destination, the complete old folder aside, and its new folder beside it.
+    if !std::path::Path::new("/proc/self").exists() {
+        // Without /proc a pid this large may be reported as invalid rather than dead.
+        eprintln!("SKIPPED: no /proc to tell a dead process from an invalid pid");
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let out = tmp.path().join("out");
+    let dead = u32::MAX - 7; // no such process
+    let aside = tmp.path().join(format!(".out.nimbus-old-{dead}"));
+    let new = tmp.path().join(format!(".out.nimbus-new-{dead}"));
+    std::fs::create_dir(&aside).expect("mkdir");
+    std::fs::write(aside.join("m"), "old").expect("write");
+    std::fs::create_dir(&new).expect("mkdir");
+    std::fs::write(new.join("half"), "x").expect("write");
+    let seen = replace_folder(&out, "m", Overwrite::OwnOnly, |d| {
+        // The old output is back in place while the new one is written.
+        let seen = std::fs::read_to_string(out.join("m"));
+        std::fs::write(d.join("m"), "new").map_err(|e| OutputError::Io {
+            action: "write",
+            path: d.to_path_buf(),
+            source: e,
+        })?;
+        Ok::<_, OutputError>(seen.ok())
+    })
+    .expect("replaced");
+    assert_eq!(
+        seen.as_deref(),
+        Some("old"),
+        "restored before the new one was written"
+    );
+    assert_eq!(std::fs::read_to_string(out.join("m")).expect("read"), "new");
+    let left: Vec<String> = std::fs::read_dir(tmp.path())
+        .expect("read")
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        left,
+        vec!["out".to_string()],
+        "the dead run's leftovers are gone"
+    );
+}
