@@ -739,8 +739,8 @@ impl<'g> Renderer<'g> {
     ///
     /// A frame may be black (a night sky, the sun far below the horizon): that is a result.
     /// An adapter that draws nothing also gives black, so a black frame is followed by a small
-    /// daylight probe of the same genus through the same renderer; only when that is black too
-    /// is the adapter blamed ([`RuntimeError::BadFrame`]).
+    /// daylight probe of the same genus on the same adapter (a renderer of its own); only when
+    /// that is black too is the adapter blamed ([`RuntimeError::BadFrame`]).
     pub fn render_with_progress(
         &mut self,
         frame: &Frame,
