@@ -6,7 +6,7 @@
 import { readFile, writeFile } from 'node:fs/promises';
 import { join, resolve, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { expected, launch, record, serve } from './serve.mjs';
+import { expected, withPage } from './serve.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const [pkgDir, prefix] = process.argv.slice(2);
@@ -15,11 +15,8 @@ if (!pkgDir || !prefix) {
   process.exit(2);
 }
 const three = join(here, 'node_modules', 'three');
-const { server, origin } = await serve({ '/': resolve(pkgDir) });
-const browser = await launch();
-let status = 0;
-try {
-  const page = await browser.newPage({ viewport: { width: 640, height: 360 } });
+const viewport = { viewport: { width: 640, height: 360 } };
+const status = await withPage({ '/': resolve(pkgDir) }, {}, viewport, async (page, origin, logs) => {
   // The page imports three.js from unpkg: answer those requests from node_modules.
   await page.route('https://unpkg.com/three@*/**', async (route) => {
     const rest = new URL(route.request().url()).pathname.split('/').slice(2).join('/');
@@ -29,8 +26,6 @@ try {
       await route.fulfill({ status: 404 });
     }
   });
-  const logs = [];
-  record(page, logs);
   await page.goto(`${origin}/example.html`);
   await page.waitForSelector('#pair:not(:empty)', { timeout: 120000 });
   await page.waitForTimeout(1500);
@@ -43,10 +38,8 @@ try {
   console.log(`azimuth after the run: ${azimuth}`);
   if (problems.length > 0) {
     console.error(problems.join('\n'));
-    status = 1;
+    return 1;
   }
-} finally {
-  await browser.close();
-  server.close();
-}
+  return 0;
+});
 process.exit(status);

@@ -7,7 +7,7 @@
 // page under /page/. Exits non-zero, saying why, when the page fails or anything was logged.
 import { join, resolve, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { launch, record, report, serve } from './serve.mjs';
+import { report, withPage } from './serve.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const [pkgDir, outPng, ...rest] = process.argv.slice(2);
@@ -21,17 +21,8 @@ const roots = {
   '/three/': join(here, 'node_modules', 'three'),
   '/page/': join(here, 'page'),
 };
-const { server, origin } = await serve(roots);
-const browser = await launch();
-let status = 0;
-try {
-  const page = await browser.newPage();
-  const logs = [];
-  record(page, logs);
+const status = await withPage(roots, {}, {}, async (page, origin, logs) => {
   await page.goto(`${origin}/page/index.html?${query}`);
-  status = await report(page, logs, outPng);
-} finally {
-  await browser.close();
-  server.close();
-}
+  return report(page, logs, outPng);
+});
 process.exit(status);

@@ -48,6 +48,26 @@ export function launch() {
   });
 }
 
+/**
+ * Serves `roots` and `generated` (see `serve`), opens one page in a fresh headless Chromium
+ * (`pageOptions` as playwright's `newPage` takes them) recording its messages, and runs
+ * `drive(page, origin, logs)`; the browser and the server are closed whatever happens. Resolves
+ * to what `drive` returns (a driver's exit status).
+ */
+export async function withPage(roots, generated, pageOptions, drive) {
+  const { server, origin } = await serve(roots, generated);
+  const browser = await launch();
+  try {
+    const page = await browser.newPage(pageOptions);
+    const logs = [];
+    record(page, logs);
+    return await drive(page, origin, logs);
+  } finally {
+    await browser.close();
+    server.close();
+  }
+}
+
 /** Collects a page's console messages, errors and failed requests into `logs`. */
 export function record(page, logs) {
   page.on('console', (m) => logs.push(`${m.type()}: ${m.text()}`));

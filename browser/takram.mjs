@@ -13,7 +13,7 @@
 // Exits non-zero, saying why, when the page fails or anything was logged.
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { launch, record, report, serve } from './serve.mjs';
+import { report, withPage } from './serve.mjs';
 import { makeSTBN } from './stbn.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
@@ -29,22 +29,13 @@ const roots = {
   '/page/': join(here, 'page'),
 };
 const generated = { '/generated/stbn.bin': Buffer.from(makeSTBN()) };
-const { server, origin } = await serve(roots, generated);
-const browser = await launch();
-let status = 0;
-try {
-  const page = await browser.newPage();
-  const logs = [];
-  record(page, logs);
+const status = await withPage(roots, generated, {}, async (page, origin, logs) => {
   // Nothing but this server: any other request (a CDN, GitHub's media host) is refused and reported.
   await page.route((url) => url.hostname !== '127.0.0.1', (route) => {
     logs.push(`blocked: ${route.request().url()}`);
     route.abort();
   });
   await page.goto(`${origin}/page/takram.html?${query}`);
-  status = await report(page, logs, outPng, Number(process.env.TIMEOUT_MS ?? 600000));
-} finally {
-  await browser.close();
-  server.close();
-}
+  return report(page, logs, outPng, Number(process.env.TIMEOUT_MS ?? 600000));
+});
 process.exit(status);

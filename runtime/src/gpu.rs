@@ -286,12 +286,6 @@ impl Gpu {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("parity readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let views: Vec<(u32, GpuBinding)> = resources
             .iter()
             .filter(|(b, _)| {
@@ -326,16 +320,7 @@ impl Gpu {
             layout: &layout,
             entries: &entries,
         });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(groups, 1, 1);
-        }
-        encoder.copy_buffer_to_buffer(&output_buf, 0, &readback, 0, size);
-        self.queue.submit([encoder.finish()]);
-        let data = self.map_read(&readback)?;
+        let data = self.dispatch_and_read(&pipeline, &bind_group, groups, &output_buf)?;
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RuntimeError::Pipeline {
                 what: format!("dispatch of `{entry}`"),
@@ -348,6 +333,34 @@ impl Gpu {
 }
 
 impl Gpu {
+    /// Dispatches `groups` workgroups of `pipeline` with `bind_group` at group 0, waits, and
+    /// returns the bytes of `output` (which needs `COPY_SRC`).
+    fn dispatch_and_read(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        bind_group: &wgpu::BindGroup,
+        groups: u32,
+        output: &wgpu::Buffer,
+    ) -> Result<Vec<u8>, RuntimeError> {
+        let size = output.size();
+        let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compute readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind_group, &[]);
+            pass.dispatch_workgroups(groups, 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(output, 0, &readback, 0, size);
+        self.queue.submit([encoder.finish()]);
+        self.map_read(&readback)
+    }
+
     /// Dispatches one workgroup of compute entry point `entry` that reads the uniform block
     /// `uniform` at binding `uniform_binding` of group 0 and writes the storage buffer at
     /// `output_binding` (`output_bytes` long, zeroed first); returns what it wrote. How an
@@ -376,12 +389,6 @@ impl Gpu {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("kernel readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &layout,
@@ -396,16 +403,7 @@ impl Gpu {
                 },
             ],
         });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(1, 1, 1);
-        }
-        encoder.copy_buffer_to_buffer(&output_buf, 0, &readback, 0, size);
-        self.queue.submit([encoder.finish()]);
-        let mut data = self.map_read(&readback)?;
+        let mut data = self.dispatch_and_read(&pipeline, &bind_group, 1, &output_buf)?;
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RuntimeError::Pipeline {
                 what: format!("dispatch of `{entry}`"),

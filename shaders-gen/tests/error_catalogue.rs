@@ -6,11 +6,9 @@
 
 mod common;
 
-use std::collections::BTreeMap;
-use std::path::Path;
 use std::process::Command;
 
-use common::text;
+use common::{text, tree};
 
 /// One bad input.
 struct Case {
@@ -55,25 +53,6 @@ const GENUS: &str = "name = \"mine\"\ndescription = \"catalogue\"\ncoverage = 0.
 /// A scene file with `line` added (or replacing a field of the base).
 fn scene_with(line: &str) -> String {
     format!("{SCENE}{line}\n")
-}
-
-/// Every file under `dir` with its bytes.
-fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).expect("read dir").flatten() {
-            let p = e.path();
-            let rel = p.strip_prefix(dir).expect("prefix").display().to_string();
-            if p.is_dir() {
-                out.insert(format!("{rel}/"), Vec::new());
-                stack.push(p);
-            } else {
-                out.insert(rel, std::fs::read(&p).expect("read file"));
-            }
-        }
-    }
-    out
 }
 
 fn cases() -> Vec<Case> {
