@@ -84,9 +84,9 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use super::density::MediaParams;
 use super::layers::LayerGroup;
 use super::march::{HazeParams, LightParams, MarchParams};
-use super::shadow::{ShadowMatrices, ShadowParams, shadow_matrices};
+use super::shadow::ShadowParams;
 use super::shell::EARTH_RADIUS;
-use super::sky::{AtmosphereParams, sky_irradiance_at, sun_irradiance_at};
+use super::sky::AtmosphereParams;
 use crate::MarchSettings;
 
 impl CloudUniforms {
@@ -120,14 +120,8 @@ impl CloudUniforms {
         };
         let sky = AtmosphereParams::default();
         let sun_direction = sun_direction.normalize_or(Vec3::Y);
-        let shadow = ShadowParams::for_quality(
-            &st,
-            sun_direction,
-            camera_altitude,
-            shadow_top,
-            0.5 * (min_h.min(max_h) + max_h),
-        );
-        CloudUniforms {
+        let shadow = ShadowParams::for_quality(&st);
+        let block = CloudUniforms {
             groups,
             media: MediaParams {
                 coverage: genus.coverage,
@@ -153,19 +147,9 @@ impl CloudUniforms {
             },
             light: LightParams {
                 sun_direction,
-                // Lit by the same atmosphere the sky is drawn with.
-                sun_irradiance: sun_irradiance_at(
-                    camera_altitude,
-                    sun_direction,
-                    sky,
-                    EARTH_RADIUS,
-                ),
-                sky_irradiance: sky_irradiance_at(
-                    camera_altitude,
-                    sun_direction,
-                    sky,
-                    EARTH_RADIUS,
-                ),
+                // Filled below by `sun_light`, as a host fills them when the sun moves.
+                sun_irradiance: Vec3::ZERO,
+                sky_irradiance: Vec3::ZERO,
                 scattering_coefficient: genus.medium.scattering_coefficient,
                 absorption_coefficient: genus.medium.absorption_coefficient,
                 sky_light_scale: 1.0,
@@ -194,37 +178,22 @@ impl CloudUniforms {
             pixel_scale: 1.0,
             frame: 0,
             jitter: 0.0,
-        }
+        };
+        // What the sun's position decides (irradiances, cascade transforms) comes from the one
+        // `#[shader_fn]` engine hosts run too: its CPU twin here.
+        block.with_sun(sun_direction)
     }
 }
 
 impl ShadowParams {
-    /// Cascades for the quality preset's shadow settings: the largest covers the preset's
-    /// maximum ray distance on a side, each finer one a quarter of the previous.
-    pub fn for_quality(
-        st: &MarchSettings,
-        sun_direction: Vec3,
-        camera_altitude: f32,
-        top_altitude: f32,
-        mid_altitude: f32,
-    ) -> Self {
-        let count = st.shadow_cascade_count.clamp(1, 4);
-        let finest = st.max_ray_distance / 4f32.powi(count as i32 - 1);
-        let ShadowMatrices {
-            matrix,
-            inverse_matrix,
-        } = shadow_matrices(
-            sun_direction,
-            camera_altitude,
-            top_altitude,
-            mid_altitude,
-            finest,
-        );
+    /// The quality preset's shadow settings. The cascade transforms depend on the sun and
+    /// the camera: [`super::sun::sun_light`] fills them (identity until then).
+    pub fn for_quality(st: &MarchSettings) -> Self {
         ShadowParams {
-            matrix,
-            inverse_matrix,
+            matrix: Mat4::IDENTITY,
+            inverse_matrix: Mat4::IDENTITY,
             cascade_scales: Vec4::new(1.0, 4.0, 16.0, 64.0),
-            cascade_count: count,
+            cascade_count: st.shadow_cascade_count.clamp(1, 4),
             map_size: st.shadow_map_size as f32,
             max_iterations: st.shadow_max_iteration_count,
             min_step: st.shadow_min_step_size,

@@ -68,6 +68,21 @@ pub fn sun_light(u: CloudUniforms, sun_direction: Vec3) -> SunLight {
     }
 }
 
+impl CloudUniforms {
+    /// This block with what a sun in `sun_direction` (unit, y up) decides filled in, by the CPU
+    /// twin of [`sun_light`]: how Nimbus's runtime fills it, as the `sun_light` pass and
+    /// `nimbus-sun.js` do in engine packages.
+    pub fn with_sun(mut self, sun_direction: Vec3) -> Self {
+        let light = sun_light(self, sun_direction);
+        self.light.sun_direction = light.sun_direction;
+        self.light.sun_irradiance = light.sun_irradiance;
+        self.light.sky_irradiance = light.sky_irradiance;
+        self.shadow.matrix = light.shadow_matrix;
+        self.shadow.inverse_matrix = light.shadow_inverse_matrix;
+        self
+    }
+}
+
 /// A module holding [`sun_light`] and what it calls, for printing its host twin (a fragment
 /// shader that shows the sun's irradiance is the root that keeps them recorded).
 pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
