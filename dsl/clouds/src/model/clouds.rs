@@ -140,6 +140,7 @@ impl CloudUniforms {
                 min_transmittance: st.min_transmittance,
                 min_secondary_step: st.min_secondary_step_size,
                 secondary_step_scale: st.secondary_step_scale,
+                secondary_full_path: u32::from(st.secondary_full_path),
                 min_height: if min_h == f32::MAX { 0.0 } else { min_h },
                 max_height: max_h,
                 shadow_top_height: shadow_top,

@@ -39,6 +39,11 @@ pub struct MarchParams {
     pub min_transmittance: f32,
     pub min_secondary_step: f32,
     pub secondary_step_scale: f32,
+    /// 1: the secondary marches span the whole path out of the cloud slab, with a jittered
+    /// sample in each interval (unbiased; the reference). 0: they span
+    /// [`secondary_reach`] with a sample at each interval's midpoint, and the beer shadow map
+    /// takes over beyond (real time).
+    pub secondary_full_path: u32,
     /// Lowest layer bottom and highest layer top over all layers (m).
     pub min_height: f32,
     pub max_height: f32,
@@ -192,27 +197,63 @@ pub fn total_density(position: Vec3, altitude: f32, #[spec] key: CloudKey) -> f3
     sum
 }
 
-/// Optical depth along `direction` from a sample, by `steps` geometrically growing steps
-/// (first `min_step / steps`, then ×`step_scale`). With 0 steps it is 0: no fudge constant.
+/// Distance from a sample at `altitude` along a ray with up-cosine `mu` to where the ray leaves
+/// the cloud slab for good: the top shell going up, the bottom shell going down (or the top,
+/// when a downward ray curves back out above the bottom), capped at the march's reach.
+#[shader_fn]
+pub fn slab_exit(altitude: f32, mu: f32) -> f32 {
+    let m = CLOUDS.get().march;
+    let top = ray_shell(altitude, mu, m.max_height, m.radius).y;
+    let bottom = ray_shell(altitude, mu, m.min_height, m.radius).x;
+    let exit = select(top, bottom, mu < 0.0 && bottom > 0.0);
+    exit.max(0.0).min(m.max_ray_distance)
+}
+
+/// `1 + s + s² + … + sⁿ⁻¹`: the span of `n` steps that grow ×`s`, in units of the first.
+#[shader_fn]
+pub fn geometric_span(steps: u32, scale: f32) -> f32 {
+    let n = steps.max(1u32) as f32;
+    select(
+        n,
+        (scale.powf(n) - 1.0) / (scale - 1.0),
+        (scale - 1.0).abs() > 1e-4,
+    )
+}
+
+/// Optical depth along `direction` from a sample, by `steps` geometrically growing intervals
+/// (each ×`secondary_step_scale` the last), with one sample per interval at `offset` of its
+/// length (0.5: the midpoint; uniform in [0, 1): stratified, so the sum is unbiased over
+/// offsets). With `secondary_full_path` the intervals span the whole way out of the cloud slab;
+/// otherwise the first is `min_secondary_step / steps` and they span [`secondary_reach`]. A
+/// sample near the start of each interval would over-weight the dense start (the ray leaves a
+/// point inside a cloud): +11.6 % on the reference before this scheme. With 0 steps it is 0.
 #[shader_fn]
 pub fn secondary_optical_depth(
     position: Vec3,
     altitude: f32,
     direction: Vec3,
     steps: u32,
+    offset: f32,
     #[spec] key: CloudKey,
 ) -> f32 {
     let m = CLOUDS.get().march;
     let l = CLOUDS.get().light;
+    let span = geometric_span(steps, m.secondary_step_scale);
+    let first = select(
+        m.min_secondary_step / (steps.max(1u32) as f32),
+        slab_exit(altitude, direction.y) / span,
+        m.secondary_full_path > 0u32,
+    );
     let mut tau = 0.0f32;
-    let mut step = m.min_secondary_step / (steps.max(1u32) as f32);
-    let mut t = 0.5 * step;
+    let mut step = first;
+    let mut start = 0.0f32;
     for _i in 0u32..steps {
+        let t = start + offset * step;
         let h = altitude_along(altitude, direction.y, t, m.radius);
         let rho = total_density(position + direction * t, h, key);
         let sigma_t = rho * (l.scattering_coefficient + l.absorption_coefficient);
         tau += sigma_t * step;
-        t += step;
+        start += step;
         step *= m.secondary_step_scale;
     }
     tau
@@ -261,18 +302,17 @@ pub fn cloud_range(mu: f32) -> Vec2 {
     vec2(near, far.min(near + march.max_ray_distance))
 }
 
-/// How far along its ray a secondary march of `steps` steps reaches: the first step is
-/// `min_step / steps` and each next one `scale` times longer. The beer shadow map takes over
+/// How far along its ray a real-time secondary march of `steps` steps reaches: the first step
+/// is `min_step / steps` and each next one `scale` times longer. The beer shadow map takes over
 /// from there, so the two neither overlap nor leave a gap.
 #[shader_fn]
 pub fn secondary_reach(steps: u32, min_step: f32, scale: f32) -> f32 {
     let n = steps.max(1u32) as f32;
-    let growth = select(
-        n,
-        (scale.powf(n) - 1.0) / (scale - 1.0),
-        (scale - 1.0).abs() > 1e-4,
-    );
-    select(0.0, min_step / n * growth, steps > 0u32)
+    select(
+        0.0,
+        min_step / n * geometric_span(steps, scale),
+        steps > 0u32,
+    )
 }
 
 /// `(1 − e^(−x)) / x` for optical depth `x ≥ 0`. Below 0.1 the direct form loses digits to
@@ -465,12 +505,24 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
         let sigma_t = rho * sigma_ratio;
         if sigma_t > m.min_extinction {
             samples += m.sun_steps as f32;
-            let mut tau_sun = secondary_optical_depth(p, h, l.sun_direction, m.sun_steps, key);
+            // Midpoints in real time; in the reference a stratified offset per sample,
+            // decorrelated from the primary jitter and from the previous sample's.
+            let offset = select(
+                0.5,
+                (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
+                m.secondary_full_path > 0u32,
+            );
+            let mut tau_sun =
+                secondary_optical_depth(p, h, l.sun_direction, m.sun_steps, offset, key);
             if gate(key, SHADOWS) {
                 let texel = shadow_texel(p);
                 let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
-                let reach =
-                    secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale);
+                // A full-path march has covered the whole way: nothing left for the map.
+                let reach = select(
+                    secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale),
+                    to_top,
+                    m.secondary_full_path > 0u32,
+                );
                 tau_sun += shadow_optical_depth(texel, to_top, reach);
             }
             let mut sun = l.sun_irradiance;
@@ -480,8 +532,14 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
             let mut light = sun * multiple_scattering(tau_sun, cos_theta, key);
             if gate(key, GROUND_BOUNCE) {
                 samples += m.ground_steps as f32;
-                let tau_ground =
-                    secondary_optical_depth(p, h, vec3(0.0, -1.0, 0.0), m.ground_steps, key);
+                let tau_ground = secondary_optical_depth(
+                    p,
+                    h,
+                    vec3(0.0, -1.0, 0.0),
+                    m.ground_steps,
+                    offset,
+                    key,
+                );
                 let ground_irradiance = l.sky_irradiance
                     + l.sun_irradiance * ((1.0 - u.media.coverage) * l.sun_direction.y.max(0.0));
                 let bounce = l.ground_albedo

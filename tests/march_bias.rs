@@ -1,0 +1,266 @@
+//! The marches against a fine numerical integral of the same density along the same path: the
+//! reference preset's secondary (sun and ground) marches and its primary march must be unbiased
+//! (|bias| ≤ 0.5 %), so that the accuracy study measures the presets against the truth and not
+//! against the reference's own error.
+//!
+//! Bias is `Σ march / Σ fine − 1` over a few hundred points inside the clouds, each marched at
+//! eight evenly spaced offsets (the expectation over the jitter the reference uses, without
+//! its noise). The control puts each sample at the start of its interval, as the march did
+//! before: the test must see that as biased.
+
+mod common;
+
+use std::path::Path;
+
+use common::Rng;
+use glam::Vec3;
+use nimbus_clouds::model::bindings::CloudTextures;
+use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::model::march::{
+    CloudUniforms, altitude_along, cloud_range, march_clouds, secondary_optical_depth,
+    secondary_reach, slab_exit, total_density,
+};
+use nimbus_clouds::{CloudLibrary, Quality, key::CloudKey};
+use nimbus_runtime::density_export::generate_cpu_textures;
+use nimbus_runtime::render::TextureSizes;
+
+fn textures() -> CloudTextures {
+    generate_cpu_textures(TextureSizes {
+        weather: 128,
+        shape: 32,
+        detail: 16,
+        turbulence: 32,
+    })
+}
+
+/// Optical depth from `p` along `dir` over `[0, length]` by 1 m midpoint steps.
+fn fine_optical_depth(
+    u: &CloudUniforms,
+    key: CloudKey,
+    p: Vec3,
+    h: f32,
+    dir: Vec3,
+    length: f32,
+) -> f64 {
+    let sigma = f64::from(u.light.scattering_coefficient + u.light.absorption_coefficient);
+    let n = length.ceil().max(1.0) as u32;
+    let dt = length / n as f32;
+    (0..n)
+        .map(|i| {
+            let t = (i as f32 + 0.5) * dt;
+            let ht = altitude_along(h, dir.y, t, u.march.radius);
+            f64::from(total_density(p + dir * t, ht, key)) * sigma * f64::from(dt)
+        })
+        .sum()
+}
+
+struct Bias {
+    march: f64,
+    fine: f64,
+    points: usize,
+}
+
+impl Bias {
+    fn relative(&self) -> f64 {
+        self.march / self.fine - 1.0
+    }
+}
+
+/// Marches from `points` random cloudy points towards `dir` with `steps` steps at each of
+/// `offsets`, against the 1 m integral over the span the march covers.
+fn measure(
+    genus: &str,
+    quality: Quality,
+    elevation_deg: f32,
+    down: bool,
+    offsets: &[f32],
+    points: usize,
+    textures: &CloudTextures,
+) -> Bias {
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let genus = lib.genus(genus).expect("genus");
+    let key = CloudVariant::new(genus, quality, quality.features()).key;
+    let (s, c) = elevation_deg.to_radians().sin_cos();
+    let sun = Vec3::new(c, s, 0.0);
+    let u = CloudUniforms::for_genus(genus, quality, sun, 0.0);
+    let _bound = textures.bind(u);
+    let m = u.march;
+    let (dir, steps) = if down {
+        (Vec3::NEG_Y, m.ground_steps)
+    } else {
+        (u.light.sun_direction, m.sun_steps)
+    };
+    let mut rng = Rng::new(7 + elevation_deg as u64);
+    let mut bias = Bias {
+        march: 0.0,
+        fine: 0.0,
+        points: 0,
+    };
+    let mut tries = 0;
+    while bias.points < points && tries < 200_000 {
+        tries += 1;
+        let h = rng.range(m.min_height, m.max_height);
+        let p = Vec3::new(
+            rng.range(-20_000.0, 20_000.0),
+            h,
+            rng.range(-20_000.0, 20_000.0),
+        );
+        if total_density(p, h, key) <= 0.0 {
+            continue;
+        }
+        let length = if m.secondary_full_path > 0 {
+            slab_exit(h, dir.y)
+        } else {
+            secondary_reach(steps, m.min_secondary_step, m.secondary_step_scale)
+        };
+        let fine = fine_optical_depth(&u, key, p, h, dir, length);
+        let march = offsets
+            .iter()
+            .map(|&o| f64::from(secondary_optical_depth(p, h, dir, steps, o, key)))
+            .sum::<f64>()
+            / offsets.len() as f64;
+        bias.march += march;
+        bias.fine += fine;
+        bias.points += 1;
+    }
+    assert_eq!(bias.points, points, "found too few cloudy points");
+    assert!(bias.fine > 0.0, "the paths cross cloud");
+    bias
+}
+
+fn stratified(n: usize) -> Vec<f32> {
+    (0..n).map(|i| (i as f32 + 0.5) / n as f32).collect()
+}
+
+#[test]
+fn reference_secondary_marches_are_unbiased() {
+    let t = textures();
+    let mut worst: f64 = 0.0;
+    for genus in ["cumulus", "stratocumulus"] {
+        for (elevation, down) in [(15.0, false), (40.0, false), (75.0, false), (0.0, true)] {
+            let b = measure(
+                genus,
+                Quality::Reference,
+                elevation,
+                down,
+                &stratified(8),
+                150,
+                &t,
+            );
+            let control = measure(genus, Quality::Reference, elevation, down, &[0.0], 150, &t);
+            let what = if down {
+                "ground".to_string()
+            } else {
+                format!("sun {elevation}°")
+            };
+            println!(
+                "{genus:14} {what:8}: reference {:+.3} % over {} points; samples at interval starts {:+.2} %",
+                100.0 * b.relative(),
+                b.points,
+                100.0 * control.relative()
+            );
+            assert!(
+                control.relative() > 0.01,
+                "{genus} {what}: the control (samples at interval starts) must read as biased, got {:+.3} %",
+                100.0 * control.relative()
+            );
+            worst = worst.max(b.relative().abs());
+        }
+    }
+    println!("worst |bias| of the reference: {:.3} %", 100.0 * worst);
+    assert!(
+        worst <= 0.005,
+        "reference secondary march biased by {:.3} %",
+        100.0 * worst
+    );
+}
+
+#[test]
+fn real_time_secondary_marches_sample_interval_midpoints() {
+    // The real-time presets hand the rest of the path to the shadow map; over their own short
+    // reach a midpoint per interval is far closer to the integral than the interval's start.
+    let t = textures();
+    for quality in [Quality::Low, Quality::High] {
+        let mid = measure("cumulus", quality, 40.0, false, &[0.5], 150, &t);
+        let start = measure("cumulus", quality, 40.0, false, &[0.0], 150, &t);
+        println!(
+            "cumulus {:6} sun 40°: midpoints {:+.2} %, interval starts {:+.2} %",
+            quality.name(),
+            100.0 * mid.relative(),
+            100.0 * start.relative()
+        );
+        assert!(
+            mid.relative().abs() < 0.5 * start.relative().abs(),
+            "{}: midpoints {:+.3} % not clearly better than starts {:+.3} %",
+            quality.name(),
+            100.0 * mid.relative(),
+            100.0 * start.relative()
+        );
+    }
+}
+
+#[test]
+fn reference_primary_march_is_unbiased() {
+    // Optical depth of the whole view ray, -ln T, against the 1 m integral over the same range,
+    // for rays from the ground up through the layer; rays the integral finds opaque (τ > 30,
+    // where f32 transmittance has no digits left) are left out.
+    let t = textures();
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let mut rng = Rng::new(5);
+    for genus in ["cumulus", "stratocumulus"] {
+        let genus = lib.genus(genus).expect("genus");
+        let quality = Quality::Reference;
+        let key = CloudVariant::new(genus, quality, quality.features()).key;
+        let u = CloudUniforms::for_genus(genus, quality, Vec3::new(0.5, 0.8, 0.3), 0.0);
+        let _bound = t.bind(u);
+        let (mut march, mut fine, mut rays) = (0.0f64, 0.0f64, 0);
+        let offsets = stratified(8);
+        while rays < 24 {
+            let elevation = rng.range(8.0, 85.0).to_radians();
+            let azimuth = rng.range(0.0, std::f32::consts::TAU);
+            let dir = Vec3::new(
+                elevation.cos() * azimuth.cos(),
+                elevation.sin(),
+                elevation.cos() * azimuth.sin(),
+            );
+            let range = cloud_range(dir.y);
+            // The march's own origin: a ray from the camera (here on the ground).
+            let sigma = f64::from(u.light.scattering_coefficient + u.light.absorption_coefficient);
+            let n = (range.y - range.x).ceil().max(1.0) as u32;
+            let dt = (range.y - range.x) / n as f32;
+            let tau: f64 = (0..n)
+                .map(|i| {
+                    let s = range.x + (i as f32 + 0.5) * dt;
+                    let h = altitude_along(0.0, dir.y, s, u.march.radius);
+                    f64::from(total_density(dir * s, h, key)) * sigma * f64::from(dt)
+                })
+                .sum();
+            if !(0.05..30.0).contains(&tau) {
+                continue;
+            }
+            let marched = offsets
+                .iter()
+                .map(|&j| -f64::from(march_clouds(dir, j, key).transmittance).ln())
+                .sum::<f64>()
+                / offsets.len() as f64;
+            march += marched;
+            fine += tau;
+            rays += 1;
+        }
+        let bias = march / fine - 1.0;
+        println!(
+            "{:14} primary: {:+.3} % over {rays} rays (mean τ {:.2})",
+            genus.name,
+            100.0 * bias,
+            fine / f64::from(rays)
+        );
+        assert!(
+            bias.abs() <= 0.005,
+            "{}: primary march biased by {:+.3} %",
+            genus.name,
+            100.0 * bias
+        );
+    }
+}
