@@ -51,7 +51,7 @@ fn instrumented_variant_counts_more_samples_for_finer_presets() {
     let f = view();
     let plain = r.render(&f).expect("plain");
     let mut g = f.clone();
-    g.count_samples = true;
+    g.output = nimbus_clouds::PixelOutput::Samples;
     let counted = r.render(&g).expect("counted");
     assert!(
         plain

@@ -150,3 +150,19 @@ pub fn write_png(
     })?;
     write_file(path, Signature::Png, overwrite, &bytes)
 }
+
+/// Writes a linear float image (`width × height`, named channels, rows top to bottom) as an
+/// OpenEXR signed as Nimbus's ([`crate::signed_exr`]), through [`write_file`].
+pub fn write_exr(
+    path: &Path,
+    (width, height): (u32, u32),
+    channels: &[crate::ExrChannel],
+    overwrite: Overwrite,
+) -> Result<(), OutputError> {
+    let bytes = crate::signed_exr(width, height, channels).map_err(|reason| OutputError::Io {
+        action: "encode the EXR for",
+        path: path.to_path_buf(),
+        source: std::io::Error::other(reason),
+    })?;
+    write_file(path, Signature::Exr, overwrite, &bytes)
+}

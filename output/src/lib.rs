@@ -10,13 +10,15 @@
 //! bad `-o` fails in a second, not after a long render.
 
 mod error;
+mod exr_image;
 mod file;
 mod folder;
 mod leftovers;
 mod signature;
 
 pub use error::OutputError;
-pub use file::{check_file, write_file, write_png};
+pub use exr_image::{ExrChannel, signed_exr};
+pub use file::{check_file, write_exr, write_file, write_png};
 pub use folder::{check_folder, replace_folder};
 pub use signature::{Signature, TEXT_MARKER, signed_png};
 

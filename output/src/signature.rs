@@ -1,5 +1,5 @@
 //! How Nimbus recognises a file it wrote, so that re-running a command replaces its own output
-//! and never someone else's: a PNG carries a `Software` text chunk naming Nimbus, a text report
+//! and never someone else's: a PNG carries a `Software` text chunk naming Nimbus, an EXR a `software` attribute, a text report
 //! a marker in its first line. A format with nowhere to put one (a raw volume) is never
 //! recognised, so only `--force` replaces it.
 
@@ -18,6 +18,9 @@ const PNG_SOFTWARE: &str = "Nimbus";
 pub enum Signature {
     /// A PNG whose `Software` text chunk starts with "Nimbus" ([`signed_png`] writes one).
     Png,
+    /// An OpenEXR image whose `software` attribute starts with "Nimbus"
+    /// ([`crate::signed_exr`] writes one).
+    Exr,
     /// A text file whose first line contains this marker.
     FirstLine(&'static str),
     /// No room for a signature: never recognised.
@@ -44,6 +47,12 @@ impl Signature {
                     Err(format!("its first line lacks `{marker}`"))
                 }
             }
+            // The header of an EXR is at its start; its attributes fit in the first 64 KiB for
+            // the images Nimbus writes (a few channels).
+            Signature::Exr => crate::exr_image::exr_software(&head)
+                .filter(|s| s.starts_with(crate::exr_image::EXR_SOFTWARE))
+                .map(|_| ())
+                .ok_or_else(|| "an EXR without Nimbus's software attribute, or not an EXR".into()),
             Signature::Unsigned => {
                 Err("this format carries no signature, so Nimbus cannot tell".into())
             }

@@ -9,6 +9,7 @@
 pub mod density_export;
 mod error;
 mod gpu;
+pub mod linear_image;
 pub mod pipelines;
 mod png;
 pub mod render;

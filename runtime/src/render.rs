@@ -20,10 +20,10 @@ use nimbus_clouds::catalog::ShaderKey;
 use nimbus_clouds::limits::{self, Limit, Origin};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
-use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::march::{CloudUniforms, CompositeParams};
 use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
 use nimbus_clouds::model::sun::sun_direction;
-use nimbus_clouds::{Features, Genus, Quality, ScenePreset, analyse};
+use nimbus_clouds::{Features, Genus, PixelOutput, Quality, ScenePreset, analyse};
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::ir::{AddressMode, FilterMode, SamplerDesc};
@@ -98,9 +98,13 @@ pub struct Frame {
     pub haze_density: f32,
     /// Turbulent displacement of cloud bases (m).
     pub turbulence_displacement: f32,
-    /// Render the instrumented variant: alpha holds each pixel's density samples (use one
-    /// full-resolution frame, so no resolve averages them).
-    pub count_samples: bool,
+    /// What each pixel holds: the composited image, or a linear or instrumented layer
+    /// ([`PixelOutput::Samples`]: use one full-resolution frame, so no resolve averages them).
+    pub output: PixelOutput,
+    /// Verification mode: pure single scattering of a sun of irradiance 1 by the clouds (one
+    /// octave; no powder, ground bounce, sky light, per-sample sun filtering, haze, aerial
+    /// perspective or background), the model an independent path tracer can reproduce.
+    pub verification: bool,
 }
 
 impl Frame {
@@ -126,7 +130,8 @@ impl Frame {
             weather_offset: Vec2::ZERO,
             haze_density: 3e-5,
             turbulence_displacement: 350.0,
-            count_samples: false,
+            output: PixelOutput::Composite,
+            verification: false,
         }
     }
 
@@ -189,9 +194,24 @@ impl Frame {
 
     /// The cloud variant this frame renders.
     pub fn variant(&self) -> CloudVariant {
-        let mut v = CloudVariant::new(&self.genus, self.quality, self.features);
-        v.key.count_samples = self.count_samples;
+        let mut v = CloudVariant::new(&self.genus, self.quality, self.effective_features());
+        v.key.output = self.output;
         v
+    }
+
+    /// The features rendered: the frame's, less every effect beyond single scattering in
+    /// verification mode.
+    pub fn effective_features(&self) -> Features {
+        let mut f = self.features;
+        if self.verification {
+            f.octaves = 1;
+            f.powder = false;
+            f.ground_bounce = false;
+            f.haze = false;
+            f.light_shafts = false;
+            f.accurate_sun_sky_light = false;
+        }
+        f
     }
 
     fn sun_direction(&self) -> Vec3 {
@@ -694,6 +714,13 @@ impl<'g> Renderer<'g> {
         u.media.weather_offset = frame.weather_offset;
         u.media.turbulence_displacement = frame.turbulence_displacement;
         u.haze.density = frame.haze_density;
+        if frame.verification {
+            u.light.sun_irradiance = Vec3::ONE;
+            u.light.sky_irradiance = Vec3::ZERO;
+            u.light.sky_light_scale = 0.0;
+            u.light.ground_bounce_scale = 0.0;
+            u.composite = CompositeParams::NONE;
+        }
         u
     }
 

@@ -24,9 +24,18 @@ use crate::data;
 pub(crate) struct RenderArgs {
     /// Scene file (TOML; see examples/scenes). Default: scenes/default.toml of the data folder.
     scene: Option<PathBuf>,
-    /// Output PNG.
+    /// Output file: a tonemapped PNG, or with `--format exr` (or a `.exr` name) a linear
+    /// OpenEXR with the composited image and the clouds' radiance, transmittance and depth.
     #[arg(short, long, default_value = "clouds.png")]
     out: PathBuf,
+    /// Output format (default: from the output's extension, PNG unless it is `.exr`).
+    #[arg(long, value_enum)]
+    format: Option<ImageFormat>,
+    /// Verification mode: pure single scattering of a sun of irradiance 1 (one octave; no
+    /// powder, ground bounce, sky light, sun filtering, haze, aerial perspective or
+    /// background), as an independent path tracer renders the same density.
+    #[arg(long)]
+    verification: bool,
     /// Replace the output file even when Nimbus did not write it.
     #[arg(long)]
     force: bool,
@@ -87,6 +96,31 @@ pub(crate) struct RenderArgs {
     /// Shape-detail texture (raw R8 or RGBA8 cube).
     #[arg(long)]
     detail_texture: Option<PathBuf>,
+}
+
+/// What `render` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum ImageFormat {
+    /// Display-referred 8-bit sRGB through exposure and the ACES curve.
+    Png,
+    /// Linear 32-bit float layers: R G B A, clouds.R G B, clouds.transmittance, depth.Z.
+    Exr,
+}
+
+impl ImageFormat {
+    /// The format `--format` names, else the one `out`'s extension implies.
+    fn of(flag: Option<ImageFormat>, out: &Path) -> ImageFormat {
+        flag.unwrap_or_else(|| {
+            let exr = out
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+            if exr {
+                ImageFormat::Exr
+            } else {
+                ImageFormat::Png
+            }
+        })
+    }
 }
 
 /// `WIDTHxHEIGHT`, each side checked against [`limits::IMAGE_SIDE`]; errors name `flag`.
@@ -305,6 +339,7 @@ pub(crate) fn frame(
     frame.upscale = a.upscale;
     frame.frames = frames;
     frame.seed = a.seed;
+    frame.verification = a.verification;
     frame.features = derive_features(&scene, &frame, &a.toggles)?;
     frame.validate()?;
     Ok(frame)
@@ -315,7 +350,12 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     // The destination and the user's textures are checked before any GPU work: a bad -o or
     // texture fails now, not after the render.
     let overwrite = Overwrite::forced(a.force);
-    check_file(&a.out, Signature::Png, overwrite)?;
+    let format = ImageFormat::of(a.format, &a.out);
+    let signature = match format {
+        ImageFormat::Png => Signature::Png,
+        ImageFormat::Exr => Signature::Exr,
+    };
+    check_file(&a.out, signature, overwrite)?;
     let user = user_textures(a)?;
     let gpu = Gpu::new()?;
     println!("adapter: {}", gpu.info());
@@ -329,8 +369,13 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     }
     let variant = frame.variant();
     println!(
-        "variant: {} ({}x{}, {} frame{}{})",
+        "variant: {}{} ({}x{}, {} frame{}{})",
         variant.name(),
+        if frame.verification {
+            " [verification: single scattering, sun irradiance 1]"
+        } else {
+            ""
+        },
         frame.width,
         frame.height,
         frame.frames,
@@ -341,18 +386,26 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
         "shader: {}",
         nimbus_dsl::ShaderVariant::id(&nimbus_clouds::catalog::ShaderKey::Clouds(variant.key))
     );
-    let bar = ProgressBar::new(u64::from(frame.frames));
+    let layers = if format == ImageFormat::Exr { 3 } else { 1 };
+    let bar = ProgressBar::new(u64::from(layers * frame.frames));
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let start = Instant::now();
-    let image = renderer.render_with_progress(&frame, &mut |done, _| {
-        bar.set_position(u64::from(done));
-    });
-    bar.finish_and_clear();
-    let image = image?;
-    image.save_png(&a.out, a.exposure, overwrite)?;
+    let mut progress = |done: u32, _| bar.set_position(u64::from(done));
+    match format {
+        ImageFormat::Png => {
+            let image = renderer.render_with_progress(&frame, &mut progress);
+            bar.finish_and_clear();
+            image?.save_png(&a.out, a.exposure, overwrite)?;
+        }
+        ImageFormat::Exr => {
+            let image = renderer.render_layers(&frame, &mut progress);
+            bar.finish_and_clear();
+            image?.save_exr(&a.out, overwrite)?;
+        }
+    }
     let stats = renderer.stats();
     let mut passes: Vec<(&str, usize)> = Vec::new();
     for p in &stats.passes {

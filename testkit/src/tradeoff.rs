@@ -122,7 +122,7 @@ fn timed(
 /// Mean density samples per pixel of `frame`'s variant, from one instrumented frame.
 pub fn samples_per_pixel(renderer: &mut Renderer<'_>, frame: &Frame) -> Result<f64, RuntimeError> {
     let mut f = frame.clone();
-    f.count_samples = true;
+    f.output = nimbus_clouds::PixelOutput::Samples;
     f.frames = 1;
     f.upscale = false;
     f.continue_history = false;

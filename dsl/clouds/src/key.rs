@@ -72,6 +72,39 @@ impl SpecValue for PhaseKind {
     }
 }
 
+/// What a pixel of the cloud pass holds. Each is its own shader (the unused results are not
+/// computed); the layers of a linear image come from one frame rendered once per layer with
+/// the same jitter, so they line up pixel for pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum PixelOutput {
+    /// The composited image (clouds over sky or ground, air and haze); alpha is the clouds'
+    /// opacity.
+    #[default]
+    Composite,
+    /// The composited image with alpha holding the density samples the march took (for
+    /// `nimbus tradeoff`).
+    Samples,
+    /// The clouds alone: the radiance they scatter towards the camera, before the air in front
+    /// of them; alpha is their transmittance.
+    Clouds,
+    /// The clouds' front depth (transmittance-weighted mean distance of the scattering, in
+    /// kilometres so that half-float targets hold it; −1 where there is none) in red,
+    /// transmittance in green, density samples in blue.
+    Depth,
+}
+
+impl PixelOutput {
+    /// The tag in shader key names (none for the composited image).
+    pub fn tag(self) -> Option<&'static str> {
+        match self {
+            PixelOutput::Composite => None,
+            PixelOutput::Samples => Some("count"),
+            PixelOutput::Clouds => Some("clouds"),
+            PixelOutput::Depth => Some("depth"),
+        }
+    }
+}
+
 /// What the cloud pass fixes at generation time. One per module, so the model's functions keep
 /// their plain names (the recorder refuses two different keys in one module).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -82,9 +115,8 @@ pub struct CloudKey {
     pub phase: PhaseKind,
     /// Layer lane groups (1 = up to four layers, 2 = up to eight).
     pub groups: u32,
-    /// The instrumented shader: the pixel's alpha carries the number of density samples its
-    /// march took instead of the cloud opacity (for `nimbus tradeoff`).
-    pub count_samples: bool,
+    /// What each pixel holds: the composited image, or an instrumented or linear layer.
+    pub output: PixelOutput,
     /// The uber-shader: every choice above is read at run time from the key uniforms
     /// ([`crate::model::choices`]) instead of being fixed in the code; the fields then give the
     /// most the shader can do (every toggle on, two groups).
@@ -104,7 +136,7 @@ impl CloudKey {
             features,
             phase,
             groups: groups.clamp(1, 2),
-            count_samples: false,
+            output: PixelOutput::Composite,
             uber: false,
         }
     }
@@ -124,10 +156,15 @@ impl CloudKey {
         parts.push(format!("o{}", self.features.octaves));
         parts.push(self.phase.tag().to_string());
         parts.push(format!("g{}", self.groups));
-        if self.count_samples {
-            parts.push("count".into());
+        if let Some(tag) = self.output.tag() {
+            parts.push(tag.into());
         }
         parts.join("-")
+    }
+
+    /// Whether the pixels hold `output` (a generation-time choice the model branches on).
+    pub fn writes(&self, output: PixelOutput) -> bool {
+        self.output == output
     }
 
     /// The uber-shader's key: one shader for every genus, preset and toggle, branching at run
@@ -144,7 +181,7 @@ impl CloudKey {
             features,
             phase: PhaseKind::DualLobe,
             groups: 2,
-            count_samples: false,
+            output: PixelOutput::Composite,
             uber: true,
         }
     }
@@ -180,7 +217,7 @@ impl CloudKey {
                             },
                             phase,
                             groups,
-                            count_samples: false,
+                            output: PixelOutput::Composite,
                             uber: false,
                         });
                     }
@@ -271,7 +308,7 @@ impl ShadowKey {
             features,
             phase: PhaseKind::Isotropic,
             groups: self.groups,
-            count_samples: false,
+            output: PixelOutput::Composite,
             uber: false,
         }
     }

@@ -22,7 +22,7 @@ pub use analysis::{Analysis, analyse};
 pub use error::DataError;
 pub use features::{FeatureOverrides, Features, Toggle};
 pub use genus::{Genus, MAX_LAYERS, Medium, PhaseSpec};
-pub use key::{CloudKey, PhaseKind, ShadowKey};
+pub use key::{CloudKey, PhaseKind, PixelOutput, ShadowKey};
 pub use layer::{Channel, CloudLayer, DensityProfileParams, MAX_PROFILE_EXPONENT};
 pub use limits::{Limit, Origin};
 pub use load::{CloudLibrary, load_genus, load_scene, parse_genus, parse_scene};

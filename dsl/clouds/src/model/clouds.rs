@@ -48,8 +48,9 @@ impl CloudVariant {
         if self.key.features.octaves != preset.octaves {
             s.push_str(&format!("+octaves{}", self.key.features.octaves));
         }
-        if self.key.count_samples {
-            s.push_str("+count-samples");
+        if let Some(tag) = self.key.output.tag() {
+            s.push('+');
+            s.push_str(tag);
         }
         s
     }
@@ -83,7 +84,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::density::MediaParams;
 use super::layers::LayerGroup;
-use super::march::{HazeParams, LightParams, MarchParams};
+use super::march::{CompositeParams, HazeParams, LightParams, MarchParams};
 use super::shadow::ShadowParams;
 use super::shell::EARTH_RADIUS;
 use super::sky::AtmosphereParams;
@@ -169,6 +170,7 @@ impl CloudUniforms {
                 scattering_coefficient: 0.9,
                 absorption_coefficient: 0.5,
             },
+            composite: CompositeParams::ALL,
             camera_altitude,
             camera_offset: Vec3::ZERO,
             inverse_view_projection: Mat4::IDENTITY,

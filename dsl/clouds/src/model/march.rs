@@ -8,7 +8,7 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::key::CloudKey;
+use crate::key::{CloudKey, PixelOutput};
 use nimbus_dsl::prelude::*;
 
 use super::bindings::CLOUDS;
@@ -87,6 +87,38 @@ pub struct HazeParams {
     pub absorption_coefficient: f32,
 }
 
+/// What the composite adds around the clouds, each a factor of 1 (on) or 0 (off): switched off
+/// together with the lighting extras, a render is pure single scattering of the sun by the
+/// clouds, comparable with an independent renderer's (verification mode).
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct CompositeParams {
+    /// The sky's light behind the clouds (and in front of the ground).
+    pub sky: f32,
+    /// The sun's disc behind the clouds.
+    pub sun_disc: f32,
+    /// The lit ground behind the clouds.
+    pub ground: f32,
+    /// The air between the camera and the clouds: its in-scattering and its dimming.
+    pub aerial_perspective: f32,
+}
+
+impl CompositeParams {
+    /// Everything on: the image a user sees.
+    pub const ALL: CompositeParams = CompositeParams {
+        sky: 1.0,
+        sun_disc: 1.0,
+        ground: 1.0,
+        aerial_perspective: 1.0,
+    };
+    /// Nothing but the clouds' own light (verification mode).
+    pub const NONE: CompositeParams = CompositeParams {
+        sky: 0.0,
+        sun_disc: 0.0,
+        ground: 0.0,
+        aerial_perspective: 0.0,
+    };
+}
+
 /// All uniforms of the cloud pass.
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
 pub struct CloudUniforms {
@@ -96,6 +128,7 @@ pub struct CloudUniforms {
     pub march: MarchParams,
     pub light: LightParams,
     pub haze: HazeParams,
+    pub composite: CompositeParams,
     /// Camera altitude above the ground (m), computed in f64 on the CPU.
     pub camera_altitude: f32,
     /// Camera's horizontal position folded into the texture tiles (m), for noise lookups.
@@ -582,7 +615,7 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
 }
 
 /// Colour of one pixel: its ray marched through the clouds, then composited
-/// ([`composite`]). The instrumented variant puts the march's density samples in alpha.
+/// ([`composite`]), or one of the linear or instrumented layers of [`PixelOutput`].
 #[shader_fn]
 pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     let u = CLOUDS.get();
@@ -597,8 +630,16 @@ pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     let direction = (clip.xyz() / clip.w).normalize();
     let jitter = (interleaved_gradient_noise(pixel, u.frame) + u.jitter).fract_gl();
     let clouds = march_clouds(direction, jitter, key);
+    if key.writes(PixelOutput::Clouds) {
+        return clouds.radiance.extend(clouds.transmittance);
+    }
+    if key.writes(PixelOutput::Depth) {
+        // Kilometres: the targets are half floats, whose largest value is 65,504.
+        let km = select(-1.0, clouds.front_depth * 1e-3, clouds.front_depth > 0.0);
+        return vec4(km, clouds.transmittance, clouds.samples, 1.0);
+    }
     let color = composite(direction, jitter, clouds, key);
-    if key.count_samples {
+    if key.writes(PixelOutput::Samples) {
         return color.xyz().extend(clouds.samples);
     }
     color
@@ -624,7 +665,8 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         u.sky,
         radius,
     );
-    let mut background = air.inscatter;
+    let switches = u.composite;
+    let mut background = air.inscatter * switches.sky;
     if behind < 0.0 {
         let mut sunlit = 1.0f32;
         if gate(key, SHADOWS) {
@@ -639,9 +681,10 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
                 sun.y,
                 u.light.sky_irradiance,
                 u.sky.ground_albedo,
-            );
+            )
+            * switches.ground;
     } else {
-        background += sun_disc(cos_theta, air.transmittance, u.sky);
+        background += sun_disc(cos_theta, air.transmittance, u.sky) * switches.sun_disc;
     }
     let mut color = background * clouds.transmittance;
     if clouds.front_depth > 0.0 {
@@ -654,8 +697,9 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
             u.sky,
             radius,
         );
-        color +=
-            near.inscatter * (1.0 - clouds.transmittance) + clouds.radiance * near.transmittance;
+        let air = switches.aerial_perspective;
+        color += near.inscatter * ((1.0 - clouds.transmittance) * air)
+            + clouds.radiance * (Vec3::ONE + (near.transmittance - Vec3::ONE) * air);
     }
     if gate(key, HAZE) {
         // Haze and shafts end at the clouds' front, the ground, or the march's reach.
