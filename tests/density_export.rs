@@ -46,7 +46,7 @@ fn vol_file_holds_the_models_extinction_at_voxel_centres() {
         max: Vec3::new(40_000.0, 2200.0, 40_000.0),
     };
     let size = [12u32, 6, 10];
-    let grid = density_grid(&f, region, size, &t).expect("grid");
+    let grid = density_grid(&f, region, size, 1, &t).expect("grid");
     let dir = tempfile::tempdir().expect("tmp");
     let path = dir.path().join("clouds.vol");
     grid.save_mitsuba_vol(&path, nimbus_output::Overwrite::OwnOnly)
@@ -133,8 +133,16 @@ fn bad_regions_are_refused_naming_the_field() {
             "region",
         ),
     ];
+    for filter in [0, 9] {
+        match density_grid(&f, ok, [4, 4, 4], filter, &t) {
+            Err(RuntimeError::Region {
+                field: "filter", ..
+            }) => {}
+            other => panic!("filter {filter}: expected a `filter` error, got {other:?}"),
+        }
+    }
     for (region, size, field) in cases {
-        match density_grid(&f, region, size, &t) {
+        match density_grid(&f, region, size, 1, &t) {
             Err(e @ RuntimeError::Region { field: f, .. }) => {
                 assert_eq!(f, field, "{e}");
                 println!("refused: {e}");
@@ -142,4 +150,52 @@ fn bad_regions_are_refused_naming_the_field() {
             other => panic!("{region:?} {size:?}: expected a `{field}` error, got {other:?}"),
         }
     }
+}
+
+#[test]
+fn box_filtered_voxels_average_the_density_over_the_voxel() {
+    // Each voxel of a filtered grid is the mean of filter³ samples spread evenly over it, not
+    // the value at its centre: recompute a few by hand, and check that the filtered grid
+    // differs from the point-sampled one where the density varies within a voxel.
+    let f = frame();
+    let t = textures();
+    let region = Region {
+        min: Vec3::new(-3_000.0, 900.0, -3_000.0),
+        max: Vec3::new(3_000.0, 2100.0, 3_000.0),
+    };
+    let size = [10u32, 4, 8];
+    let filtered = density_grid(&f, region, size, 3, &t).expect("grid");
+    let point = density_grid(&f, region, size, 1, &t).expect("grid");
+    let u = Renderer::uniforms(&f);
+    let key = f.variant().key;
+    let sigma = u.light.scattering_coefficient + u.light.absorption_coefficient;
+    let voxel = filtered.voxel();
+    let _bound = t.bind(u);
+    for (x, y, z) in [(0u32, 0u32, 0u32), (4, 1, 3), (9, 3, 7), (6, 2, 1)] {
+        let corner = region.min + voxel * Vec3::new(x as f32, y as f32, z as f32);
+        let mut sum = 0.0f32;
+        for k in 0..27u32 {
+            let sub = Vec3::new((k % 3) as f32, ((k / 3) % 3) as f32, (k / 9) as f32);
+            let c = corner + voxel * (sub + 0.5) / 3.0;
+            let p = Vec3::new(c.x, c.y - f.camera_altitude, c.z);
+            let h = altitude_at(p, f.camera_altitude, u.march.radius);
+            sum += total_density(p, h, key);
+        }
+        let want = sum / 27.0 * sigma;
+        let got = filtered.values[((z * 4 + y) * 10 + x) as usize];
+        assert!(
+            (got - want).abs() <= 1e-6 * want.max(1e-6),
+            "voxel ({x}, {y}, {z}): {got} vs {want}"
+        );
+    }
+    let differ = filtered
+        .values
+        .iter()
+        .zip(&point.values)
+        .filter(|(a, b)| (*a - *b).abs() > 1e-4 * a.max(**b).max(1e-6))
+        .count();
+    assert!(
+        differ > filtered.values.len() / 4,
+        "only {differ} voxels differ from the centre samples"
+    );
 }

@@ -74,6 +74,15 @@ cases! {
     step_limits => "step-limits",
     far_distances => "far-distances",
     denormal_density => "denormal-density",
+    reference_low_sun => "reference-low-sun",
+    reference_sun_below_horizon => "reference-sun-below-horizon",
+    reference_optically_thick => "reference-optically-thick",
+    secondary_step_scale_near_one => "secondary-step-scale-near-one",
+    secondary_span_overflow => "secondary-span-overflow",
+    verification_mode => "verification-mode",
+    eight_layers => "eight-layers",
+    coincident_layers => "coincident-layers",
+    tiny_reach => "tiny-reach",
 }
 
 /// Found by the catalogue's thin-density cases under the reference preset (no extinction

@@ -51,7 +51,9 @@ fn taps(coord: f32, n: u32, sampler: &Sampler) -> [(usize, f32); 2] {
             let i0 = i0 as i64;
             [
                 (wrap(i0, n, sampler.address), 1.0 - f),
-                (wrap(i0 + 1, n, sampler.address), f),
+                // Saturated (a coordinate beyond ±9.2e18 texels, or infinite): the next texel
+                // must not overflow; any defined texel will do, as on a GPU.
+                (wrap(i0.wrapping_add(1), n, sampler.address), f),
             ]
         }
     }

@@ -4,7 +4,8 @@
 //!
 //! The density is the model's own: [`total_density`]'s CPU twin over the CPU twins of the
 //! procedural textures (texel for texel what the GPU kernels write), for the variant and
-//! uniforms a scene derives. Values are extinction coefficients σt in 1/m, so a medium with
+//! uniforms a scene derives, averaged over each voxel (box filter). [`crate::mitsuba_scene`]
+//! writes the scene around it: the grid at its place, the phase function, sun and camera. Values are extinction coefficients σt in 1/m, so a medium with
 //! `scale = 1` and lengths in metres renders at the model's optical depth; the scattering
 //! albedo is the genus' σs / (σs + σa).
 //!
@@ -36,7 +37,7 @@ pub struct Region {
     pub max: Vec3,
 }
 
-/// Extinction samples at voxel centres.
+/// Extinction averaged over each voxel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DensityGrid {
     pub region: Region,
@@ -45,6 +46,22 @@ pub struct DensityGrid {
     pub values: Vec<f32>,
     /// σs / (σs + σa) of the genus.
     pub albedo: f32,
+    /// Samples per axis averaged in each voxel (1: the voxel centre alone).
+    pub filter: u32,
+    /// Size of a shape-noise texel (m): a voxel coarser than this cannot resolve the shapes.
+    pub shape_texel: f32,
+}
+
+impl DensityGrid {
+    /// Size of a voxel (m) along x, y, z.
+    pub fn voxel(&self) -> glam::Vec3 {
+        (self.region.max - self.region.min)
+            / glam::Vec3::new(
+                self.size[0] as f32,
+                self.size[1] as f32,
+                self.size[2] as f32,
+            )
+    }
 }
 
 fn unpack(word: u32) -> Vec4 {
@@ -77,11 +94,14 @@ pub fn generate_cpu_textures(sizes: TextureSizes) -> CloudTextures {
     }
 }
 
-/// Samples the density of `frame`'s clouds at the voxel centres of `region`.
+/// The density of `frame`'s clouds over `region`, each voxel the average of `filter`³ samples
+/// spread evenly over it (a box filter: `filter = 1` is the voxel centre alone, which aliases
+/// shapes smaller than a voxel). The slabs of the grid are shared among the CPU's threads.
 pub fn density_grid(
     frame: &Frame,
     region: Region,
     size: [u32; 3],
+    filter: u32,
     textures: &CloudTextures,
 ) -> Result<DensityGrid, RuntimeError> {
     frame.validate()?;
@@ -90,6 +110,12 @@ pub fn density_grid(
         return Err(bad(
             "resolution",
             format!("{size:?} must be 1..=1024 voxels per axis"),
+        ));
+    }
+    if !(1..=8).contains(&filter) {
+        return Err(bad(
+            "filter",
+            format!("{filter} samples per axis must be 1..=8"),
         ));
     }
     if !(region.min.is_finite() && region.max.is_finite()) || region.min.cmpge(region.max).any() {
@@ -109,30 +135,69 @@ pub fn density_grid(
     }
     let u = Renderer::uniforms(frame);
     let key = frame.variant().key;
-    let _bound = textures.bind(u);
     let extent = region.max - region.min;
     let [nx, ny, nz] = size;
-    let mut values = Vec::with_capacity((nx * ny * nz) as usize);
     let sigma = u.light.scattering_coefficient + u.light.absorption_coefficient;
-    for z in 0..nz {
+    let voxel = extent / Vec3::new(nx as f32, ny as f32, nz as f32);
+    let slab = |z: u32| -> Vec<f32> {
+        let _bound = textures.bind(u);
+        let mut out = Vec::with_capacity((nx * ny) as usize);
+        let inv = 1.0 / filter as f32;
         for y in 0..ny {
             for x in 0..nx {
-                let f = (Vec3::new(x as f32, y as f32, z as f32) + 0.5)
-                    / Vec3::new(nx as f32, ny as f32, nz as f32);
-                let local = region.min + extent * f;
-                // Camera-relative position; the altitude follows the planet's curvature.
-                let p = Vec3::new(local.x, local.y - frame.camera_altitude, local.z);
-                let h = altitude_at(p, frame.camera_altitude, u.march.radius);
-                let rho = total_density(p, h, key);
-                values.push(rho * sigma);
+                let corner = region.min + voxel * Vec3::new(x as f32, y as f32, z as f32);
+                let mut sum = 0.0f32;
+                for k in 0..filter * filter * filter {
+                    let sub = Vec3::new(
+                        (k % filter) as f32,
+                        ((k / filter) % filter) as f32,
+                        (k / (filter * filter)) as f32,
+                    );
+                    let local = corner + voxel * (sub + 0.5) * inv;
+                    // Camera-relative position; the altitude follows the planet's curvature.
+                    let p = Vec3::new(local.x, local.y - frame.camera_altitude, local.z);
+                    let h = altitude_at(p, frame.camera_altitude, u.march.radius);
+                    sum += total_density(p, h, key);
+                }
+                out.push(sum * inv * inv * inv * sigma);
             }
         }
+        out
+    };
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
+    let mut slabs: Vec<(u32, Vec<f32>)> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|t| {
+                let slab = &slab;
+                s.spawn(move || {
+                    (t..nz)
+                        .step_by(threads as usize)
+                        .map(|z| (z, slab(z)))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().unwrap_or_default())
+            .collect()
+    });
+    if slabs.len() != nz as usize {
+        return Err(RuntimeError::Kernel(
+            "a density export thread stopped early".into(),
+        ));
     }
+    slabs.sort_by_key(|(z, _)| *z);
+    let values = slabs.into_iter().flat_map(|(_, v)| v).collect();
+    let media = u.media;
+    let shape_texel = 1.0 / (media.shape_repeat.max_element() * textures.shape.size[0] as f32);
     Ok(DensityGrid {
         region,
         size,
         values,
         albedo: u.light.scattering_coefficient / sigma.max(1e-30),
+        filter,
+        shape_texel,
     })
 }
 

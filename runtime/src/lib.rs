@@ -10,6 +10,7 @@ pub mod density_export;
 mod error;
 mod gpu;
 pub mod linear_image;
+pub mod mitsuba_scene;
 pub mod pipelines;
 mod png;
 pub mod render;

@@ -101,9 +101,10 @@ pub struct Frame {
     /// What each pixel holds: the composited image, or a linear or instrumented layer
     /// ([`PixelOutput::Samples`]: use one full-resolution frame, so no resolve averages them).
     pub output: PixelOutput,
-    /// Verification mode: pure single scattering of a sun of irradiance 1 by the clouds (one
-    /// octave; no powder, ground bounce, sky light, per-sample sun filtering, haze, aerial
-    /// perspective or background), the model an independent path tracer can reproduce.
+    /// Verification mode: the clouds lit by a sun of irradiance 1 alone (no powder, ground
+    /// bounce, sky light, per-sample sun filtering, haze, aerial perspective or background),
+    /// the model an independent path tracer can reproduce; with `features.octaves = 1` it is
+    /// pure single scattering, with more the multiple-scattering approximation alone.
     pub verification: bool,
 }
 
@@ -199,12 +200,11 @@ impl Frame {
         v
     }
 
-    /// The features rendered: the frame's, less every effect beyond single scattering in
+    /// The features rendered: the frame's, less every effect beyond the sun's scattering in
     /// verification mode.
     pub fn effective_features(&self) -> Features {
         let mut f = self.features;
         if self.verification {
-            f.octaves = 1;
             f.powder = false;
             f.ground_bounce = false;
             f.haze = false;
@@ -218,8 +218,8 @@ impl Frame {
         sun_direction(self.sun_elevation_deg, self.sun_azimuth_deg)
     }
 
-    /// View-projection without translation (the camera is the origin of the local frame).
-    fn view_projection(&self) -> Mat4 {
+    /// The camera's forward and up directions in the local frame (x east, y up, z south).
+    pub fn camera_basis(&self) -> (Vec3, Vec3) {
         let (pitch, yaw) = (
             self.camera_pitch_deg.to_radians(),
             self.camera_yaw_deg.to_radians(),
@@ -232,7 +232,12 @@ impl Frame {
         // The camera's up from its right (east at yaw 0, always horizontal), so a camera
         // looking straight up or down still has a basis (y-up would be parallel to forward).
         let right = Vec3::new(yaw.cos(), 0.0, yaw.sin());
-        let up = right.cross(forward);
+        (forward, right.cross(forward))
+    }
+
+    /// View-projection without translation (the camera is the origin of the local frame).
+    fn view_projection(&self) -> Mat4 {
+        let (forward, up) = self.camera_basis();
         let view = Mat4::look_to_rh(Vec3::ZERO, forward, up);
         let aspect = self.width as f32 / self.height as f32;
         // Infinite far plane, reversed depth: the shader unprojects depth 1, the near plane,

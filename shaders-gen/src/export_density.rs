@@ -1,12 +1,15 @@
 //! `nimbus export-density`: the clouds of a scene as a Mitsuba grid volume (`.vol`) of
-//! extinction coefficients, for rendering the same clouds in an independent renderer.
+//! extinction coefficients, each voxel the average over it, and optionally the Mitsuba 3 scene
+//! around it (grid in place, phase function, sun, camera) for rendering the same clouds in an
+//! independent renderer (`tools/mitsuba_agreement.py` compares the two).
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::Vec3;
-use nimbus_output::{Overwrite, Signature, check_file};
+use nimbus_output::{Overwrite, Signature, TEXT_MARKER, check_file, write_file};
 use nimbus_runtime::density_export::{Region, density_grid, generate_cpu_textures};
+use nimbus_runtime::mitsuba_scene::{mitsuba_scene_xml, phase_table};
 use nimbus_runtime::render::{Frame, TextureSizes};
 
 /// What `nimbus export-density` takes.
@@ -14,20 +17,92 @@ use nimbus_runtime::render::{Frame, TextureSizes};
 pub(crate) struct ExportDensityArgs {
     /// Scene file (TOML). Default: scenes/default.toml of the data folder.
     scene: Option<PathBuf>,
-    /// Output file.
+    /// Output volume file.
     #[arg(short, long, default_value = "clouds.vol")]
     out: PathBuf,
+    /// Also write a Mitsuba 3 scene (XML) that renders the volume as the scene's camera sees
+    /// it: grid at its place and size, the genus' phase function, the sun, the camera.
+    #[arg(long)]
+    mitsuba: Option<PathBuf>,
     /// Box to sample, metres: MINX,MINY,MINZ,MAXX,MAXY,MAXZ (x east, y altitude, z south,
-    /// centred on the camera's ground point). Default: 20 km square over the scene's layers.
+    /// centred on the camera's ground point). Default: the part of the cloud layers the
+    /// camera's view crosses (out to --reach), widened towards the sun so that the light
+    /// reaching those clouds crosses the box too.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     region: Option<Vec<f32>>,
-    /// Replace the output file even when it exists (a volume file carries no mark of who
+    /// How far along the view the default region reaches (m).
+    #[arg(long, default_value_t = 30_000.0)]
+    reach: f32,
+    /// Replace the output files even when they exist (a volume file carries no mark of who
     /// wrote it, so an existing one is only replaced with --force).
     #[arg(long)]
     force: bool,
-    /// Voxels per axis: NX,NY,NZ.
-    #[arg(long, value_delimiter = ',', default_values_t = [128u32, 32, 128])]
-    size: Vec<u32>,
+    /// Voxels per axis: NX,NY,NZ. Default: voxels of --voxel metres, at most 256 along the
+    /// longest axis.
+    #[arg(long, value_delimiter = ',')]
+    size: Option<Vec<u32>>,
+    /// Edge of a voxel (m) when --size is not given (at most 1,024 voxels per axis). Default:
+    /// half a shape-noise texel (26 m), coarser when the region would need more than 256.
+    #[arg(long)]
+    voxel: Option<f32>,
+    /// Samples per axis averaged in each voxel (box filter; 1 = the voxel centre alone).
+    #[arg(long, default_value_t = 2)]
+    filter: u32,
+}
+
+/// The box of the cloud layers that the camera's view crosses within `reach`, widened towards
+/// the sun by the path the sunlight takes through the layers to those points.
+fn view_region(frame: &Frame, bottom: f32, top: f32, reach: f32) -> Region {
+    let (forward, up) = frame.camera_basis();
+    let right = forward.cross(up);
+    let half_h = (frame.fov_deg.to_radians() * 0.5).tan();
+    let half_w = half_h * frame.width as f32 / frame.height as f32;
+    let eye = Vec3::new(0.0, frame.camera_altitude, 0.0);
+    let sun = nimbus_runtime::render::Renderer::uniforms(frame)
+        .light
+        .sun_direction;
+    let mut lo = Vec3::splat(f32::MAX);
+    let mut hi = Vec3::splat(f32::MIN);
+    let n = 16;
+    for j in 0..=n {
+        for i in 0..=n {
+            let sx = (2.0 * i as f32 / n as f32 - 1.0) * half_w;
+            let sy = (2.0 * j as f32 / n as f32 - 1.0) * half_h;
+            let d = (forward + right * sx + up * sy).normalize();
+            // The stretch of this ray between the layers' bottom and top, within reach.
+            let (mut t0, mut t1) = (0.0f32, reach);
+            if d.y.abs() > 1e-6 {
+                let (a, b) = ((bottom - eye.y) / d.y, (top - eye.y) / d.y);
+                t0 = t0.max(a.min(b));
+                t1 = t1.min(a.max(b));
+            } else if eye.y < bottom || eye.y > top {
+                continue;
+            }
+            if t1 <= t0 {
+                continue;
+            }
+            for t in [t0, t1] {
+                let p = eye + d * t;
+                lo = lo.min(p);
+                hi = hi.max(p);
+                // Where the sunlight reaching p entered the layers (at most `reach` away).
+                if sun.y > 1e-3 {
+                    let s = p + sun * ((top - p.y) / sun.y).min(reach);
+                    lo = lo.min(s);
+                    hi = hi.max(s);
+                }
+            }
+        }
+    }
+    if lo.x > hi.x {
+        // The view misses the layers: the layers over the camera's ground point.
+        lo = Vec3::new(-reach, bottom, -reach);
+        hi = Vec3::new(reach, top, reach);
+    }
+    Region {
+        min: Vec3::new(lo.x, bottom, lo.z),
+        max: Vec3::new(hi.x.max(lo.x + 1.0), top, hi.z.max(lo.z + 1.0)),
+    }
 }
 
 pub(crate) fn run(
@@ -41,10 +116,17 @@ pub(crate) fn run(
     let lib = crate::render::library_for(data, Some(&file))?;
     let scene = nimbus_clouds::load_scene(&file)?;
     let genus = crate::render::scene_genus(&lib, &file, &scene)?;
-    let frame = Frame::from_scene(&scene, &genus, 1, 1);
-    if a.size.len() != 3 {
-        return Err(format!("--size takes NX,NY,NZ (3 numbers), got {}", a.size.len()).into());
+    let mut frame = Frame::from_scene(&scene, &genus, 640, 360);
+    // The density does not depend on the lighting; the scene file for Mitsuba is the
+    // single-scattering model Nimbus's verification mode renders.
+    frame.verification = true;
+    frame.features.octaves = 1;
+    if !(a.reach.is_finite() && a.reach > 0.0 && a.reach <= 1e6) {
+        return Err(format!("--reach: {} m must be in (0, 1e6]", a.reach).into());
     }
+    let layers = genus.layers.iter().filter(|l| l.is_enabled());
+    let bottom = layers.clone().map(|l| l.altitude).fold(f32::MAX, f32::min);
+    let top = layers.map(|l| l.altitude + l.height).fold(0.0, f32::max);
     let region = match &a.region {
         Some(r) if r.len() != 6 => {
             return Err(format!(
@@ -57,33 +139,50 @@ pub(crate) fn run(
             min: Vec3::new(r[0], r[1], r[2]),
             max: Vec3::new(r[3], r[4], r[5]),
         },
+        None => view_region(&frame, bottom.min(top), top, a.reach),
+    };
+    let textures = generate_cpu_textures(TextureSizes::default());
+    let size = match &a.size {
+        Some(s) if s.len() != 3 => {
+            return Err(format!("--size takes NX,NY,NZ (3 numbers), got {}", s.len()).into());
+        }
+        Some(s) => [s[0], s[1], s[2]],
         None => {
-            let layers = genus.layers.iter().filter(|l| l.is_enabled());
-            let bottom = layers.clone().map(|l| l.altitude).fold(f32::MAX, f32::min);
-            let top = layers.map(|l| l.altitude + l.height).fold(0.0, f32::max);
-            Region {
-                min: Vec3::new(-10_000.0, bottom.min(top), -10_000.0),
-                max: Vec3::new(10_000.0, top, 10_000.0),
-            }
+            let extent = region.max - region.min;
+            let edge = match a.voxel {
+                Some(v) if !(v.is_finite() && v >= 0.1) => {
+                    return Err(format!("--voxel: {v} m must be at least 0.1").into());
+                }
+                Some(v) => v,
+                None => (26.0f32).max(extent.max_element() / 256.0),
+            };
+            let n = |e: f32| ((e / edge).ceil() as u32).clamp(1, 1024);
+            [n(extent.x), n(extent.y), n(extent.z)]
         }
     };
-    let size = [a.size[0], a.size[1], a.size[2]];
     let overwrite = Overwrite::forced(a.force);
     check_file(&a.out, Signature::Unsigned, overwrite)?;
-    let textures = generate_cpu_textures(TextureSizes::default());
-    let grid = density_grid(&frame, region, size, &textures)?;
+    if let Some(x) = &a.mitsuba {
+        check_file(x, Signature::FirstLine(TEXT_MARKER), overwrite)?;
+    }
+    let grid = density_grid(&frame, region, size, a.filter, &textures)?;
     grid.save_mitsuba_vol(&a.out, overwrite)?;
     let max = grid.values.iter().copied().fold(0.0f32, f32::max);
     let mean = grid.values.iter().map(|v| f64::from(*v)).sum::<f64>() / grid.values.len() as f64;
     let cloudy = grid.values.iter().filter(|v| **v > 0.0).count();
+    let voxel = grid.voxel();
     println!(
-        "wrote {}: {}x{}x{} voxels of σt (1/m) over [{}] .. [{}] m",
+        "wrote {}: {}x{}x{} voxels of σt (1/m) over [{}] .. [{}] m, each {:.1} x {:.1} x {:.1} m, averaged over {}³ samples",
         a.out.display(),
         size[0],
         size[1],
         size[2],
         region.min,
-        region.max
+        region.max,
+        voxel.x,
+        voxel.y,
+        voxel.z,
+        grid.filter
     );
     println!(
         "variant {}; σt max {max:.4} /m, mean {mean:.5} /m; {cloudy} of {} voxels cloudy; albedo {}",
@@ -91,10 +190,55 @@ pub(crate) fn run(
         grid.values.len(),
         grid.albedo
     );
-    println!(
-        "Mitsuba 3: {{'type': 'heterogeneous', 'albedo': {}, 'scale': 1.0, 'sigma_t': {{'type': 'gridvolume', 'filename': '{}'}}}}, lengths in metres",
-        grid.albedo,
-        a.out.display()
-    );
+    if voxel.max_element() > grid.shape_texel {
+        eprintln!(
+            "warning: voxels of up to {:.0} m are coarser than the shape noise's {:.0} m texels: \
+             the grid cannot resolve the cloud shapes (use a smaller --region or a larger --size)",
+            voxel.max_element(),
+            grid.shape_texel
+        );
+    }
+    match &a.mitsuba {
+        Some(x) => {
+            let volume = volume_name(x, &a.out);
+            let xml = mitsuba_scene_xml(&frame, &grid, &volume, &phase_table(&frame, &textures));
+            write_file(
+                x,
+                Signature::FirstLine(TEXT_MARKER),
+                overwrite,
+                xml.as_bytes(),
+            )?;
+            println!(
+                "wrote {}: Mitsuba 3 scene (camera, sun of irradiance 1, phase function, the grid in place); \
+                 `mitsuba {}` renders single scattering",
+                x.display(),
+                x.display()
+            );
+        }
+        None => println!(
+            "Mitsuba 3: {{'type': 'heterogeneous', 'albedo': {}, 'scale': 1.0, 'sigma_t': {{'type': 'gridvolume', 'filename': '{}'}}}}, lengths in metres; --mitsuba FILE.xml writes the whole scene",
+            grid.albedo,
+            a.out.display()
+        ),
+    }
     Ok(())
+}
+
+/// The volume's path as the scene file should name it: relative to the scene's folder when
+/// both are in the same folder, absolute otherwise.
+fn volume_name(scene: &Path, volume: &Path) -> String {
+    let folder = |p: &Path| {
+        p.parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+            .canonicalize()
+            .ok()
+    };
+    match (folder(scene), folder(volume), volume.file_name()) {
+        (Some(a), Some(b), Some(name)) if a == b => name.to_string_lossy().into_owned(),
+        _ => std::path::absolute(volume)
+            .unwrap_or_else(|_| volume.to_path_buf())
+            .display()
+            .to_string(),
+    }
 }

@@ -31,9 +31,9 @@ pub(crate) struct RenderArgs {
     /// Output format (default: from the output's extension, PNG unless it is `.exr`).
     #[arg(long, value_enum)]
     format: Option<ImageFormat>,
-    /// Verification mode: pure single scattering of a sun of irradiance 1 (one octave; no
-    /// powder, ground bounce, sky light, sun filtering, haze, aerial perspective or
-    /// background), as an independent path tracer renders the same density.
+    /// Verification mode: pure single scattering of a sun of irradiance 1 (one octave unless
+    /// --octaves says more; no powder, ground bounce, sky light, sun filtering, haze, aerial
+    /// perspective or background), as an independent path tracer renders the same density.
     #[arg(long)]
     verification: bool,
     /// Replace the output file even when Nimbus did not write it.
@@ -341,6 +341,9 @@ pub(crate) fn frame(
     frame.seed = a.seed;
     frame.verification = a.verification;
     frame.features = derive_features(&scene, &frame, &a.toggles)?;
+    if a.verification && a.toggles.octaves.is_none() {
+        frame.features.octaves = 1;
+    }
     frame.validate()?;
     Ok(frame)
 }
@@ -372,7 +375,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
         "variant: {}{} ({}x{}, {} frame{}{})",
         variant.name(),
         if frame.verification {
-            " [verification: single scattering, sun irradiance 1]"
+            " [verification: the sun's scattering alone, irradiance 1]"
         } else {
             ""
         },

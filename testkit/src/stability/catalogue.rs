@@ -7,7 +7,7 @@ use nimbus_clouds::CloudKey;
 use nimbus_clouds::model::clouds::CloudVariant;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::shell::EARTH_RADIUS;
-use nimbus_clouds::{CloudLayer, DensityProfileParams, Genus, Medium, PhaseSpec, Quality};
+use nimbus_clouds::{Channel, CloudLayer, DensityProfileParams, Genus, Medium, PhaseSpec, Quality};
 
 use super::case::{Case, CaseTextures, Pair, Probe};
 
@@ -45,6 +45,21 @@ fn uniforms(genus: &Genus, sun_elevation_deg: f32, camera_altitude: f32) -> Clou
     u.media.weather_repeat = Vec2::splat(1.0 / 4000.0);
     u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
     u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
+    u
+}
+
+/// The reference preset's uniforms (whole-path stratified secondary marches, no shadow map in
+/// the march), otherwise as [`uniforms`].
+fn reference_uniforms(
+    genus: &Genus,
+    sun_elevation_deg: f32,
+    camera_altitude: f32,
+) -> CloudUniforms {
+    let (el, az) = (sun_elevation_deg.to_radians(), 150f32.to_radians());
+    let sun = Vec3::new(el.cos() * az.sin(), el.sin(), -el.cos() * az.cos());
+    let mut u = CloudUniforms::for_genus(genus, Quality::Reference, sun, camera_altitude);
+    let tiled = uniforms(genus, sun_elevation_deg, camera_altitude).media;
+    u.media = tiled;
     u
 }
 
@@ -461,6 +476,132 @@ pub fn single_ray_case(
     b.finish("random-ray", "a random ray of a random valid genus")
 }
 
+fn reference_case(name: &'static str, about: &'static str, genus: Genus, suns: &[f32]) -> Case {
+    let mut b = Builder::new(&genus);
+    b.key = CloudVariant::new(&genus, Quality::Reference, Quality::Reference.features()).key;
+    for &sun in suns {
+        for camera in [2.0f32, 2250.0, 6000.0] {
+            b.fan(reference_uniforms(&genus, sun, camera));
+        }
+    }
+    b.finish(name, about)
+}
+
+fn secondary_scale_near_one() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    let base = uniforms(&g, 30.0, 2250.0);
+    let with = |scale: f32, full: u32| {
+        let mut u = base;
+        u.march.secondary_step_scale = scale;
+        u.march.secondary_full_path = full;
+        u.march.sun_steps = 8;
+        u
+    };
+    for full in [0u32, 1] {
+        for scale in [1.0f32, 1.000_05, 1.0002, 0.5] {
+            b.fan(with(scale, full));
+        }
+        // Either side of the `|scale − 1| > 1e-4` switch between the two forms of the span.
+        for mu in [-0.3f32, 0.05, 1.0] {
+            b.pair(
+                with(1.0, full),
+                with(1.000_05, full),
+                direction(mu, 0.9),
+                2e-3,
+                1e-5,
+            );
+        }
+    }
+    b.finish(
+        "secondary-step-scale-near-one",
+        "secondary steps growing ×1 (the span's n branch), ×1.00005 and ×1.0002 either side of the switch, and shrinking ×0.5",
+    )
+}
+
+fn secondary_span_overflow() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    for full in [0u32, 1] {
+        let mut u = uniforms(&g, 30.0, 2250.0);
+        u.march.sun_steps = 64;
+        u.march.ground_steps = 64;
+        u.march.secondary_step_scale = 4.0;
+        u.march.secondary_full_path = full;
+        b.fan(u);
+    }
+    b.finish(
+        "secondary-span-overflow",
+        "64 secondary steps growing ×4: the span 4⁶⁴ overflows f32 (the first step becomes 0, not NaN)",
+    )
+}
+
+fn verification_mode() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    let mut features = Quality::Reference.features();
+    features.octaves = 1;
+    features.powder = false;
+    features.ground_bounce = false;
+    features.haze = false;
+    features.light_shafts = false;
+    features.accurate_sun_sky_light = false;
+    b.key = CloudVariant::new(&g, Quality::Reference, features).key;
+    for camera in [2.0f32, 2250.0, 6000.0] {
+        let mut u = reference_uniforms(&g, 30.0, camera);
+        u.light.sun_irradiance = Vec3::ONE;
+        u.light.sky_irradiance = Vec3::ZERO;
+        u.light.sky_light_scale = 0.0;
+        u.light.ground_bounce_scale = 0.0;
+        u.composite = nimbus_clouds::model::march::CompositeParams::NONE;
+        b.fan(u);
+    }
+    b.finish(
+        "verification-mode",
+        "single scattering of a sun of irradiance 1, no sky, background or aerial perspective",
+    )
+}
+
+fn stacked_layers(name: &'static str, about: &'static str, altitudes: &[f32]) -> Case {
+    let mut g = base_genus();
+    g.layers = altitudes
+        .iter()
+        .enumerate()
+        .map(|(i, &a)| CloudLayer {
+            altitude: a,
+            height: 400.0,
+            shadow: true,
+            channel: [Channel::R, Channel::G, Channel::B, Channel::A][i % 4],
+            ..CloudLayer::default()
+        })
+        .collect();
+    let top = altitudes.iter().fold(0.0f32, |m, a| m.max(*a)) + 400.0;
+    layer_case(
+        name,
+        about,
+        g,
+        &[2.0, altitudes[altitudes.len() / 2] + 200.0, top + 3000.0],
+    )
+}
+
+fn tiny_reach() -> Case {
+    let g = base_genus();
+    let mut b = Builder::new(&g);
+    for reach in [1.0f32, 1e-3, 0.0] {
+        for camera in [2.0f32, 2250.0] {
+            let mut u = uniforms(&g, 30.0, camera);
+            u.march.max_ray_distance = reach;
+            for mu in [-0.3f32, 0.0, 0.05, 1.0] {
+                b.chain(u, direction(mu, 0.5));
+            }
+        }
+    }
+    b.finish(
+        "tiny-reach",
+        "march reach 1 m, 1 mm and 0: the secondary marches' full path is capped by it too",
+    )
+}
+
 /// Every case, in a fixed order.
 pub fn catalogue() -> Vec<Case> {
     vec![
@@ -548,5 +689,39 @@ pub fn catalogue() -> Vec<Case> {
             1e-39,
             0.0,
         ),
+        reference_case(
+            "reference-low-sun",
+            "the reference preset's whole-path secondary marches with the sun 1° and 8° high: paths out of the layer tens of kilometres long",
+            base_genus(),
+            &[1.0, 8.0],
+        ),
+        reference_case(
+            "reference-sun-below-horizon",
+            "the reference preset with the sun 0.5° below the horizon: sun marches leave the layer through its bottom",
+            base_genus(),
+            &[-0.5],
+        ),
+        reference_case(
+            "reference-optically-thick",
+            "the reference preset in a layer of density scale 1e3: whole-path optical depths in the tens of thousands",
+            with_layer(|l| l.density_scale = 1e3),
+            &[30.0],
+        ),
+        secondary_scale_near_one(),
+        secondary_span_overflow(),
+        verification_mode(),
+        stacked_layers(
+            "eight-layers",
+            "eight stacked layers in two lane groups, 100 m gaps between them",
+            &[
+                1000.0, 1500.0, 2000.0, 2500.0, 3000.0, 3500.0, 4000.0, 4500.0,
+            ],
+        ),
+        stacked_layers(
+            "coincident-layers",
+            "two layers occupying the same altitudes (their densities add)",
+            &[2000.0, 2000.0],
+        ),
+        tiny_reach(),
     ]
 }

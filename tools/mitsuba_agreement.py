@@ -1,0 +1,196 @@
+#!/usr/bin/env python3
+"""Nimbus against Mitsuba 3 on the same clouds, in one command.
+
+1. `nimbus export-density SCENE --mitsuba scene.xml` exports the scene's density (each voxel the
+   average over it) and the Mitsuba scene around it: the grid in place, the genus' phase
+   function tabulated from the model, the sun (irradiance 1), the camera.
+2. `nimbus render SCENE --verification --format exr` renders the same view in verification mode:
+   pure single scattering of a sun of irradiance 1 (no sky light, powder, ground bounce, haze,
+   aerial perspective or background), linear.
+3. Mitsuba renders single scattering (volpath, max_depth 2) and, with the sun off, a uniform sky
+   of radiance 1 and albedo 0, the clouds' transmittance.
+4. The two are compared over the pixels that see cloud: the image-mean difference (the bias the
+   goal of 0.5 % is about), and the mean and 95th percentile of the per-pixel difference, all
+   against Mitsuba's first render. Mitsuba renders a second time with another seed, and the same
+   figures for that render are the noise floor: agreement means Nimbus is as close to Mitsuba as
+   Mitsuba is to itself.
+
+    pip install -r tools/requirements.txt
+    cargo build --release -p nimbus-cli
+    python3 tools/mitsuba_agreement.py            # the README's table, about 4 minutes
+
+With --multiple-scattering it also renders Nimbus's multiple-scattering approximation (octaves,
+verification mode otherwise) against Mitsuba's full volumetric path tracer on the same grid and
+reports the ratio of mean radiance.
+"""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+import OpenEXR
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run(cmd):
+    print("$ " + " ".join(cmd), flush=True)
+    out = subprocess.run(cmd, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.stderr.write(out.stdout + out.stderr)
+        raise SystemExit(f"failed: {' '.join(cmd)}")
+    return out.stdout + out.stderr
+
+
+def read_exr(path):
+    with OpenEXR.File(path, separate_channels=True) as f:
+        ch = f.channels()
+        return {name: np.asarray(c.pixels, dtype=np.float64) for name, c in ch.items()}
+
+
+def mitsuba_render(mi, xml, width, height, spp, seed, **params):
+    scene = mi.load_file(xml, width=width, height=height, spp=spp, **params)
+    return np.asarray(mi.render(scene, seed=seed), dtype=np.float64)
+
+
+def compare(a, b, mask):
+    """Differences of image a against b over the masked pixels, relative to b's mean there."""
+    ref = b[mask].mean()
+    d = a[mask] - b[mask]
+    return {
+        "mean_signed": float(d.mean() / ref),
+        "mean_abs": float(np.abs(d).mean() / ref),
+        "p95_abs": float(np.percentile(np.abs(d), 95) / ref),
+    }
+
+
+def absolute(a, b, mask):
+    """Absolute differences of a against b over the masked pixels (for fractions)."""
+    d = a[mask] - b[mask]
+    return {
+        "mean_signed": float(d.mean()),
+        "mean_abs": float(np.abs(d).mean()),
+        "p95_abs": float(np.percentile(np.abs(d), 95)),
+    }
+
+
+def pct(x):
+    return f"{100 * x:+.2f} %" if x < 0 else f"{100 * x:.2f} %"
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--nimbus", default=os.path.join(ROOT, "target/release/nimbus"))
+    p.add_argument("--scene", default=os.path.join(ROOT, "examples/verification/cumulus-nadir.toml"))
+    p.add_argument("--resolution", default="96x54")
+    p.add_argument("--voxel", type=float, default=13.0, help="voxel edge (m); the shape texel is 52 m")
+    p.add_argument("--filter", type=int, default=2, help="samples per axis averaged per voxel")
+    p.add_argument("--spp", type=int, default=1024, help="Mitsuba samples per pixel")
+    p.add_argument("--frames", type=int, default=16, help="Nimbus accumulated frames")
+    p.add_argument("--variant", default="scalar_rgb")
+    p.add_argument("--multiple-scattering", action="store_true")
+    p.add_argument("--out", default=None, help="folder for the renders and agreement.json")
+    a = p.parse_args()
+
+    import mitsuba as mi
+
+    mi.set_variant(a.variant)
+    width, height = (int(v) for v in a.resolution.lower().split("x"))
+    work = a.out or tempfile.mkdtemp(prefix="nimbus-agreement-")
+    os.makedirs(work, exist_ok=True)
+    vol, xml, exr = (os.path.join(work, n) for n in ("density.vol", "scene.xml", "nimbus.exr"))
+    t0 = time.time()
+    export = run([a.nimbus, "export-density", a.scene, "-o", vol, "--mitsuba", xml, "--force",
+                  "--voxel", str(a.voxel), "--filter", str(a.filter)])
+    t_export = time.time() - t0
+    t0 = time.time()
+    render = run([a.nimbus, "render", a.scene, "--verification", "--format", "exr", "-r", a.resolution,
+                  "-f", str(a.frames), "-o", exr, "--force"])
+    t_nimbus = time.time() - t0
+    adapter = next((l[len("adapter: "):] for l in render.splitlines() if l.startswith("adapter: ")), "?")
+    n = read_exr(exr)
+    nimbus_l = n["clouds.R"]
+    nimbus_t = n["clouds.transmittance"]
+
+    t0 = time.time()
+    ss = [mitsuba_render(mi, xml, width, height, a.spp, seed) for seed in (1, 2)]
+    tr = [mitsuba_render(mi, xml, width, height, a.spp, seed, sun=0, sky=1, albedo=0) for seed in (3, 4)]
+    t_mitsuba = time.time() - t0
+    mit_l = [img[..., 0] for img in ss]
+    mit_t = [img[..., 0] for img in tr]
+
+    mask = (nimbus_t < 0.999) | (mit_t[0] < 0.999)
+    cloudy = int(mask.sum())
+    report = {
+        "scene": os.path.relpath(a.scene, ROOT),
+        "resolution": [width, height],
+        "voxel_m": a.voxel,
+        "filter": a.filter,
+        "mitsuba": {"version": mi.__version__, "variant": a.variant, "spp": a.spp},
+        "nimbus": {"adapter": adapter, "frames": a.frames},
+        "cloudy_pixels": cloudy,
+        "seconds": {"export": t_export, "nimbus": t_nimbus, "mitsuba": t_mitsuba},
+        "single_scattering": {
+            # Both against Mitsuba's first render, so both carry its noise once.
+            "nimbus_vs_mitsuba": compare(nimbus_l, mit_l[0], mask),
+            "mitsuba_vs_mitsuba": compare(mit_l[1], mit_l[0], mask),
+            "mean_ratio": float(nimbus_l[mask].mean() / (0.5 * (mit_l[0] + mit_l[1]))[mask].mean()),
+        },
+        # Transmittance differences as absolute values (it is already a fraction).
+        "transmittance": {
+            "nimbus_vs_mitsuba": absolute(nimbus_t, mit_t[0], mask),
+            "mitsuba_vs_mitsuba": absolute(mit_t[1], mit_t[0], mask),
+            "mean_nimbus": float(nimbus_t[mask].mean()),
+            "mean_mitsuba": float(0.5 * (mit_t[0] + mit_t[1])[mask].mean()),
+        },
+    }
+
+    if a.multiple_scattering:
+        ms_exr = os.path.join(work, "nimbus-ms.exr")
+        run([a.nimbus, "render", a.scene, "--verification", "--octaves", "8", "--format", "exr",
+             "-r", a.resolution, "-f", str(a.frames), "-o", ms_exr, "--force"])
+        nm = read_exr(ms_exr)["clouds.R"]
+        full = mitsuba_render(mi, xml, width, height, a.spp, 5, max_depth=-1)[..., 0]
+        report["multiple_scattering"] = {
+            "nimbus_mean": float(nm[mask].mean()),
+            "mitsuba_mean": float(full[mask].mean()),
+            "ratio": float(nm[mask].mean() / full[mask].mean()),
+            "single_over_full_mitsuba": float(mit_l[0][mask].mean() / full[mask].mean()),
+        }
+
+    with open(os.path.join(work, "agreement.json"), "w") as f:
+        json.dump(report, f, indent=2)
+    np.save(os.path.join(work, "mitsuba_single.npy"), 0.5 * (mit_l[0] + mit_l[1]))
+
+    s, t = report["single_scattering"], report["transmittance"]
+    print()
+    print(f"scene {report['scene']}, {width}x{height}, {cloudy} cloudy pixels; grid voxels {a.voxel} m "
+          f"averaged over {a.filter}^3 samples; Nimbus {a.frames} frames on {adapter}; "
+          f"Mitsuba {mi.__version__} {a.variant}, {a.spp} spp x 2 seeds")
+    print()
+    print("| | image mean | per pixel, mean | per pixel, p95 |")
+    print("|---|---|---|---|")
+    for label, key, fmt in (("single scattering, Nimbus vs Mitsuba", "nimbus_vs_mitsuba", pct),
+                            ("single scattering, Mitsuba vs Mitsuba (noise floor)", "mitsuba_vs_mitsuba", pct)):
+        r = s[key]
+        print(f"| {label} | {fmt(r['mean_signed'])} | {fmt(r['mean_abs'])} | {fmt(r['p95_abs'])} |")
+    for label, key in (("transmittance, Nimbus vs Mitsuba", "nimbus_vs_mitsuba"),
+                       ("transmittance, Mitsuba vs Mitsuba (noise floor)", "mitsuba_vs_mitsuba")):
+        r = t[key]
+        print(f"| {label} (absolute) | {r['mean_signed']:+.4f} | {r['mean_abs']:.4f} | {r['p95_abs']:.4f} |")
+    if "multiple_scattering" in report:
+        m = report["multiple_scattering"]
+        print(f"\nmultiple scattering: Nimbus octaves / Mitsuba full path tracer = {m['ratio']:.3f} "
+              f"(single / full in Mitsuba: {m['single_over_full_mitsuba']:.3f})")
+    print(f"\ntimes: export {t_export:.1f} s, Nimbus {t_nimbus:.1f} s, Mitsuba {t_mitsuba:.1f} s; "
+          f"files in {work}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
