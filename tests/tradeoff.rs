@@ -70,12 +70,13 @@ fn error_against_the_reference_ranks_presets() {
         frames: 2,
         reference_frames: 4,
         exposure: 8.0,
-        repeats: 1,
+        repeats: 3,
     };
     let v = view();
     let reference = reference(&mut r, &v, &options).expect("reference");
     let same = image_error(&reference.image, &reference.image, 8.0).expect("self");
     assert!(same.rmse == 0.0 && same.psnr_db.is_infinite() && (same.ssim - 1.0).abs() < 1e-9);
+    assert!(same.flip == 0.0 && same.linear == 0.0);
     let specs = rows();
     let get = |label: &str| {
         specs
@@ -97,7 +98,19 @@ fn error_against_the_reference_ranks_presets() {
     println!("high: {:?}\none octave: {:?}", high.error, flat.error);
     assert!(high.error.rmse > 0.0 && high.ms_per_frame > 0.0);
     assert!(
-        flat.error.rmse > high.error.rmse && flat.error.ssim < high.error.ssim,
+        flat.error.rmse > high.error.rmse
+            && flat.error.ssim < high.error.ssim
+            && flat.error.flip > high.error.flip,
         "dropping multiple scattering must cost accuracy"
     );
+    // One octave loses light: the luminance ratio shows the darkening, and it is bias (more
+    // frames would not bring it back), not noise.
+    assert!(
+        flat.error.luminance_ratio < high.error.luminance_ratio - 0.05,
+        "one octave must read darker: {} against {}",
+        flat.error.luminance_ratio,
+        high.error.luminance_ratio
+    );
+    assert!(flat.split.bias > high.split.bias && flat.split.bias > flat.split.noise);
+    assert_eq!(flat.split.seeds, 3);
 }

@@ -94,6 +94,8 @@ def main():
     p.add_argument("--frames", type=int, default=16, help="Nimbus accumulated frames")
     p.add_argument("--variant", default="scalar_rgb")
     p.add_argument("--multiple-scattering", action="store_true")
+    p.add_argument("--sun-scale", type=float, default=1.0,
+                   help="scale Mitsuba's sun by this (a control: 0.9 must show Nimbus 11 %% brighter)")
     p.add_argument("--out", default=None, help="folder for the renders and agreement.json")
     a = p.parse_args()
 
@@ -118,7 +120,7 @@ def main():
     nimbus_t = n["clouds.transmittance"]
 
     t0 = time.time()
-    ss = [mitsuba_render(mi, xml, width, height, a.spp, seed) for seed in (1, 2)]
+    ss = [mitsuba_render(mi, xml, width, height, a.spp, seed, sun=a.sun_scale) for seed in (1, 2)]
     tr = [mitsuba_render(mi, xml, width, height, a.spp, seed, sun=0, sky=1, albedo=0) for seed in (3, 4)]
     t_mitsuba = time.time() - t0
     mit_l = [img[..., 0] for img in ss]
@@ -131,7 +133,7 @@ def main():
         "resolution": [width, height],
         "voxel_m": a.voxel,
         "filter": a.filter,
-        "mitsuba": {"version": mi.__version__, "variant": a.variant, "spp": a.spp},
+        "mitsuba": {"version": mi.__version__, "variant": a.variant, "spp": a.spp, "sun_scale": a.sun_scale},
         "nimbus": {"adapter": adapter, "frames": a.frames},
         "cloudy_pixels": cloudy,
         "seconds": {"export": t_export, "nimbus": t_nimbus, "mitsuba": t_mitsuba},

@@ -106,6 +106,9 @@ pub struct Frame {
     /// the model an independent path tracer can reproduce; with `features.octaves = 1` it is
     /// pure single scattering, with more the multiple-scattering approximation alone.
     pub verification: bool,
+    /// What the composite adds around the clouds (sky, sun disc, ground, aerial perspective),
+    /// each switchable; verification mode switches them all off.
+    pub composite: CompositeParams,
 }
 
 impl Frame {
@@ -133,6 +136,7 @@ impl Frame {
             turbulence_displacement: 350.0,
             output: PixelOutput::Composite,
             verification: false,
+            composite: CompositeParams::ALL,
         }
     }
 
@@ -719,6 +723,7 @@ impl<'g> Renderer<'g> {
         u.media.weather_offset = frame.weather_offset;
         u.media.turbulence_displacement = frame.turbulence_displacement;
         u.haze.density = frame.haze_density;
+        u.composite = frame.composite;
         if frame.verification {
             u.light.sun_irradiance = Vec3::ONE;
             u.light.sky_irradiance = Vec3::ZERO;

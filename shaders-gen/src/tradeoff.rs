@@ -41,7 +41,8 @@ pub(crate) struct TradeoffArgs {
     /// Exposure of the display values the error is measured on (as `render`'s).
     #[arg(long, default_value_t = 8.0, allow_hyphen_values = true)]
     exposure: f32,
-    /// Timed renders per row; the median time is reported.
+    /// Timed renders per row, each under its own jitter seed: the median time is reported, and
+    /// their spread is the row's noise (at least 2 for the bias/noise split).
     #[arg(short = 'n', long, default_value_t = 3)]
     repeats: u32,
     /// Only these rows (comma-separated labels: `low`, `high - shadows`...); default all.
@@ -62,6 +63,11 @@ struct Summary {
     rmse: f64,
     psnr: f64,
     ssim: f64,
+    flip: f64,
+    linear: f64,
+    bias: f64,
+    noise: f64,
+    luminance_ratio: f64,
 }
 
 /// Where the reference image of view `name` goes.
@@ -182,7 +188,13 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
             measurements.push(m);
             bar.inc(1);
         }
-        references.push((name.clone(), r.ms_per_frame, r.samples_per_pixel, r.noise));
+        references.push((
+            name.clone(),
+            r.ms_per_frame,
+            r.samples_per_pixel,
+            r.noise,
+            r.noise_linear,
+        ));
     }
     bar.finish_and_clear();
 
@@ -200,10 +212,16 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
                 rmse: of(&|m| m.error.rmse),
                 psnr: of(&|m| m.error.psnr_db),
                 ssim: of(&|m| m.error.ssim),
+                flip: of(&|m| m.error.flip),
+                linear: of(&|m| m.error.linear),
+                bias: of(&|m| m.split.bias),
+                noise: of(&|m| m.split.noise),
+                luminance_ratio: of(&|m| m.error.luminance_ratio),
             }
         })
         .collect();
-    let points: Vec<(f64, f64)> = summaries.iter().map(|s| (s.ms, s.rmse)).collect();
+    // The front is judged on FLIP, the perceptual difference.
+    let points: Vec<(f64, f64)> = summaries.iter().map(|s| (s.ms, s.flip)).collect();
     let front = pareto_front(&points);
     let report = report(
         &gpu.info().to_string(),
@@ -222,7 +240,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         .map(|s| Point {
             label: &s.label,
             ms: s.ms,
-            error: s.rmse,
+            error: s.flip,
             preset: s.preset,
         })
         .collect();
@@ -232,7 +250,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
             views.len(),
             gpu.info().name
         ),
-        "RMSE against the reference (display values)",
+        "mean FLIP against the reference (display values)",
         &points,
         &front,
     )?;
@@ -255,7 +273,7 @@ fn report(
     summaries: &[Summary],
     front: &[usize],
     measurements: &[Measurement],
-    references: &[(String, f64, f64, ImageError)],
+    references: &[(String, f64, f64, ImageError, f64)],
 ) -> String {
     let mut s = String::new();
     let clock = match clock {
@@ -270,9 +288,12 @@ fn report(
     let _ = writeln!(s, "# Accuracy against time\n");
     let _ = writeln!(
         s,
-        "Adapter: {adapter}. Times: {clock}, per frame of {} accumulated frames at {width}x{height} (median of {} renders), shadow map cached as in a game loop. \
+        "Adapter: {adapter}. Times: {clock}, per frame of {} accumulated frames at {width}x{height} (median of {} renders, each under its own jitter seed), shadow map cached as in a game loop. \
          Error: each image against the reference of its view ({} frames of the `reference` preset: 20 m steps up to 100 m, no early termination or cut-offs, \
-         16 sun and 8 ground steps, 12 octaves, every effect), tonemapped at exposure {}. Rows are means over the {} views: {}.\n",
+         unbiased sun and ground marches over the whole path out of the layers, 12 octaves, every effect). \
+         Display space (exposure {}, ACES, sRGB): RMSE, PSNR, SSIM and mean FLIP. Linear space: mean |ΔY| over the reference's mean luminance; \
+         the error split into bias (of the mean over the seeds, less the noise it still carries) and noise (spread across seeds), both RMS over the reference's mean luminance; \
+         and the mean-luminance ratio to the reference. Rows are means over the {} views: {}.\n",
         options.frames,
         options.repeats,
         options.reference_frames,
@@ -286,9 +307,12 @@ fn report(
     );
     let _ = writeln!(
         s,
-        "| row | ms/frame | ×high | density samples/px | RMSE | PSNR (dB) | SSIM | Pareto front |"
+        "| row | ms/frame | ×high | density samples/px | RMSE | PSNR (dB) | SSIM | FLIP | linear | bias | noise | luminance | Pareto front (FLIP) |"
     );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|:---:|");
+    let _ = writeln!(
+        s,
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|:---:|"
+    );
     for (i, r) in summaries.iter().enumerate() {
         let name = if r.preset {
             format!("**{}**", r.label)
@@ -297,52 +321,62 @@ fn report(
         };
         let _ = writeln!(
             s,
-            "| {name} | {:.1} | {:.2} | {:.0} | {:.4} | {:.1} | {:.3} | {} |",
+            "| {name} | {:.1} | {:.2} | {:.0} | {:.4} | {:.1} | {:.3} | {:.4} | {:.1} % | {:.1} % | {:.1} % | {:.3} | {} |",
             r.ms,
             r.ms / high,
             r.samples,
             r.rmse,
             r.psnr,
             r.ssim,
+            r.flip,
+            100.0 * r.linear,
+            100.0 * r.bias,
+            100.0 * r.noise,
+            r.luminance_ratio,
             if front.contains(&i) { "yes" } else { "" }
         );
     }
     let refs = mean(references.iter().map(|r| r.1));
     let ref_samples = mean(references.iter().map(|r| r.2));
-    let floor = mean(references.iter().map(|r| r.3.rmse));
+    let floor = mean(references.iter().map(|r| r.3.flip));
     let _ = writeln!(
         s,
-        "| reference | {refs:.1} | {:.2} | {ref_samples:.0} | 0 | ∞ | 1 | |",
+        "| reference | {refs:.1} | {:.2} | {ref_samples:.0} | 0 | ∞ | 1 | 0 | 0 | | | 1 | |",
         refs / high
     );
     let _ = writeln!(
         s,
-        "| reference, another seed | | | | {floor:.4} | {:.1} | {:.3} | |\n",
+        "| reference, another seed | | | | {:.4} | {:.1} | {:.3} | {floor:.4} | {:.1} % | | {:.1} % | {:.3} | |\n",
+        mean(references.iter().map(|r| r.3.rmse)),
         mean(references.iter().map(|r| r.3.psnr_db)),
-        mean(references.iter().map(|r| r.3.ssim))
+        mean(references.iter().map(|r| r.3.ssim)),
+        100.0 * mean(references.iter().map(|r| r.3.linear)),
+        100.0 * mean(references.iter().map(|r| r.4)),
+        mean(references.iter().map(|r| r.3.luminance_ratio)),
     );
     let _ = writeln!(
         s,
-        "The last line is the reference against itself rendered with another jitter seed: RMSE differences smaller than {floor:.4} are the reference's own noise.\n"
+        "The last line is the reference against itself rendered with another jitter seed: FLIP differences smaller than {floor:.4} are the reference's own noise. \
+         A luminance ratio within ±2 % of 1 means the preset neither darkens nor brightens the image as a whole.\n"
     );
-    let points: Vec<(f64, f64)> = summaries.iter().map(|r| (r.ms, r.rmse)).collect();
+    let points: Vec<(f64, f64)> = summaries.iter().map(|r| (r.ms, r.flip)).collect();
     let _ = writeln!(s, "## Presets and the Pareto front\n");
     for (i, r) in summaries.iter().enumerate().filter(|(_, r)| r.preset) {
         if front.contains(&i) {
             let _ = writeln!(
                 s,
-                "- **{}** is on the front: nothing measured is both faster and more accurate.",
-                r.label
+                "- **{}** is on the front: nothing measured is both faster and more accurate (FLIP {:.4}, luminance {:.3}).",
+                r.label, r.flip, r.luminance_ratio
             );
         } else {
-            // How far above the front it sits: its RMSE less the best the front reaches in
+            // How far above the front it sits: its FLIP less the best the front reaches in
             // the same time or less.
             let best = front
                 .iter()
                 .filter(|&&j| summaries[j].ms <= r.ms)
-                .map(|&j| summaries[j].rmse)
+                .map(|&j| summaries[j].flip)
                 .fold(f64::INFINITY, f64::min);
-            let gap = r.rmse - best;
+            let gap = r.flip - best;
             let near = if gap <= floor {
                 format!(
                     " It is {gap:.4} above the front, within the reference's own noise ({floor:.4}): near it."
@@ -356,17 +390,17 @@ fn report(
                 .into_iter()
                 .map(|j| {
                     format!(
-                        "`{}` ({:.1} ms, RMSE {:.4})",
-                        summaries[j].label, summaries[j].ms, summaries[j].rmse
+                        "`{}` ({:.1} ms, FLIP {:.4})",
+                        summaries[j].label, summaries[j].ms, summaries[j].flip
                     )
                 })
                 .collect();
             let _ = writeln!(
                 s,
-                "- **{}** is off the front ({:.1} ms, RMSE {:.4}): beaten by {}.{near}",
+                "- **{}** is off the front ({:.1} ms, FLIP {:.4}): beaten by {}.{near}",
                 r.label,
                 r.ms,
-                r.rmse,
+                r.flip,
                 by.join(", ")
             );
         }
@@ -374,29 +408,43 @@ fn report(
     let _ = writeln!(s, "\n## Per view\n");
     let _ = writeln!(
         s,
-        "| view | row | ms/frame | density samples/px | RMSE | PSNR (dB) | SSIM |"
+        "| view | row | ms/frame | density samples/px | RMSE | PSNR (dB) | SSIM | FLIP | linear | bias | noise | luminance |"
     );
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|");
-    for (view, ms, samples, noise) in references {
+    let _ = writeln!(
+        s,
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for (view, ms, samples, noise, noise_linear) in references {
         let _ = writeln!(
             s,
-            "| {view} | reference | {ms:.1} | {samples:.0} | 0 | ∞ | 1 |"
+            "| {view} | reference | {ms:.1} | {samples:.0} | 0 | ∞ | 1 | 0 | 0 | | | 1 |"
         );
         let _ = writeln!(
             s,
-            "| {view} | reference, another seed | | | {:.4} | {:.1} | {:.3} |",
-            noise.rmse, noise.psnr_db, noise.ssim
+            "| {view} | reference, another seed | | | {:.4} | {:.1} | {:.3} | {:.4} | {:.1} % | | {:.1} % | {:.3} |",
+            noise.rmse,
+            noise.psnr_db,
+            noise.ssim,
+            noise.flip,
+            100.0 * noise.linear,
+            100.0 * noise_linear,
+            noise.luminance_ratio
         );
         for m in measurements.iter().filter(|m| &m.view == view) {
             let _ = writeln!(
                 s,
-                "| {view} | {} | {:.1} | {:.0} | {:.4} | {:.1} | {:.3} |",
+                "| {view} | {} | {:.1} | {:.0} | {:.4} | {:.1} | {:.3} | {:.4} | {:.1} % | {:.1} % | {:.1} % | {:.3} |",
                 m.row,
                 m.ms_per_frame,
                 m.samples_per_pixel,
                 m.error.rmse,
                 m.error.psnr_db,
-                m.error.ssim
+                m.error.ssim,
+                m.error.flip,
+                100.0 * m.error.linear,
+                100.0 * m.split.bias,
+                100.0 * m.split.noise,
+                m.error.luminance_ratio
             );
         }
     }

@@ -2,13 +2,14 @@
 //! off, rendered over a set of views and measured against a converged reference of the same
 //! model (`Quality::Reference`). Per row and view: time per frame (GPU timestamps where the
 //! adapter has them, else wall time around a synchronised render), density samples per pixel
-//! (from the instrumented variant), and the error of the image (see [`crate::metrics`]).
+//! (from the instrumented variant), the error of the image (see [`crate::metrics`]), and its
+//! split into bias and noise over renders under different jitter seeds.
 
 use std::time::Instant;
 
 use nimbus_clouds::{Features, Quality, Toggle};
 
-use crate::metrics::{ImageError, image_error};
+use crate::metrics::{BiasNoise, ImageError, bias_noise, image_error, linear_rms};
 use nimbus_runtime::RuntimeError;
 use nimbus_runtime::render::{Frame, Image, Renderer};
 
@@ -71,7 +72,10 @@ pub struct Measurement {
     pub row: String,
     pub ms_per_frame: f64,
     pub samples_per_pixel: f64,
+    /// The first seed's image against the reference.
     pub error: ImageError,
+    /// Bias and noise over the timed renders' seeds.
+    pub split: BiasNoise,
 }
 
 /// Study settings.
@@ -83,27 +87,31 @@ pub struct StudyOptions {
     pub reference_frames: u32,
     /// Exposure of the display values the error is computed on.
     pub exposure: f32,
-    /// Timed renders per row (the median is kept); the reference is timed once.
+    /// Timed renders per row (the median is kept), each under its own jitter seed, so their
+    /// spread is the row's noise; the reference is timed once.
     pub repeats: u32,
 }
 
-/// Renders `frame` `repeats` times and returns the last image and the median time per frame
-/// on `clock`. A first, untimed call builds the variant's pipelines and shadow map.
+/// Renders `frame` `repeats` times, the k-th under jitter seed `frame.seed + k`, and returns
+/// the images and the median time per frame on `clock`. A first, untimed call builds the
+/// variant's pipelines and shadow map.
 fn timed(
     renderer: &mut Renderer<'_>,
     frame: &Frame,
     repeats: u32,
-) -> Result<(Image, f64, Clock), RuntimeError> {
+) -> Result<(Vec<Image>, f64, Clock), RuntimeError> {
     let mut warm = frame.clone();
     warm.frames = 1;
     renderer.render(&warm)?;
     let frames = f64::from(frame.frames.max(1));
     let mut times = Vec::new();
     let mut clock = Clock::GpuTimestamps;
-    let mut image = None;
-    for _ in 0..repeats.max(1) {
+    let mut images = Vec::new();
+    for k in 0..repeats.max(1) {
+        let mut seeded = frame.clone();
+        seeded.seed = frame.seed.wrapping_add(k);
         let start = Instant::now();
-        let out = renderer.render(frame)?;
+        let out = renderer.render(&seeded)?;
         let wall = start.elapsed().as_secs_f64() * 1e3;
         match renderer.last_gpu_time_ms() {
             Some(gpu) if gpu > 0.0 => times.push(gpu / frames),
@@ -112,11 +120,10 @@ fn timed(
                 times.push(wall / frames);
             }
         }
-        image = Some(out);
+        images.push(out);
     }
     times.sort_by(f64::total_cmp);
-    let image = image.ok_or_else(|| RuntimeError::BadFrame("nothing rendered".into()))?;
-    Ok((image, times[times.len() / 2], clock))
+    Ok((images, times[times.len() / 2], clock))
 }
 
 /// Mean density samples per pixel of `frame`'s variant, from one instrumented frame.
@@ -139,6 +146,17 @@ pub struct Reference {
     /// The reference against a second one with another jitter seed: the error floor below
     /// which differences between rows are the reference's own noise.
     pub noise: ImageError,
+    /// The same in linear luminance: RMS difference over the mean luminance.
+    pub noise_linear: f64,
+}
+
+/// The study's view of a frame: the sun's disc left out, so that a few pixels thousands of
+/// times brighter than the clouds do not decide the linear errors (every row draws the disc
+/// alike; the clouds, sky and air are what the presets differ in).
+fn without_sun_disc(view: &Frame) -> Frame {
+    let mut f = view.clone();
+    f.composite.sun_disc = 0.0;
+    f
 }
 
 /// Renders the reference of `view`: every effect, converged march settings, many frames.
@@ -147,22 +165,27 @@ pub fn reference(
     view: &Frame,
     options: &StudyOptions,
 ) -> Result<Reference, RuntimeError> {
-    let mut f = view.clone();
+    let mut f = without_sun_disc(view);
     f.quality = Quality::Reference;
     f.features = Quality::Reference.features();
     f.frames = options.reference_frames.max(1);
     f.upscale = false;
     f.continue_history = false;
-    let (image, ms_per_frame, _) = timed(renderer, &f, 1)?;
+    let (mut images, ms_per_frame, _) = timed(renderer, &f, 1)?;
+    let image = images.remove(0);
     image.check()?;
     let mut other = f.clone();
-    other.seed = f.seed.wrapping_add(1);
-    let noise = image_error(&renderer.render(&other)?, &image, options.exposure)?;
+    // Far from the seeds the rows use (seed + k), so no row shares the reference's jitter.
+    other.seed = f.seed.wrapping_add(1000);
+    let second = renderer.render(&other)?;
+    let noise = image_error(&second, &image, options.exposure)?;
+    let noise_linear = linear_rms(&second, &image)?;
     Ok(Reference {
         image,
         ms_per_frame,
         samples_per_pixel: samples_per_pixel(renderer, &f)?,
         noise,
+        noise_linear,
     })
 }
 
@@ -175,15 +198,20 @@ pub fn measure(
     reference: &Reference,
     options: &StudyOptions,
 ) -> Result<(Measurement, Clock), RuntimeError> {
-    let mut f = view.clone();
+    let mut f = without_sun_disc(view);
     f.quality = row.quality;
     f.features = row.features;
     f.frames = options.frames.max(1);
     f.upscale = false;
     f.continue_history = false;
-    let (image, ms_per_frame, clock) = timed(renderer, &f, options.repeats)?;
-    image.check()?;
-    let error = image_error(&image, &reference.image, options.exposure)?;
+    // The rows' seeds start past the reference's, so no row shares its jitter.
+    f.seed = view.seed.wrapping_add(1);
+    let (images, ms_per_frame, clock) = timed(renderer, &f, options.repeats)?;
+    for image in &images {
+        image.check()?;
+    }
+    let error = image_error(&images[0], &reference.image, options.exposure)?;
+    let split = bias_noise(&images, &reference.image, reference.noise_linear)?;
     Ok((
         Measurement {
             view: view_name.into(),
@@ -191,6 +219,7 @@ pub fn measure(
             ms_per_frame,
             samples_per_pixel: samples_per_pixel(renderer, &f)?,
             error,
+            split,
         },
         clock,
     ))

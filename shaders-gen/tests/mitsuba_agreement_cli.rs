@@ -1,0 +1,91 @@
+//! `tools/mitsuba_agreement.py` at a tiny size: `nimbus export-density --mitsuba` and
+//! `nimbus render --verification --format exr` against Mitsuba 3 (scalar_rgb) on the same
+//! clouds. The full-size figures are in the README; here the check is that the two renderers
+//! agree about as well as Mitsuba agrees with itself, and that a 10 % error in the light (the
+//! control) is seen.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::{have_gpu, text};
+
+/// Whether Python with Mitsuba 3 and the OpenEXR bindings is here (`.ci/install-deps` installs
+/// them); a missing one skips with the reason, and fails under NIMBUS_REQUIRE_TOOLS=1.
+fn have_mitsuba() -> bool {
+    let ok = Command::new("python3")
+        .args([
+            "-c",
+            "import mitsuba, OpenEXR, numpy; mitsuba.set_variant('scalar_rgb')",
+        ])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
+            "NIMBUS_REQUIRE_TOOLS=1 but python3 with mitsuba, OpenEXR and numpy is missing (pip install -r tools/requirements.txt)"
+        );
+        eprintln!("SKIPPED: python3 with Mitsuba 3 is missing, so no independent renderer");
+    }
+    ok
+}
+
+/// Runs the agreement script at a tiny size; returns its report.
+fn agreement(sun_scale: f32) -> serde_json::Value {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let o = Command::new("python3")
+        .arg(root.join("tools/mitsuba_agreement.py"))
+        .args(["--nimbus", env!("CARGO_BIN_EXE_nimbus")])
+        .args(["--resolution", "48x27", "--voxel", "20", "--filter", "1"])
+        .args(["--spp", "128", "--frames", "4"])
+        .args(["--sun-scale", &sun_scale.to_string()])
+        .arg("--out")
+        .arg(tmp.path())
+        .output()
+        .expect("run python3");
+    let stdout = text(&o.stdout);
+    assert!(o.status.success(), "{stdout}\n{}", text(&o.stderr));
+    println!("{stdout}");
+    serde_json::from_slice(&std::fs::read(tmp.path().join("agreement.json")).expect("report"))
+        .expect("json")
+}
+
+fn f(v: &serde_json::Value) -> f64 {
+    v.as_f64().expect("a number")
+}
+
+#[test]
+fn nimbus_and_mitsuba_agree_on_single_scattering_and_see_a_wrong_sun() {
+    if !have_gpu() || !have_mitsuba() {
+        return;
+    }
+    let r = agreement(1.0);
+    let ss = &r["single_scattering"];
+    let (ours, floor) = (&ss["nimbus_vs_mitsuba"], &ss["mitsuba_vs_mitsuba"]);
+    assert!(
+        f(&r["cloudy_pixels"]) > 200.0,
+        "the view must see clouds: {r}"
+    );
+    // The image means agree (this coarse grid and 128 spp leave a few per cent).
+    assert!((f(&ss["mean_ratio"]) - 1.0).abs() < 0.04, "{ss}");
+    // Per pixel, Nimbus is about as close to Mitsuba as Mitsuba is to itself.
+    assert!(
+        f(&ours["mean_abs"]) < 1.3 * f(&floor["mean_abs"]) + 0.02,
+        "{ss}"
+    );
+    let t = &r["transmittance"]["nimbus_vs_mitsuba"];
+    assert!(
+        f(&t["mean_signed"]).abs() < 0.01 && f(&t["mean_abs"]) < 0.03,
+        "{t}"
+    );
+
+    // The control: Mitsuba's sun 10 % dimmer must show.
+    let dim = agreement(0.9);
+    let ratio = f(&dim["single_scattering"]["mean_ratio"]);
+    assert!(
+        (ratio - 1.0 / 0.9).abs() < 0.04 && ratio > f(&ss["mean_ratio"]) + 0.06,
+        "a 10 % dimmer sun in Mitsuba gave a ratio of {ratio}"
+    );
+}
