@@ -95,8 +95,10 @@ impl Gpu {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("nimbus"),
-                // Timestamps let benchmarks time the passes themselves where the adapter can.
-                required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+                // Timestamps let benchmarks time the passes themselves where the adapter can;
+                // filterable 32-bit float textures hold the temporal history exactly.
+                required_features: adapter.features()
+                    & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::FLOAT32_FILTERABLE),
                 required_limits: adapter.limits(),
                 ..Default::default()
             })
@@ -148,6 +150,22 @@ impl Gpu {
 
     pub fn device(&self) -> &wgpu::Device {
         &self.device
+    }
+
+    /// The format of the temporal history: 32-bit float where the device can filter it, else
+    /// the 16-bit HDR format. A running mean over many frames in half floats drifts (drivers may
+    /// round towards zero when a shader writes them: 48 accumulated frames came out 0.8 % dark
+    /// on lavapipe), so the history keeps full precision wherever it can.
+    pub fn accumulation_format(&self) -> wgpu::TextureFormat {
+        if self
+            .device
+            .features()
+            .contains(wgpu::Features::FLOAT32_FILTERABLE)
+        {
+            wgpu::TextureFormat::Rgba32Float
+        } else {
+            crate::pipelines::HDR_FORMAT
+        }
     }
 
     /// A compute pipeline for entry point `entry` of a generated module, with the explicit

@@ -182,7 +182,14 @@ impl PipelineCache {
                     module: &shader,
                     entry_point: Some(&fs),
                     compilation_options: Default::default(),
-                    targets: &[Some(HDR_FORMAT.into())],
+                    // The resolve writes the history, which keeps full precision where it can.
+                    targets: &[Some(
+                        match key {
+                            ShaderKey::Resolve => gpu.accumulation_format(),
+                            _ => HDR_FORMAT,
+                        }
+                        .into(),
+                    )],
                 }),
                 primitive: Default::default(),
                 depth_stencil: None,

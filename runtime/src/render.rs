@@ -292,6 +292,7 @@ struct Target {
     view: wgpu::TextureView,
     width: u32,
     height: u32,
+    format: wgpu::TextureFormat,
 }
 
 /// History kept between frames: two targets the resolve ping-pongs between.
@@ -426,6 +427,16 @@ fn uniform_buffer(gpu: &Gpu, label: &str, size: usize) -> wgpu::Buffer {
 }
 
 fn target(gpu: &Gpu, label: &str, width: u32, height: u32) -> Target {
+    target_of(gpu, label, width, height, HDR_FORMAT)
+}
+
+fn target_of(
+    gpu: &Gpu,
+    label: &str,
+    width: u32,
+    height: u32,
+    format: wgpu::TextureFormat,
+) -> Target {
     let texture = gpu.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -436,7 +447,7 @@ fn target(gpu: &Gpu, label: &str, width: u32, height: u32) -> Target {
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: HDR_FORMAT,
+        format,
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC,
@@ -448,6 +459,7 @@ fn target(gpu: &Gpu, label: &str, width: u32, height: u32) -> Target {
         view,
         width,
         height,
+        format,
     }
 }
 
@@ -874,10 +886,23 @@ impl<'g> Renderer<'g> {
             && size_of(&h.targets[0]) == (frame.width, frame.height));
         if resolve {
             if !same {
+                let accumulation = self.gpu.accumulation_format();
                 self.history = Some(History {
                     targets: [
-                        target(self.gpu, "history A", frame.width, frame.height),
-                        target(self.gpu, "history B", frame.width, frame.height),
+                        target_of(
+                            self.gpu,
+                            "history A",
+                            frame.width,
+                            frame.height,
+                            accumulation,
+                        ),
+                        target_of(
+                            self.gpu,
+                            "history B",
+                            frame.width,
+                            frame.height,
+                            accumulation,
+                        ),
                     ],
                     latest: 0,
                     upscale: frame.upscale,
@@ -1058,7 +1083,14 @@ impl<'g> Renderer<'g> {
                     pixel_offset: u.pixel_offset,
                     pixel_scale: scale as f32,
                     current_weight: 1.0 / (visits as f32 + 1.0),
-                    variance_gamma: if frame.upscale { 2.0 } else { 4.0 },
+                    // A still camera at full resolution accumulates the exact mean.
+                    variance_gamma: if frame.upscale {
+                        2.0
+                    } else if h.view_projection == view_projection {
+                        0.0
+                    } else {
+                        4.0
+                    },
                     history_valid: if index == 0 { 0.0 } else { 1.0 },
                 };
                 let (read, write) = (h.latest, 1 - h.latest);
@@ -1147,13 +1179,16 @@ impl<'g> Renderer<'g> {
         self.render_with_progress(frame, &mut |_, _| {})
     }
 
-    fn row_bytes(width: u32) -> u32 {
-        (width * 8).div_ceil(256) * 256
+    /// Bytes of one row of a `width`-texel target, padded as buffer copies require.
+    fn row_bytes(width: u32, format: wgpu::TextureFormat) -> u32 {
+        (width * texel_bytes(format)).div_ceil(256) * 256
     }
 
-    /// A readback buffer large enough for a `width`×`height` HDR target, kept while it is.
+    /// A readback buffer large enough for a `width`×`height` target of the widest format,
+    /// kept while it is.
     fn ensure_readback(&mut self, width: u32, height: u32) {
-        let size = u64::from(Self::row_bytes(width)) * u64::from(height);
+        let widest = wgpu::TextureFormat::Rgba32Float;
+        let size = u64::from(Self::row_bytes(width, widest)) * u64::from(height);
         if self.readback.as_ref().is_some_and(|b| b.size() >= size) {
             return;
         }
@@ -1162,7 +1197,7 @@ impl<'g> Renderer<'g> {
 
     fn read_back(&self, target: &Target) -> Result<Image, RuntimeError> {
         let (width, height) = (target.width, target.height);
-        let row_bytes = Self::row_bytes(width);
+        let row_bytes = Self::row_bytes(width, target.format);
         let size = u64::from(row_bytes) * u64::from(height);
         let owned;
         let readback = match &self.readback {
@@ -1195,11 +1230,19 @@ impl<'g> Renderer<'g> {
         self.gpu.queue().submit([encoder.finish()]);
         let data = self.gpu.map_read_prefix(readback, size)?;
         let mut pixels = Vec::with_capacity((width * height) as usize);
+        let texel = texel_bytes(target.format) as usize;
         for y in 0..height as usize {
-            let row = &data[y * row_bytes as usize..];
-            let halves: &[u16] = bytemuck::cast_slice(&row[..width as usize * 8]);
-            for px in halves.chunks_exact(4) {
-                pixels.push(px_f32([px[0], px[1], px[2], px[3]]));
+            let row = &data[y * row_bytes as usize..][..width as usize * texel];
+            if texel == 16 {
+                let floats: &[f32] = bytemuck::cast_slice(row);
+                pixels.extend(floats.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]));
+            } else {
+                let halves: &[u16] = bytemuck::cast_slice(row);
+                pixels.extend(
+                    halves
+                        .chunks_exact(4)
+                        .map(|px| px_f32([px[0], px[1], px[2], px[3]])),
+                );
             }
         }
         Ok(Image {
@@ -1207,6 +1250,15 @@ impl<'g> Renderer<'g> {
             height,
             pixels,
         })
+    }
+}
+
+/// Bytes per texel of the render targets' formats (RGBA16F or RGBA32F).
+fn texel_bytes(format: wgpu::TextureFormat) -> u32 {
+    if format == wgpu::TextureFormat::Rgba32Float {
+        16
+    } else {
+        8
     }
 }
 

@@ -29,7 +29,9 @@ pub struct ResolveParams {
     pub pixel_scale: f32,
     /// Weight of the current sample where there is one (1 replaces the history).
     pub current_weight: f32,
-    /// Width of the clipping box in standard deviations.
+    /// Width of the clipping box in standard deviations; 0 turns clipping off (a still camera
+    /// at full resolution, whose history is the exact running mean of the same pixels, which
+    /// clipping to one frame's neighbourhood could only bias).
     pub variance_gamma: f32,
     /// 0 on the first frame: there is no history to read.
     pub history_valid: f32,
@@ -96,10 +98,13 @@ pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {
         return current;
     }
     let history = HISTORY.get().sample_level(&LINEAR_CLAMP.get(), uv, 0.0);
-    let clipped = history.clamp(
-        mean - sigma * r.variance_gamma,
-        mean + sigma * r.variance_gamma,
-    );
+    let mut clipped = history;
+    if r.variance_gamma > 0.0 {
+        clipped = history.clamp(
+            mean - sigma * r.variance_gamma,
+            mean + sigma * r.variance_gamma,
+        );
+    }
     if is_current {
         return clipped + (current - clipped) * r.current_weight;
     }
