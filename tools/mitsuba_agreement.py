@@ -168,6 +168,15 @@ def main():
     with open(os.path.join(work, "agreement.json"), "w") as f:
         json.dump(report, f, indent=2)
     np.save(os.path.join(work, "mitsuba_single.npy"), 0.5 * (mit_l[0] + mit_l[1]))
+    # Side by side: Nimbus, Mitsuba, and their difference ×4 (red: Nimbus brighter, blue:
+    # darker), scaled so the brightest cloud pixel is white.
+    scale = 1.0 / max(np.percentile(mit_l[0][mask], 99.5), 1e-12)
+    grey = lambda img: np.repeat((img * scale)[..., None], 3, axis=2)
+    diff = 4.0 * (nimbus_l - mit_l[0]) * scale
+    signed = np.stack([np.clip(diff, 0, None), np.zeros_like(diff), np.clip(-diff, 0, None)], axis=2)
+    gap = np.ones((height, 2, 3))
+    strip = np.concatenate([grey(nimbus_l), gap, grey(mit_l[0]), gap, signed], axis=1)
+    mi.util.write_bitmap(os.path.join(work, "comparison.png"), np.clip(strip, 0, 1).astype(np.float32))
 
     s, t = report["single_scattering"], report["transmittance"]
     print()

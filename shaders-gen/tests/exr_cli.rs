@@ -12,23 +12,9 @@ use std::process::Command;
 
 use common::{examples, have_gpu, nimbus, text};
 
-/// Whether Python with the OpenEXR bindings is here (`.ci/install-deps` installs them); a
-/// missing reader skips with the reason, and fails under NIMBUS_REQUIRE_TOOLS=1.
+/// The reference OpenEXR reader, through its Python bindings.
 fn have_openexr() -> bool {
-    let ok = Command::new("python3")
-        .args(["-c", "import OpenEXR, numpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(
-            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
-            "NIMBUS_REQUIRE_TOOLS=1 but python3 with OpenEXR and numpy is missing (pip install -r tools/requirements.txt)"
-        );
-        eprintln!(
-            "SKIPPED: python3 with the OpenEXR bindings is missing, so no independent reader"
-        );
-    }
-    ok
+    common::have_python("import OpenEXR, numpy", "the OpenEXR bindings and numpy")
 }
 
 struct Channels {

@@ -11,24 +11,12 @@ use std::process::Command;
 
 use common::{have_gpu, text};
 
-/// Whether Python with Mitsuba 3 and the OpenEXR bindings is here (`.ci/install-deps` installs
-/// them); a missing one skips with the reason, and fails under NIMBUS_REQUIRE_TOOLS=1.
+/// Mitsuba 3 (scalar_rgb), the OpenEXR bindings and numpy.
 fn have_mitsuba() -> bool {
-    let ok = Command::new("python3")
-        .args([
-            "-c",
-            "import mitsuba, OpenEXR, numpy; mitsuba.set_variant('scalar_rgb')",
-        ])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(
-            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
-            "NIMBUS_REQUIRE_TOOLS=1 but python3 with mitsuba, OpenEXR and numpy is missing (pip install -r tools/requirements.txt)"
-        );
-        eprintln!("SKIPPED: python3 with Mitsuba 3 is missing, so no independent renderer");
-    }
-    ok
+    common::have_python(
+        "import mitsuba, OpenEXR, numpy; mitsuba.set_variant('scalar_rgb')",
+        "Mitsuba 3, OpenEXR and numpy",
+    )
 }
 
 /// Runs the agreement script at a tiny size; returns its report.

@@ -66,3 +66,21 @@ pub fn tree(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
     }
     out
 }
+
+/// Whether python3 runs `check` (imports of the packages `.ci/install-deps` installs from
+/// tools/requirements.txt); without them a test prints why it skips (`what` is missing), and
+/// fails under NIMBUS_REQUIRE_TOOLS=1, which CI sets.
+pub fn have_python(check: &str, what: &str) -> bool {
+    let ok = Command::new("python3")
+        .args(["-c", check])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
+            "NIMBUS_REQUIRE_TOOLS=1 but python3 with {what} is missing (pip install -r tools/requirements.txt)"
+        );
+        eprintln!("SKIPPED: python3 with {what} is missing");
+    }
+    ok
+}
