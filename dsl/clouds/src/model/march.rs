@@ -600,6 +600,12 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
             weight_sum += transmittance;
             transmittance *= step_transmittance;
             if transmittance <= m.min_transmittance {
+                // Early termination treats the rest of the ray as more of the same cloud: its
+                // light is extrapolated (the radiance so far is 1 − T of the total) and nothing
+                // behind shows through. Cutting the ray at T = 0.1 and compositing the sky
+                // behind at 10 % made `low` 64 % too bright inside a cloud (the study).
+                radiance *= 1.0 / (1.0 - transmittance).max(1e-6);
+                transmittance = 0.0;
                 break;
             }
         }
