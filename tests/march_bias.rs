@@ -109,7 +109,8 @@ fn measure(
         if total_density(p, h, key) <= 0.0 {
             continue;
         }
-        let length = if m.secondary_full_path > 0 {
+        let full = down || m.secondary_full_path > 0;
+        let length = if full {
             slab_exit(h, dir.y)
         } else {
             secondary_reach(steps, m.min_secondary_step, m.secondary_step_scale)
@@ -117,7 +118,7 @@ fn measure(
         let fine = fine_optical_depth(&u, key, p, h, dir, length);
         let march = offsets
             .iter()
-            .map(|&o| f64::from(secondary_optical_depth(p, h, dir, steps, o, key)))
+            .map(|&o| f64::from(secondary_optical_depth(p, h, dir, steps, o, full, key)))
             .sum::<f64>()
             / offsets.len() as f64;
         bias.march += march;
