@@ -220,7 +220,8 @@ fn cloud_variant_manifest_is_pinned() {
 fn representative_cloud_keys_are_pinned_per_target() {
     let lib = library();
     // Three distinct cloud keys (low, high, and a Henyey–Greenstein genus at medium) and the
-    // shadow pass of high; cumulonimbus at ultra runs the same shader as cumulus at high.
+    // shadow pass of high; cumulonimbus at high runs the same shader as cumulus at high (the
+    // genus is uniform values).
     let mut keys = Vec::new();
     for (genus, q) in [
         ("cumulus", Quality::Low),
@@ -232,8 +233,8 @@ fn representative_cloud_keys_are_pinned_per_target() {
     }
     let high = CloudVariant::new(
         lib.genus("cumulonimbus").expect("genus"),
-        Quality::Ultra,
-        Quality::Ultra.features(),
+        Quality::High,
+        Quality::High.features(),
     );
     assert_eq!(keys[1], ShaderKey::Clouds(high.key));
     keys.extend(high.key.shadow_key().map(ShaderKey::Shadow));

@@ -67,9 +67,9 @@ fn list_and_check_describe_and_validate_everything() {
     for want in [
         "preview-hg",
         "preview-dual_lobe",
-        "clouds: 6 distinct shader(s)",
+        "clouds: 8 distinct shader(s)",
         "shadow: 3 distinct shader(s)",
-        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-sunsky-o8-dual-g1 ← 18 pair(s)",
+        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-o8-dual-g1 ← 9 pair(s)",
         "glsl-es300",
         "spirv",
         "msl",
@@ -80,10 +80,10 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
-    // 2 previews + resolve + display + sun light + 6 cloud keys + 3 shadow keys, for 11 genera
+    // 2 previews + resolve + display + sun light + 8 cloud keys + 3 shadow keys, for 11 genera
     // × 4 presets.
     assert!(
-        s.contains("14 shader(s),") && s.contains("0 failure(s)"),
+        s.contains("16 shader(s),") && s.contains("0 failure(s)"),
         "{s}"
     );
     assert!(
@@ -140,7 +140,7 @@ fn emit_genus_quality_and_toggles() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     // Without haze the shafts have nothing to light: the key drops both.
-    let id = "clouds-detail-turb-shadows-bounce-powder-sunsky-o8-dual-g1";
+    let id = "clouds-detail-turb-shadows-bounce-powder-o8-dual-g1";
     let wgsl = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("wgsl");
     assert!(wgsl.contains("fn march_clouds") && !wgsl.contains("haze_opacity"));
     assert!(out.join(format!("{id}.fs_main.es300.frag")).is_file());
@@ -233,7 +233,7 @@ fn emit_and_explain_agree_on_the_scene_variant() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let name = "stratocumulus.high-light-shafts-ground-bounce";
-    let id = "clouds-detail-turb-haze-shadows-powder-sunsky-o8-dual-g1";
+    let id = "clouds-detail-turb-haze-shadows-powder-o8-dual-g1";
     let clouds = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("clouds");
     assert!(out.join("shadow-detail-turb-g1.wgsl").is_file());
     // Shafts and ground bounce are out: their code is not in the shader.
