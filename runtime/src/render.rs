@@ -207,15 +207,11 @@ impl Frame {
     /// The features rendered: the frame's, less every effect beyond the sun's scattering in
     /// verification mode.
     pub fn effective_features(&self) -> Features {
-        let mut f = self.features;
         if self.verification {
-            f.powder = false;
-            f.ground_bounce = false;
-            f.haze = false;
-            f.light_shafts = false;
-            f.accurate_sun_sky_light = false;
+            self.features.sun_scattering_only()
+        } else {
+            self.features
         }
-        f
     }
 
     fn sun_direction(&self) -> Vec3 {
@@ -737,11 +733,7 @@ impl<'g> Renderer<'g> {
         u.haze.density = frame.haze_density;
         u.composite = frame.composite;
         if frame.verification {
-            u.light.sun_irradiance = Vec3::ONE;
-            u.light.sky_irradiance = Vec3::ZERO;
-            u.light.sky_light_scale = 0.0;
-            u.light.ground_bounce_scale = 0.0;
-            u.composite = CompositeParams::NONE;
+            u = u.lit_by_sun_alone();
         }
         u
     }

@@ -161,6 +161,20 @@ impl clap::ValueEnum for Toggle {
     }
 }
 
+impl Features {
+    /// These features less every effect beyond the sun's scattering by the clouds (powder,
+    /// ground bounce, haze, light shafts, per-sample sun/sky light): verification mode's
+    /// shader, the model an independent path tracer reproduces. Octaves are left as they are.
+    pub fn sun_scattering_only(mut self) -> Features {
+        self.powder = false;
+        self.ground_bounce = false;
+        self.haze = false;
+        self.light_shafts = false;
+        self.accurate_sun_sky_light = false;
+        self
+    }
+}
+
 impl FeatureOverrides {
     /// The forced state of `t`, if the scene forces it.
     pub fn get(&self, t: Toggle) -> Option<bool> {

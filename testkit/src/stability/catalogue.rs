@@ -35,32 +35,42 @@ fn with_layer(f: impl Fn(&mut CloudLayer)) -> Genus {
     g
 }
 
-/// The high preset's uniforms for `genus`, sun at `sun_elevation_deg` (azimuth 150°), camera
-/// at `camera_altitude`; textures tiled every few kilometres so the small case textures give
+/// The uniforms of `quality` for `genus`, sun at `sun_elevation_deg` (azimuth 150°), camera at
+/// `camera_altitude`; textures tiled every few kilometres so the small case textures give
 /// structure at the probes' scale.
-fn uniforms(genus: &Genus, sun_elevation_deg: f32, camera_altitude: f32) -> CloudUniforms {
+fn quality_uniforms(
+    genus: &Genus,
+    quality: Quality,
+    sun_elevation_deg: f32,
+    camera_altitude: f32,
+) -> CloudUniforms {
     let (el, az) = (sun_elevation_deg.to_radians(), 150f32.to_radians());
     let sun = Vec3::new(el.cos() * az.sin(), el.sin(), -el.cos() * az.cos());
-    let mut u = CloudUniforms::for_genus(genus, Quality::High, sun, camera_altitude);
+    let mut u = CloudUniforms::for_genus(genus, quality, sun, camera_altitude);
     u.media.weather_repeat = Vec2::splat(1.0 / 4000.0);
     u.media.shape_repeat = Vec3::splat(1.0 / 1000.0);
     u.media.detail_repeat = Vec3::splat(1.0 / 200.0);
     u
 }
 
+/// The high preset's uniforms (see [`quality_uniforms`]).
+fn uniforms(genus: &Genus, sun_elevation_deg: f32, camera_altitude: f32) -> CloudUniforms {
+    quality_uniforms(genus, Quality::High, sun_elevation_deg, camera_altitude)
+}
+
 /// The reference preset's uniforms (whole-path stratified secondary marches, no shadow map in
-/// the march), otherwise as [`uniforms`].
+/// the march).
 fn reference_uniforms(
     genus: &Genus,
     sun_elevation_deg: f32,
     camera_altitude: f32,
 ) -> CloudUniforms {
-    let (el, az) = (sun_elevation_deg.to_radians(), 150f32.to_radians());
-    let sun = Vec3::new(el.cos() * az.sin(), el.sin(), -el.cos() * az.cos());
-    let mut u = CloudUniforms::for_genus(genus, Quality::Reference, sun, camera_altitude);
-    let tiled = uniforms(genus, sun_elevation_deg, camera_altitude).media;
-    u.media = tiled;
-    u
+    quality_uniforms(
+        genus,
+        Quality::Reference,
+        sun_elevation_deg,
+        camera_altitude,
+    )
 }
 
 fn key_of(genus: &Genus) -> CloudKey {
@@ -541,22 +551,14 @@ fn secondary_span_overflow() -> Case {
 fn verification_mode() -> Case {
     let g = base_genus();
     let mut b = Builder::new(&g);
-    let mut features = Quality::Reference.features();
-    features.octaves = 1;
-    features.powder = false;
-    features.ground_bounce = false;
-    features.haze = false;
-    features.light_shafts = false;
-    features.accurate_sun_sky_light = false;
+    let features = nimbus_clouds::Features {
+        octaves: 1,
+        ..Quality::Reference.features()
+    }
+    .sun_scattering_only();
     b.key = CloudVariant::new(&g, Quality::Reference, features).key;
     for camera in [2.0f32, 2250.0, 6000.0] {
-        let mut u = reference_uniforms(&g, 30.0, camera);
-        u.light.sun_irradiance = Vec3::ONE;
-        u.light.sky_irradiance = Vec3::ZERO;
-        u.light.sky_light_scale = 0.0;
-        u.light.ground_bounce_scale = 0.0;
-        u.composite = nimbus_clouds::model::march::CompositeParams::NONE;
-        b.fan(u);
+        b.fan(reference_uniforms(&g, 30.0, camera).lit_by_sun_alone());
     }
     b.finish(
         "verification-mode",

@@ -188,6 +188,20 @@ impl CloudUniforms {
     }
 }
 
+impl CloudUniforms {
+    /// These uniforms lit by a sun of irradiance 1 alone: no sky light, ground bounce, or
+    /// anything the composite adds around the clouds (verification mode's uniforms, with
+    /// [`crate::Features::sun_scattering_only`] its shader).
+    pub fn lit_by_sun_alone(mut self) -> Self {
+        self.light.sun_irradiance = Vec3::ONE;
+        self.light.sky_irradiance = Vec3::ZERO;
+        self.light.sky_light_scale = 0.0;
+        self.light.ground_bounce_scale = 0.0;
+        self.composite = CompositeParams::NONE;
+        self
+    }
+}
+
 impl ShadowParams {
     /// The quality preset's shadow settings. The cascade transforms depend on the sun and
     /// the camera: [`super::sun::sun_light`] fills them (identity until then).
