@@ -6,8 +6,9 @@ mod common;
 use common::{MIN_INPUTS, Rng, Tolerance, compare};
 use glam::Vec4;
 use nimbus_clouds::model::density::{
-    coverage_remap, detail_erosion, height_fraction, profile4, shape_altering, shape_erosion,
+    coverage_remap, detail_erosion, height_fraction, shape_altering, shape_erosion,
 };
+use nimbus_clouds::model::genus_fns::exponential_profile;
 use nimbus_clouds::model::layers::{LayerGroup, LayerGroupShader};
 use nimbus_clouds::model::phase::{approximate_mie, draine_phase, isotropic_phase, rayleigh_phase};
 use nimbus_clouds::model::shell::{EARTH_RADIUS, ray_shell};
@@ -269,21 +270,67 @@ fn density_stages_match_cpu() {
         })
         .collect();
     let call = |x: &[ExprId]| {
-        profile4::shader(
+        exponential_profile::shader(
             nimbus_dsl::shader::Vec4::from_id(x[0]),
             LayerGroupShader::from_id(x[1]),
         )
         .id()
     };
     compare(
-        "profile4",
+        "exponential_profile",
         vec![VEC4, GROUP],
         VEC4,
         &call,
         &eta_inputs,
-        |w| out4(profile4(v4(w, 0), group_from(&w[4..]))),
+        |w| out4(exponential_profile(v4(w, 0), group_from(&w[4..]))),
         tol,
     );
+}
+
+/// Every height function a genus can name, built-in or a user's (the supercell example
+/// crate's), on the GPU against its CPU twin, over η ∈ [0, 1] (and a little beyond, as the
+/// march never asks but a user's function must not blow up) with random layer groups.
+#[test]
+fn every_genus_height_function_matches_cpu() {
+    use nimbus_clouds::HeightFn;
+    use nimbus_clouds::functions::known;
+    supercell::register_functions().expect("register");
+    let functions = known::<HeightFn>();
+    assert!(
+        functions.contains(&supercell::SHAPE) && functions.contains(&supercell::PROFILE),
+        "the user's functions are known once registered"
+    );
+    let mut rng = Rng::new(27);
+    let mut inputs = Vec::new();
+    while inputs.len() < MIN_INPUTS {
+        let i = inputs.len();
+        let mut w: Vec<u32> = (0..4)
+            .map(|k| f(((i * 4 + k) % 111) as f32 / 100.0 - 0.05))
+            .collect();
+        w.extend(group_words(&random_group(&mut rng)));
+        inputs.push(w);
+    }
+    for hf in functions {
+        let call = |x: &[ExprId]| {
+            (hf.shader)(
+                nimbus_dsl::shader::Vec4::from_id(x[0]),
+                LayerGroupShader::from_id(x[1]),
+            )
+            .id()
+        };
+        compare(
+            hf.name,
+            vec![VEC4, GROUP],
+            VEC4,
+            &call,
+            &inputs,
+            |w| out4((hf.cpu)(v4(w, 0), group_from(&w[4..]))),
+            Tolerance {
+                abs: 3e-5,
+                rel: 3e-5,
+            },
+        );
+    }
 }
 
 #[test]

@@ -1,15 +1,20 @@
 //! The stability catalogue on the CPU twins: one test per named case (the GPU runs the same
 //! probes in the root crate's `tests/stability_gpu.rs`).
 
-use nimbus_testkit::stability::{catalogue, check_case, run_case_cpu};
+use nimbus_testkit::stability::{catalogue, check_case, genus_case, run_case_cpu};
 
 fn run(name: &str) {
     let case = catalogue()
         .into_iter()
         .find(|c| c.name == name)
         .unwrap_or_else(|| panic!("no case `{name}` in the catalogue"));
-    let outcomes = run_case_cpu(&case);
-    let violations = check_case(&case, &outcomes);
+    run_case(&case);
+}
+
+fn run_case(case: &nimbus_testkit::stability::Case) {
+    let name = case.name;
+    let outcomes = run_case_cpu(case);
+    let violations = check_case(case, &outcomes);
     let samples: f32 = outcomes.iter().map(|o| o.march.samples).sum();
     println!(
         "{name}: {} probes, {} chains, {} pairs, {samples} density samples, {} violations ({})",
@@ -51,6 +56,9 @@ macro_rules! cases {
 }
 
 cases! {
+    anvil_shape => "anvil-shape",
+    cellular_weather => "cellular-weather",
+    streak_weather => "streak-weather",
     tangent_rays => "tangent-rays",
     sun_at_horizon => "sun-at-horizon",
     sun_just_below_horizon => "sun-just-below-horizon",
@@ -83,6 +91,22 @@ cases! {
     eight_layers => "eight-layers",
     coincident_layers => "coincident-layers",
     tiny_reach => "tiny-reach",
+}
+
+/// A genus of a user's own (the `supercell` example crate: its shape and profile are
+/// `#[shader_fn]`s written there) holds the same invariants on the CPU twins.
+#[test]
+fn user_genus_supercell() {
+    let genus = supercell::genus().expect("supercell genus");
+    assert!(
+        genus.functions.shape == supercell::SHAPE && genus.functions.profile == supercell::PROFILE,
+        "the genus file names the crate's functions"
+    );
+    run_case(&genus_case(
+        "user-genus-supercell",
+        "the supercell example crate's own shape and profile",
+        &genus,
+    ));
 }
 
 /// Found by the catalogue's thin-density cases under the reference preset (no extinction

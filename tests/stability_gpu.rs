@@ -13,7 +13,7 @@ use nimbus_dsl::layout::Flatten;
 use nimbus_dsl::shader;
 use nimbus_testkit::parity::{KernelFn, cloud_resources, run_on_gpu};
 use nimbus_testkit::stability::{
-    Case, RayOutcome, RayOutcomeShader, catalogue, check_case, probe_ray, run_case_cpu,
+    Case, RayOutcome, RayOutcomeShader, catalogue, check_case, genus_case, probe_ray, run_case_cpu,
 };
 
 /// Runs every probe of `cases` (which share a variant key and textures: one kernel) on the GPU.
@@ -70,7 +70,14 @@ fn run_cases_gpu(gpu: &nimbus_runtime::Gpu, cases: &[&Case]) -> Vec<Vec<RayOutco
 fn stability_catalogue_holds_on_the_gpu() {
     let Some(gpu) = common::gpu() else { return };
     println!("adapter: {}", gpu.info());
-    let cases = catalogue();
+    let mut cases = catalogue();
+    // A genus of a user's own: the supercell example crate's shape and profile functions.
+    let supercell = supercell::genus().expect("supercell genus");
+    cases.push(genus_case(
+        "user-genus-supercell",
+        "the supercell example crate's own shape and profile",
+        &supercell,
+    ));
     // One kernel per variant key and texture set: compiling is what takes the time.
     let mut groups: Vec<Vec<&Case>> = Vec::new();
     for c in &cases {

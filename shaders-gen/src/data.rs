@@ -85,6 +85,9 @@ pub(crate) fn keys_json(r: &Resolved) -> String {
                 "quality": a.quality.name(),
                 "clouds": ShaderKey::Clouds(a.clouds).id(),
                 "shadow": a.shadow.map(|k| ShaderKey::Shadow(k).id()),
+                "functions": a.clouds.functions.slots().map(|(slot, name, path, _)| {
+                    serde_json::json!({ "slot": slot, "name": name, "path": path })
+                }),
                 "uniforms": { "block": "clouds", "members": members },
             })
         })

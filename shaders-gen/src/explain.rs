@@ -102,6 +102,25 @@ pub(crate) fn run(
             "nothing samples it: no pass, no texture"
         }
     );
+    // The genus' density functions: built-in defaults, or its own (each in the key).
+    for (slot, name, path, about) in variant.key.functions.slots() {
+        let own = variant
+            .key
+            .functions
+            .custom()
+            .iter()
+            .any(|(s, _)| *s == slot);
+        println!(
+            "  {:<24} {:<4} {name}{}: {about}",
+            format!("{slot}-function"),
+            if own { "own" } else { "std" },
+            if own {
+                format!(" ({path})")
+            } else {
+                String::new()
+            },
+        );
+    }
     println!();
     println!("variant: {}", variant.name());
     println!(

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::layer::CloudLayer;
+use crate::functions::GenusFunctions;
 
 /// Most layers a genus may have: two groups of four vec4 lanes.
 pub const MAX_LAYERS: usize = 8;
@@ -77,6 +78,10 @@ pub struct Genus {
     pub medium: Medium,
     #[serde(default)]
     pub phase: PhaseSpec,
+    /// The weather, shape and profile functions of the density (`functions = { shape =
+    /// "anvil_shape" }`); the built-ins of the reference library's model where unset.
+    #[serde(default, skip_serializing_if = "GenusFunctions::is_default")]
+    pub functions: GenusFunctions,
     pub layers: Vec<CloudLayer>,
 }
 

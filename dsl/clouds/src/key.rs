@@ -10,6 +10,7 @@
 use nimbus_dsl::SpecValue;
 
 use crate::features::{Features, Toggle};
+use crate::functions::GenusFunctions;
 use crate::genus::PhaseSpec;
 
 /// Phase function of a shader (the genus decides it, `accurate-phase-function` forces Mie).
@@ -117,6 +118,8 @@ pub struct CloudKey {
     pub groups: u32,
     /// What each pixel holds: the composited image, or an instrumented or linear layer.
     pub output: PixelOutput,
+    /// The genus' weather, shape and profile functions (the built-ins unless it names its own).
+    pub functions: GenusFunctions,
     /// The uber-shader: every choice above is read at run time from the key uniforms
     /// ([`crate::model::choices`]) instead of being fixed in the code; the fields then give the
     /// most the shader can do (every toggle on, two groups).
@@ -137,8 +140,14 @@ impl CloudKey {
             phase,
             groups: groups.clamp(1, 2),
             output: PixelOutput::Composite,
+            functions: GenusFunctions::default(),
             uber: false,
         }
+    }
+
+    /// This key with the genus functions `functions`.
+    pub fn with_functions(self, functions: GenusFunctions) -> CloudKey {
+        CloudKey { functions, ..self }
     }
 
     /// `detail-turb-shafts-haze-shadows-bounce-powder-sunsky-o8-dual-g1`: the tags of the
@@ -159,6 +168,7 @@ impl CloudKey {
         if let Some(tag) = self.output.tag() {
             parts.push(tag.into());
         }
+        parts.extend(function_tags(&self.functions));
         parts.join("-")
     }
 
@@ -182,6 +192,7 @@ impl CloudKey {
             phase: PhaseKind::DualLobe,
             groups: 2,
             output: PixelOutput::Composite,
+            functions: GenusFunctions::default(),
             uber: true,
         }
     }
@@ -218,6 +229,7 @@ impl CloudKey {
                             phase,
                             groups,
                             output: PixelOutput::Composite,
+                            functions: GenusFunctions::default(),
                             uber: false,
                         });
                     }
@@ -240,6 +252,7 @@ impl CloudKey {
             shape_detail: self.features.shape_detail,
             turbulence: self.features.turbulence,
             groups: self.groups,
+            functions: self.functions,
         })
     }
 }
@@ -261,6 +274,8 @@ pub struct ShadowKey {
     pub shape_detail: bool,
     pub turbulence: bool,
     pub groups: u32,
+    /// The genus functions the density is made of.
+    pub functions: GenusFunctions,
 }
 
 impl ShadowKey {
@@ -274,6 +289,7 @@ impl ShadowKey {
             parts.push(Toggle::Turbulence.tag().to_string());
         }
         parts.push(format!("g{}", self.groups));
+        parts.extend(function_tags(&self.functions));
         parts.join("-")
     }
 
@@ -286,6 +302,7 @@ impl ShadowKey {
                     shape_detail: bits & 1 != 0,
                     turbulence: bits & 2 != 0,
                     groups,
+                    functions: GenusFunctions::default(),
                 });
             }
         }
@@ -309,7 +326,26 @@ impl ShadowKey {
             phase: PhaseKind::Isotropic,
             groups: self.groups,
             output: PixelOutput::Composite,
+            functions: self.functions,
             uber: false,
         }
     }
+}
+
+/// One tag per genus function that is not the default: its name (`anvil_shape`,
+/// `streak_weather`), prefixed by the slot where the name does not end with it (a height
+/// function may serve as a shape or as a profile: `profile_anvil_shape`). Underscores keep each
+/// tag one part of the dash-separated key name.
+fn function_tags(functions: &GenusFunctions) -> Vec<String> {
+    functions
+        .custom()
+        .into_iter()
+        .map(|(slot, name)| {
+            if name.ends_with(slot) {
+                name.to_string()
+            } else {
+                format!("{slot}_{name}")
+            }
+        })
+        .collect()
 }

@@ -19,6 +19,7 @@ pub fn base_genus() -> Genus {
         coverage: 0.5,
         medium: Medium::default(),
         phase: PhaseSpec::default(),
+        functions: Default::default(),
         layers: vec![CloudLayer {
             altitude: 1500.0,
             height: 1500.0,
@@ -302,6 +303,37 @@ fn camera_in_orbit() -> Case {
         "camera-in-orbit",
         "camera 400 km up looking at the limb: clouds and air seen edge-on from space",
     )
+}
+
+/// A genus as a case: fans of rays from below, inside and above its layers, under the sun at
+/// 30°. How a genus of one's own, with its own functions, joins the catalogue's checks.
+pub fn genus_case(name: &'static str, about: &'static str, genus: &Genus) -> Case {
+    let bottom = genus
+        .layers
+        .iter()
+        .map(|l| l.altitude)
+        .fold(f32::MAX, f32::min);
+    let top = genus
+        .layers
+        .iter()
+        .map(|l| l.altitude + l.height)
+        .fold(0.0, f32::max);
+    let mut b = Builder::new(genus);
+    for camera in [2.0, 0.5 * (bottom + top), top + 2000.0] {
+        b.fan(uniforms(genus, 30.0, camera));
+    }
+    b.finish(name, about)
+}
+
+/// The base genus, deep (1 to 9 km) like a towering cloud, with the built-in genus functions
+/// `functions` sets.
+fn functions_genus(set: impl Fn(&mut nimbus_clouds::GenusFunctions)) -> Genus {
+    let mut g = with_layer(|l| {
+        l.altitude = 1000.0;
+        l.height = 8000.0;
+    });
+    set(&mut g.functions);
+    g
 }
 
 fn layer_case(name: &'static str, about: &'static str, genus: Genus, cameras: &[f32]) -> Case {
@@ -608,7 +640,26 @@ fn tiny_reach() -> Case {
 
 /// Every case, in a fixed order.
 pub fn catalogue() -> Vec<Case> {
+    use nimbus_clouds::model::genus_fns::{ANVIL_SHAPE, CELLULAR_WEATHER, STREAK_WEATHER};
     vec![
+        genus_case(
+            "anvil-shape",
+            "a 8 km deep layer with the built-in anvil shape (and anvil-shaped profile)",
+            &functions_genus(|f| {
+                f.shape = ANVIL_SHAPE;
+                f.profile = ANVIL_SHAPE;
+            }),
+        ),
+        genus_case(
+            "cellular-weather",
+            "the deep layer under the cellular weather function",
+            &functions_genus(|f| f.weather = CELLULAR_WEATHER),
+        ),
+        genus_case(
+            "streak-weather",
+            "the deep layer under the streak weather function",
+            &functions_genus(|f| f.weather = STREAK_WEATHER),
+        ),
         tangent_rays(),
         sun_case("sun-at-horizon", "sun at 0° (and ±0.01° either side)", 0.0),
         sun_case(

@@ -16,6 +16,6 @@ mod invariants;
 mod probe;
 
 pub use case::{Case, CaseTextures, Pair, Probe};
-pub use catalogue::{base_genus, catalogue, single_ray_case};
+pub use catalogue::{base_genus, catalogue, genus_case, single_ray_case};
 pub use invariants::{Violation, check_case, fragment_bound, source_bound};
 pub use probe::{RayOutcome, RayOutcomeShader, probe_ray, run_case_cpu};

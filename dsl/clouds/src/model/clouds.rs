@@ -29,7 +29,8 @@ impl CloudVariant {
         CloudVariant {
             genus: genus.name.clone(),
             quality,
-            key: CloudKey::new(features, &genus.phase, genus.layer_groups() as u32),
+            key: CloudKey::new(features, &genus.phase, genus.layer_groups() as u32)
+                .with_functions(genus.functions),
         }
     }
 

@@ -7,8 +7,9 @@ use glam::{Vec2, Vec3, Vec4};
 
 use nimbus_dsl::prelude::*;
 
-use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER};
+use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE};
 use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, gate};
+use super::genus_fns::{genus_profile, genus_shape, genus_weather};
 use super::layers::LayerGroup;
 use crate::key::CloudKey;
 
@@ -97,26 +98,16 @@ pub fn detail_erosion(density: Vec4, d: f32, eta: Vec4, amount: Vec4) -> Vec4 {
     ((density * (Vec4::ONE + amount) - m * 0.5) / (Vec4::ONE - m * 0.5)).saturate()
 }
 
-/// The vertical profile `a·e^(b·η) + c·η + d` per lane (|b| ≤ 80 is validated, so the
-/// exponential is finite and `0·e^(bη)` is 0).
-#[shader_fn]
-pub fn profile4(eta: Vec4, layers: LayerGroup) -> Vec4 {
-    layers.profile_a * (layers.profile_b * eta).exp() + layers.profile_c * eta + layers.profile_d
-}
-
 /// Coverage-stage density of each layer of group `group` at a point (in noise space): what the
-/// weather allows before erosion.
+/// weather allows before erosion. The weather signal and the shape over height are the genus'
+/// functions ([`crate::functions`]).
 #[shader_fn]
-pub fn weather_density(position: Vec3, altitude: f32, group: u32) -> Vec4 {
+pub fn weather_density(position: Vec3, altitude: f32, group: u32, #[spec] key: CloudKey) -> Vec4 {
     let layers = CLOUDS.get().groups[group as usize];
     let media = CLOUDS.get().media;
-    let uv = vec2(position.x, position.z) * media.weather_repeat + media.weather_offset;
-    let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
-    let weather = (layers.channel_matrix * rgba)
-        .saturate()
-        .pow(layers.weather_exponent);
+    let weather = genus_weather(key, vec2(position.x, position.z), layers);
     let eta = height_fraction(altitude, layers);
-    let shape = shape_altering(eta, layers.shape_altering_bias);
+    let shape = genus_shape(key, eta, layers);
     coverage_remap(weather, media.coverage, shape, layers.coverage_filter_width)
 }
 
@@ -125,7 +116,7 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32) -> Vec4 {
 /// with the erosion stages of `key`.
 #[shader_fn]
 pub fn layer_density(position: Vec3, altitude: f32, group: u32, #[spec] key: CloudKey) -> Vec4 {
-    let coverage = weather_density(position, altitude, group);
+    let coverage = weather_density(position, altitude, group, key);
     eroded_density(position, altitude, group, coverage, key)
 }
 
@@ -164,5 +155,5 @@ pub fn eroded_density(
             .x;
         density = detail_erosion(density, d, eta, layers.shape_detail_amount);
     }
-    (density * layers.density_scale * profile4(eta, layers)).saturate()
+    (density * layers.density_scale * genus_profile(key, eta, layers)).saturate()
 }

@@ -520,11 +520,11 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
         // coverage-stage densities it reads are the erosion's input too (a key has at most
         // two layer groups).
         let q = p + u.camera_offset;
-        let first = weather_density(q, h, 0u32);
+        let first = weather_density(q, h, 0u32, key);
         let mut coverage = first.dot(Vec4::ONE);
         let mut second = Vec4::ZERO;
         if key_count(key, GROUPS) > 1u32 {
-            second = weather_density(q, h, 1u32);
+            second = weather_density(q, h, 1u32, key);
             coverage += second.dot(Vec4::ONE);
         }
         if coverage <= m.min_density {

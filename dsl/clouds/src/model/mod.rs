@@ -6,6 +6,7 @@ pub mod choices;
 pub mod clouds;
 pub mod density;
 pub mod display;
+pub mod genus_fns;
 pub mod layers;
 pub mod march;
 pub mod noise;

@@ -1,0 +1,195 @@
+//! The built-in genus functions ([`crate::functions`]) and the three calls through which the
+//! density reaches whichever functions the key names.
+//!
+//! `genus_weather`, `genus_shape` and `genus_profile` are hand-written twin pairs (like the
+//! key's choices in [`super::choices`]): the CPU twin calls the key's function, the shader twin
+//! records the key's function, so a specialised shader holds exactly the genus' code.
+
+use glam::{Vec2, Vec4};
+
+use nimbus_dsl::prelude::*;
+use nimbus_dsl::shader;
+
+use super::bindings::{CLOUDS, LINEAR_REPEAT, WEATHER};
+use super::density::shape_altering;
+use super::layers::{LayerGroup, LayerGroupShader};
+use crate::functions::{HeightFn, WeatherFn};
+use crate::key::CloudKey;
+use crate::{height_fn, weather_fn};
+
+/// The reference library's weather: each layer reads its channel of the weather texture,
+/// raised to its weather exponent.
+#[shader_fn]
+pub fn texture_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
+    let media = CLOUDS.get().media;
+    let uv = xz * media.weather_repeat + media.weather_offset;
+    let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
+    (layers.channel_matrix * rgba)
+        .saturate()
+        .pow(layers.weather_exponent)
+}
+
+/// Fibres: the weather texture stretched 12× along the wind (x) and squeezed 3× across it, so
+/// a cell becomes a streak tens of kilometres long and a few wide, as cirrus uncinus and
+/// fibratus are drawn out by the shear of the jet stream.
+#[shader_fn]
+pub fn streak_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
+    let media = CLOUDS.get().media;
+    let uv = xz * media.weather_repeat * vec2(1.0 / 12.0, 3.0) + media.weather_offset;
+    let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
+    (layers.channel_matrix * rgba)
+        .saturate()
+        .pow(layers.weather_exponent)
+}
+
+/// Cells within patches: the weather texture at its own scale decides where the deck is, the
+/// same texture 9× finer breaks the deck into cells with clear gaps between them (the
+/// cellular look of stratocumulus, altocumulus and cirrocumulus, whose cells are a few hundred
+/// metres to a few kilometres across).
+#[shader_fn]
+pub fn cellular_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
+    let media = CLOUDS.get().media;
+    let smp = LINEAR_REPEAT.get();
+    let uv = xz * media.weather_repeat + media.weather_offset;
+    let patches = WEATHER.get().sample_level(&smp, uv, 0.0);
+    // The fine cells come from another part of the texture (offset), so they do not line up
+    // with the patches they sit in.
+    let cells = WEATHER
+        .get()
+        .sample_level(&smp, uv * 9.0 + vec2(0.37, 0.61), 0.0);
+    let patch = (layers.channel_matrix * patches).saturate();
+    let cell = (layers.channel_matrix * cells).saturate();
+    // Inside a patch the cells decide; the product keeps gaps between cells even where the
+    // patch is full.
+    (patch.pow(Vec4::splat(0.5)) * cell)
+        .saturate()
+        .pow(layers.weather_exponent)
+}
+
+/// The reference library's shape: `1 − x²` with `x = 2η^bias − 1`, zero at both ends of the
+/// layer, widest at `η = 0.5^(1/bias)`: clouds rounded at the top and the bottom.
+#[shader_fn]
+pub fn rounded_shape(eta: Vec4, layers: LayerGroup) -> Vec4 {
+    shape_altering(eta, layers.shape_altering_bias)
+}
+
+/// A cumulonimbus: a flat base reached within the lowest 3 % of the layer, a tower that narrows
+/// slowly with height, and from 75 % of the height an anvil that spreads out to 1.7× the
+/// tower's width, levelled off under a flat top (the tropopause). The spread makes the
+/// coverage threshold low near the top, so the anvil covers far more ground than the tower
+/// below it. `shape_altering_bias` moves the anvil: 1 puts its widest point at 88 % of the
+/// height, smaller values lower it.
+#[shader_fn]
+pub fn anvil_shape(eta: Vec4, layers: LayerGroup) -> Vec4 {
+    let h = eta.pow(layers.shape_altering_bias);
+    let base = (eta / 0.03).saturate();
+    let tower = Vec4::ONE - h * 0.3;
+    let spread = smoothstep(Vec4::splat(0.72), Vec4::splat(0.88), h);
+    let top = Vec4::ONE - smoothstep(Vec4::splat(0.94), Vec4::ONE, eta);
+    base * (tower + spread * 1.0) * top
+}
+
+/// The reference library's profile `a·e^(b·η) + c·η + d` with each layer's coefficients
+/// (|b| ≤ 80 is validated, so the exponential is finite and `0·e^(bη)` is 0).
+#[shader_fn]
+pub fn exponential_profile(eta: Vec4, layers: LayerGroup) -> Vec4 {
+    layers.profile_a * (layers.profile_b * eta).exp() + layers.profile_c * eta + layers.profile_d
+}
+
+pub const TEXTURE_WEATHER: WeatherFn = weather_fn!(
+    texture_weather,
+    "each layer's channel of the weather texture, raised to its weather exponent"
+);
+pub const STREAK_WEATHER: WeatherFn = weather_fn!(
+    streak_weather,
+    "the weather texture stretched 12x along x and squeezed 3x across: fibres and streaks"
+);
+pub const CELLULAR_WEATHER: WeatherFn = weather_fn!(
+    cellular_weather,
+    "patches of the weather texture broken into cells 9x finer, with gaps between them"
+);
+pub const ROUNDED_SHAPE: HeightFn = height_fn!(
+    rounded_shape,
+    "1 - (2 eta^bias - 1)^2: rounded at top and bottom (the reference library's)"
+);
+pub const ANVIL_SHAPE: HeightFn = height_fn!(
+    anvil_shape,
+    "flat base, narrowing tower, anvil spreading to 1.7x from 75% of the height, flat top"
+);
+pub const EXPONENTIAL_PROFILE: HeightFn = height_fn!(
+    exponential_profile,
+    "a e^(b eta) + c eta + d with the layer's coefficients (the reference library's)"
+);
+
+/// The built-in height functions (for shapes and profiles).
+pub fn builtin_height_fns() -> Vec<HeightFn> {
+    vec![ROUNDED_SHAPE, ANVIL_SHAPE, EXPONENTIAL_PROFILE]
+}
+
+/// The built-in weather functions.
+pub fn builtin_weather_fns() -> Vec<WeatherFn> {
+    vec![TEXTURE_WEATHER, STREAK_WEATHER, CELLULAR_WEATHER]
+}
+
+/// The weather signal of the key's genus at `xz` (CPU twin).
+pub fn genus_weather(key: CloudKey, xz: Vec2, layers: LayerGroup) -> Vec4 {
+    (key.functions.weather.cpu)(xz, layers)
+}
+
+/// The coverage shape of the key's genus at height fractions `eta` (CPU twin).
+pub fn genus_shape(key: CloudKey, eta: Vec4, layers: LayerGroup) -> Vec4 {
+    (key.functions.shape.cpu)(eta, layers)
+}
+
+/// The density profile of the key's genus at height fractions `eta` (CPU twin).
+pub fn genus_profile(key: CloudKey, eta: Vec4, layers: LayerGroup) -> Vec4 {
+    (key.functions.profile.cpu)(eta, layers)
+}
+
+#[doc(hidden)]
+pub use genus_weather::shader as __shader_twin_genus_weather;
+
+/// Shader twin of [`genus_weather()`](fn@genus_weather).
+pub mod genus_weather {
+    use super::*;
+
+    pub fn shader(
+        key: CloudKey,
+        xz: impl Into<shader::Vec2>,
+        layers: impl Into<LayerGroupShader>,
+    ) -> shader::Vec4 {
+        (key.functions.weather.shader)(xz.into(), layers.into())
+    }
+}
+
+#[doc(hidden)]
+pub use genus_shape::shader as __shader_twin_genus_shape;
+
+/// Shader twin of [`genus_shape()`](fn@genus_shape).
+pub mod genus_shape {
+    use super::*;
+
+    pub fn shader(
+        key: CloudKey,
+        eta: impl Into<shader::Vec4>,
+        layers: impl Into<LayerGroupShader>,
+    ) -> shader::Vec4 {
+        (key.functions.shape.shader)(eta.into(), layers.into())
+    }
+}
+
+#[doc(hidden)]
+pub use genus_profile::shader as __shader_twin_genus_profile;
+
+/// Shader twin of [`genus_profile()`](fn@genus_profile).
+pub mod genus_profile {
+    use super::*;
+
+    pub fn shader(
+        key: CloudKey,
+        eta: impl Into<shader::Vec4>,
+        layers: impl Into<LayerGroupShader>,
+    ) -> shader::Vec4 {
+        (key.functions.profile.shader)(eta.into(), layers.into())
+    }
+}

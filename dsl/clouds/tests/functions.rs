@@ -1,0 +1,126 @@
+//! Genus functions from data: a file names them, the key carries them, bad names are refused
+//! with the file and field, and a registered name means one function.
+
+use std::path::Path;
+
+use glam::Vec4;
+use nimbus_clouds::functions::{RegisterError, lookup};
+use nimbus_clouds::model::clouds::CloudVariant;
+use nimbus_clouds::model::genus_fns::{ANVIL_SHAPE, CELLULAR_WEATHER, EXPONENTIAL_PROFILE};
+use nimbus_clouds::model::layers::LayerGroup;
+use nimbus_clouds::{DataError, HeightFn, Quality, height_fn, parse_genus, register};
+use nimbus_dsl::prelude::*;
+
+const BASE: &str = r#"
+name = "tower"
+description = "test"
+[[layers]]
+channel = "r"
+altitude = 1000.0
+height = 8000.0
+"#;
+
+fn genus_with(functions: &str) -> Result<nimbus_clouds::Genus, DataError> {
+    let text = BASE.replace("[[layers]]", &format!("{functions}\n[[layers]]"));
+    parse_genus(Path::new("genera/tower.toml"), &text)
+}
+
+#[test]
+fn a_file_names_built_in_functions_and_the_key_carries_them() {
+    let plain = genus_with("").expect("plain");
+    let tower =
+        genus_with(r#"functions = { shape = "anvil_shape", weather = "cellular_weather" }"#)
+            .expect("tower");
+    assert_eq!(tower.functions.shape, ANVIL_SHAPE);
+    assert_eq!(tower.functions.weather, CELLULAR_WEATHER);
+    assert_eq!(tower.functions.profile, EXPONENTIAL_PROFILE);
+    let key = |g| CloudVariant::new(g, Quality::High, Quality::High.features()).key;
+    let (a, b) = (key(&plain), key(&tower));
+    assert_ne!(a, b, "different functions, different keys");
+    assert!(!a.name().contains("anvil"), "{}", a.name());
+    assert!(
+        b.name().ends_with("-cellular_weather-anvil_shape"),
+        "{}",
+        b.name()
+    );
+    let shadow = b.shadow_key().expect("shadow pass");
+    assert_ne!(
+        Some(shadow),
+        a.shadow_key(),
+        "the shadow pass has the density's functions"
+    );
+    assert!(shadow.name().contains("anvil_shape"), "{}", shadow.name());
+    // A height function serves as a profile too, tagged with its slot.
+    let profile = genus_with(r#"functions = { profile = "anvil_shape" }"#).expect("profile");
+    assert!(key(&profile).name().ends_with("-profile_anvil_shape"));
+}
+
+#[test]
+fn an_unknown_function_is_refused_with_file_field_and_the_known_names() {
+    let err = genus_with(r#"functions = { shape = "no_such_shape" }"#).expect_err("unknown");
+    let text = err.to_string();
+    assert!(
+        text.starts_with("genera/tower.toml: functions.shape: "),
+        "{text}"
+    );
+    assert!(
+        text.contains("unknown height function `no_such_shape`"),
+        "{text}"
+    );
+    assert!(
+        text.contains("rounded_shape") && text.contains("anvil_shape"),
+        "{text}"
+    );
+    let err = genus_with(r#"functions = { colour = "anvil_shape" }"#).expect_err("slot");
+    assert!(err.to_string().contains("functions"), "{err}");
+}
+
+/// A user's own function, for the registry tests.
+#[shader_fn]
+pub fn flat_top(eta: Vec4, layers: LayerGroup) -> Vec4 {
+    Vec4::ONE - eta * 0.0 * layers.shape_amount
+}
+
+mod other {
+    use glam::Vec4;
+    use nimbus_clouds::model::layers::LayerGroup;
+    use nimbus_clouds::{HeightFn, height_fn};
+    use nimbus_dsl::prelude::*;
+
+    /// Another function with the same name, elsewhere.
+    #[shader_fn]
+    pub fn flat_top(eta: Vec4, layers: LayerGroup) -> Vec4 {
+        eta + layers.shape_amount * 0.0
+    }
+
+    pub const FLAT_TOP: HeightFn = height_fn!(flat_top, "the other flat top");
+}
+
+#[test]
+fn registering_lets_files_name_a_function_and_one_name_means_one_function() {
+    const FLAT_TOP: HeightFn = height_fn!(flat_top, "flat");
+    assert!(lookup::<HeightFn>("flat_top").is_err(), "not known before");
+    register(FLAT_TOP).expect("register");
+    register(FLAT_TOP).expect("twice is harmless");
+    assert_eq!(lookup::<HeightFn>("flat_top"), Ok(FLAT_TOP));
+    let g = genus_with(r#"functions = { shape = "flat_top" }"#).expect("named");
+    assert_eq!(g.functions.shape, FLAT_TOP);
+    assert_eq!(
+        (g.functions.shape.cpu)(Vec4::splat(0.5), LayerGroup::empty()),
+        Vec4::ONE
+    );
+    let err = register(other::FLAT_TOP).expect_err("same name, another function");
+    assert_eq!(
+        err,
+        RegisterError {
+            kind: "height",
+            name: "flat_top",
+            path: other::FLAT_TOP.path,
+            other: FLAT_TOP.path,
+        }
+    );
+    // Built-in names are taken too.
+    let mut clash = other::FLAT_TOP;
+    clash.name = "anvil_shape";
+    assert!(register(clash).is_err());
+}
