@@ -1,4 +1,4 @@
-//! Embeds the example data (genera, scenes, views) in the binary, so an installed `nimbus`
+//! Embeds the example data (genera, scenes, views, gallery scenes) in the binary, so an installed `nimbus`
 //! (`cargo install --path shaders-gen`) has its genera and scenes with no source tree beside
 //! it. Each file becomes `(relative path, contents)` in `$OUT_DIR/examples.rs`.
 
@@ -8,7 +8,7 @@ use std::path::Path;
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
     let mut entries = String::new();
-    for sub in ["genera", "scenes", "views"] {
+    for sub in ["genera", "scenes", "views", "gallery"] {
         let dir = root.join(sub);
         println!("cargo::rerun-if-changed={}", dir.display());
         let Ok(read) = std::fs::read_dir(&dir) else {

@@ -220,8 +220,8 @@ fn cloud_variant_manifest_is_pinned() {
 fn representative_cloud_keys_are_pinned_per_target() {
     let lib = library();
     // Three distinct cloud keys (low, high, and a Henyey–Greenstein genus at medium) and the
-    // shadow pass of high; cumulonimbus at high runs the same shader as cumulus at high (the
-    // genus is uniform values).
+    // shadow pass of high; stratus at high runs the same shader as cumulus at high (the genus
+    // is uniform values). Cirrus names its own weather function (`streak_weather`).
     let mut keys = Vec::new();
     for (genus, q) in [
         ("cumulus", Quality::Low),
@@ -232,7 +232,7 @@ fn representative_cloud_keys_are_pinned_per_target() {
         keys.push(ShaderKey::Clouds(v.key));
     }
     let high = CloudVariant::new(
-        lib.genus("cumulonimbus").expect("genus"),
+        lib.genus("stratus").expect("genus"),
         Quality::High,
         Quality::High.features(),
     );

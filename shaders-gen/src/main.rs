@@ -11,6 +11,7 @@ mod engine;
 mod error;
 mod explain;
 mod export_density;
+mod gallery;
 mod list;
 mod package;
 mod package_textures;
@@ -164,6 +165,9 @@ enum Command {
     },
     /// Render a scene to PNG with the wgpu runtime (any adapter: a GPU, or lavapipe/llvmpipe).
     Render(Box<render::RenderArgs>),
+    /// Render every genus from the view that shows its signature (the data folder's
+    /// `gallery/` scenes) and write a Markdown grid of them.
+    Gallery(Box<gallery::GalleryArgs>),
     /// Milliseconds per frame of every quality preset, full resolution and upscaled, as
     /// ratios to `high` (takes the same scene arguments as `render`).
     BenchFrames {
@@ -261,6 +265,7 @@ fn main() -> ExitCode {
             no_external,
         } => check::run(data, &variants.selection(), !no_external),
         Command::Render(args) => render::run(data, args),
+        Command::Gallery(args) => gallery::run(data, args),
         Command::BenchFrames {
             render,
             iterations,

@@ -67,9 +67,10 @@ fn list_and_check_describe_and_validate_everything() {
     for want in [
         "preview-hg",
         "preview-dual_lobe",
-        "clouds: 8 distinct shader(s)",
-        "shadow: 3 distinct shader(s)",
-        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-o8-dual-g1 ← 9 pair(s)",
+        "clouds: 20 distinct shader(s)",
+        "shadow: 12 distinct shader(s)",
+        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-o8-dual-g1 ← 5 pair(s)",
+        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-o8-dual-g1-sparse_weather-anvil_shape ← 1 pair(s): cumulonimbus.high",
         "glsl-es300",
         "spirv",
         "msl",
@@ -80,10 +81,10 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
-    // 2 previews + resolve + display + sun light + 8 cloud keys + 3 shadow keys, for 11 genera
-    // × 4 presets.
+    // 2 previews + resolve + display + sun light + 20 cloud keys + 12 shadow keys, for 11
+    // genera × 4 presets (genera with their own weather or shape functions have their own).
     assert!(
-        s.contains("16 shader(s),") && s.contains("0 failure(s)"),
+        s.contains("37 shader(s),") && s.contains("0 failure(s)"),
         "{s}"
     );
     assert!(
@@ -233,13 +234,25 @@ fn emit_and_explain_agree_on_the_scene_variant() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let name = "stratocumulus.high-light-shafts-ground-bounce";
-    let id = "clouds-detail-turb-haze-shadows-powder-o8-dual-g1";
+    let id = "clouds-detail-turb-haze-shadows-powder-o8-dual-g1-cellular_weather";
     let clouds = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("clouds");
-    assert!(out.join("shadow-detail-turb-g1.wgsl").is_file());
+    assert!(
+        out.join("shadow-detail-turb-g1-cellular_weather.wgsl")
+            .is_file()
+    );
     // Shafts and ground bounce are out: their code is not in the shader.
     assert!(!clouds.contains("fn shadow_length"));
     assert!(clouds.contains("fn shadow_texel"), "shadows stay in");
     let e = text(&nimbus(&["explain", &example_scene("above-the-deck")]).stdout);
     assert!(e.contains(&format!("variant: {name}")), "{e}");
     assert!(e.contains(&format!("shader: {id}")), "{e}");
+    // The genus' weather function is its own choice, reported with the built-in defaults.
+    assert!(
+        e.contains("weather-function         own  cellular_weather"),
+        "{e}"
+    );
+    assert!(
+        e.contains("profile-function         std  exponential_profile"),
+        "{e}"
+    );
 }

@@ -157,7 +157,8 @@ impl CloudUniforms {
                 absorption_coefficient: genus.medium.absorption_coefficient,
                 sky_light_scale: 1.0,
                 ground_bounce_scale: 1.0,
-                ground_albedo: 0.3,
+                // The rendered ground's albedo, as one number for the bounce.
+                ground_albedo: sky.ground_albedo.dot(Vec3::ONE) / 3.0,
                 powder_scale: 0.8,
                 powder_exponent: 150.0,
                 g1,

@@ -42,6 +42,19 @@ pub fn streak_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
         .pow(layers.weather_exponent)
 }
 
+/// Few, large cells: the weather texture at a fifth of its frequency, so a 100 km tile holds a
+/// handful of cells 10–20 km across, each the footprint of one storm (cumulonimbus stand apart,
+/// not as a field of heaps).
+#[shader_fn]
+pub fn sparse_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
+    let media = CLOUDS.get().media;
+    let uv = xz * media.weather_repeat * 0.2 + media.weather_offset;
+    let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
+    (layers.channel_matrix * rgba)
+        .saturate()
+        .pow(layers.weather_exponent)
+}
+
 /// Cells within patches: the weather texture at its own scale decides where the deck is, the
 /// same texture 9× finer breaks the deck into cells with clear gaps between them (the
 /// cellular look of stratocumulus, altocumulus and cirrocumulus, whose cells are a few hundred
@@ -74,7 +87,7 @@ pub fn rounded_shape(eta: Vec4, layers: LayerGroup) -> Vec4 {
 }
 
 /// A cumulonimbus: a flat base reached within the lowest 3 % of the layer, a tower that narrows
-/// slowly with height, and from 75 % of the height an anvil that spreads out to 1.7× the
+/// slowly with height, and from 75 % of the height an anvil that spreads out to 1.5× the
 /// tower's width, levelled off under a flat top (the tropopause). The spread makes the
 /// coverage threshold low near the top, so the anvil covers far more ground than the tower
 /// below it. `shape_altering_bias` moves the anvil: 1 puts its widest point at 88 % of the
@@ -86,7 +99,7 @@ pub fn anvil_shape(eta: Vec4, layers: LayerGroup) -> Vec4 {
     let tower = Vec4::ONE - h * 0.3;
     let spread = smoothstep(Vec4::splat(0.72), Vec4::splat(0.88), h);
     let top = Vec4::ONE - smoothstep(Vec4::splat(0.94), Vec4::ONE, eta);
-    base * (tower + spread * 1.0) * top
+    base * (tower + spread * 0.4) * top
 }
 
 /// The reference library's profile `a·e^(b·η) + c·η + d` with each layer's coefficients
@@ -104,6 +117,10 @@ pub const STREAK_WEATHER: WeatherFn = weather_fn!(
     streak_weather,
     "the weather texture stretched 12x along x and squeezed 3x across: fibres and streaks"
 );
+pub const SPARSE_WEATHER: WeatherFn = weather_fn!(
+    sparse_weather,
+    "the weather texture at a fifth of its frequency: a few cells 10-20 km across, one storm each"
+);
 pub const CELLULAR_WEATHER: WeatherFn = weather_fn!(
     cellular_weather,
     "patches of the weather texture broken into cells 9x finer, with gaps between them"
@@ -114,7 +131,7 @@ pub const ROUNDED_SHAPE: HeightFn = height_fn!(
 );
 pub const ANVIL_SHAPE: HeightFn = height_fn!(
     anvil_shape,
-    "flat base, narrowing tower, anvil spreading to 1.7x from 75% of the height, flat top"
+    "flat base, narrowing tower, anvil spreading to 1.5x from 75% of the height, flat top"
 );
 pub const EXPONENTIAL_PROFILE: HeightFn = height_fn!(
     exponential_profile,
@@ -128,7 +145,12 @@ pub fn builtin_height_fns() -> Vec<HeightFn> {
 
 /// The built-in weather functions.
 pub fn builtin_weather_fns() -> Vec<WeatherFn> {
-    vec![TEXTURE_WEATHER, STREAK_WEATHER, CELLULAR_WEATHER]
+    vec![
+        TEXTURE_WEATHER,
+        STREAK_WEATHER,
+        CELLULAR_WEATHER,
+        SPARSE_WEATHER,
+    ]
 }
 
 /// The weather signal of the key's genus at `xz` (CPU twin).

@@ -23,6 +23,7 @@ use super::phase::{approximate_mie, henyey_greenstein, isotropic_phase};
 use super::shadow::{ShadowParams, shadow_texel};
 use super::shell::{ground_hit, ray_shell};
 use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
+use super::transmission::{DROPLET_ASYMMETRY, slab_diffuse_transmittance, slab_transmittance};
 
 /// March settings for one quality preset (uniforms: changing them needs no new pipeline).
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
@@ -685,18 +686,23 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     let switches = u.composite;
     let mut background = air.inscatter * switches.sky;
     if behind < 0.0 {
-        let mut sunlit = 1.0f32;
+        // Under a cloud the ground gets the light the cloud scatters down as well as the
+        // direct beam, and the sky's light through it (see `transmission`).
+        let mut sun_through = 1.0f32;
+        let mut sky_through = 1.0f32;
         if gate(key, SHADOWS) {
             let ground = direction * -behind;
-            let to_top = u.march.shadow_top_height / sun.y.max(0.01);
+            let mu = sun.y.max(0.01);
             let texel = shadow_texel(ground);
-            sunlit = (-shadow_optical_depth(texel, to_top, 0.0)).exp();
+            let tau = shadow_optical_depth(texel, u.march.shadow_top_height / mu, 0.0) * mu;
+            sun_through = slab_transmittance(tau, mu, DROPLET_ASYMMETRY);
+            sky_through = slab_diffuse_transmittance(tau, DROPLET_ASYMMETRY);
         }
         background += air.transmittance
             * ground_radiance(
-                u.light.sun_irradiance * sunlit,
+                u.light.sun_irradiance * sun_through,
                 sun.y,
-                u.light.sky_irradiance,
+                u.light.sky_irradiance * sky_through,
                 u.sky.ground_albedo,
             )
             * switches.ground;

@@ -19,3 +19,4 @@ pub mod shell;
 pub mod sky;
 pub mod sun;
 pub mod tonemap;
+pub mod transmission;

@@ -29,7 +29,8 @@ pub struct AtmosphereParams {
     /// Sun irradiance at the top of the atmosphere, and the sun's angular radius (rad).
     pub solar_irradiance: Vec3,
     pub sun_angular_radius: f32,
-    /// Ground reflectance (Lambertian).
+    /// Ground reflectance (Lambertian): 0.2, grass and soil in the visible; the clouds' ground
+    /// bounce uses its mean.
     pub ground_albedo: Vec3,
     /// Altitude of the top of the atmosphere (m).
     pub top_height: f32,
@@ -46,7 +47,7 @@ impl Default for AtmosphereParams {
             mie_g: 0.8,
             solar_irradiance: Vec3::splat(1.2),
             sun_angular_radius: 0.004_675,
-            ground_albedo: Vec3::new(0.1, 0.1, 0.08),
+            ground_albedo: Vec3::new(0.2, 0.2, 0.16),
             top_height: 100_000.0,
         }
     }

@@ -1,0 +1,173 @@
+//! `nimbus gallery`: every genus from the view that shows its signature (the scenes of the data
+//! folder's `gallery/`, one per genus), rendered to PNG, with an index that lays them out as a
+//! grid, lowest clouds first.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use nimbus_clouds::limits::{self, Origin};
+use nimbus_clouds::{ScenePreset, load_scene};
+use nimbus_output::{Overwrite, replace_folder};
+use nimbus_runtime::Gpu;
+use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+
+use crate::error::CliError;
+
+/// The index written last into the gallery folder; its presence marks a folder Nimbus wrote.
+const INDEX: &str = "gallery.md";
+
+/// What `nimbus gallery` takes.
+#[derive(Args)]
+pub(crate) struct GalleryArgs {
+    /// Output folder (replaced whole; only a folder Nimbus wrote, unless --force).
+    #[arg(short, long, default_value = "gallery")]
+    out: PathBuf,
+    /// Image size of each genus, WIDTHxHEIGHT.
+    #[arg(short, long, default_value = "480x270")]
+    resolution: String,
+    /// Frames of temporal accumulation per image.
+    #[arg(short, long, default_value_t = 8)]
+    frames: u32,
+    /// Exposure before the ACES curve.
+    #[arg(long, default_value_t = 8.0)]
+    exposure: f32,
+    /// Columns of the index's grid.
+    #[arg(long, default_value_t = 3)]
+    columns: usize,
+    /// Replace the output folder even when Nimbus did not write it.
+    #[arg(long)]
+    force: bool,
+}
+
+/// One rendered genus.
+struct Tile {
+    file: String,
+    genus: String,
+    about: String,
+    view: String,
+}
+
+pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let (width, height) = crate::render::parse_resolution(&a.resolution)?;
+    limits::FRAMES.check(f64::from(a.frames), Origin::Flag("--frames"))?;
+    limits::EXPOSURE.check(f64::from(a.exposure), Origin::Flag(limits::EXPOSURE.flag))?;
+    if a.columns == 0 {
+        return Err(CliError::Unknown {
+            kind: "column count",
+            given: "0".into(),
+            known: "1 or more".into(),
+        }
+        .into());
+    }
+    let dir = crate::data::data_dir(data)?;
+    let lib = crate::data::load(data)?;
+    let scenes_dir = dir.join("gallery");
+    let mut scenes: Vec<(PathBuf, ScenePreset)> = Vec::new();
+    let entries = std::fs::read_dir(&scenes_dir).map_err(|e| CliError::Unknown {
+        kind: "gallery folder",
+        given: format!("{} ({e})", scenes_dir.display()),
+        known: "a folder of scene files, one per genus, in the data folder".into(),
+    })?;
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let scene = load_scene(&path)?;
+            scenes.push((path, scene));
+        }
+    }
+    // Lowest clouds first, as the cloud atlases order the genera.
+    let mut frames = Vec::new();
+    for (path, scene) in &scenes {
+        let genus = crate::render::scene_genus(&lib, path, scene)?;
+        let mut frame = Frame::from_scene(scene, &genus, width, height);
+        frame.frames = a.frames;
+        frame.validate()?;
+        let base = genus
+            .layers
+            .iter()
+            .filter(|l| l.is_enabled())
+            .map(|l| l.altitude)
+            .fold(f32::MAX, f32::min);
+        frames.push((base, scene, frame));
+    }
+    frames.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.name.cmp(&y.1.name)));
+    let gpu = Gpu::new()?;
+    println!("adapter: {}", gpu.info());
+    let mut renderer = Renderer::new(&gpu, TextureSizes::default());
+    let overwrite = Overwrite::forced(a.force);
+    let start = Instant::now();
+    let tiles = replace_folder(&a.out, INDEX, overwrite, |tmp| {
+        let mut tiles = Vec::new();
+        for (_, scene, frame) in &frames {
+            let t = Instant::now();
+            let image = renderer.render(frame)?;
+            let file = format!("{}.png", scene.name);
+            image.save_png(&tmp.join(&file), a.exposure, Overwrite::Force)?;
+            println!(
+                "{:>14}: {} ({:.1} s)",
+                scene.name,
+                frame.variant().name(),
+                t.elapsed().as_secs_f64()
+            );
+            tiles.push(Tile {
+                file,
+                genus: frame.genus.name.clone(),
+                about: scene.description.clone(),
+                view: format!(
+                    "camera {} m, pitch {}°, sun {}°, coverage {}",
+                    scene.camera_altitude,
+                    scene.camera_pitch_deg,
+                    scene.sun_elevation_deg,
+                    frame.genus.coverage
+                ),
+            });
+        }
+        let index = index(&tiles, a, &gpu.info().to_string(), width, height);
+        std::fs::write(tmp.join(INDEX), index).map_err(|e| CliError::Unknown {
+            kind: "gallery index",
+            given: format!("{} ({e})", tmp.join(INDEX).display()),
+            known: "a writable output folder".into(),
+        })?;
+        Ok::<_, Box<dyn std::error::Error>>(tiles)
+    })?;
+    println!(
+        "{} genera in {:.1} s; wrote {}/{INDEX}",
+        tiles.len(),
+        start.elapsed().as_secs_f64(),
+        a.out.display()
+    );
+    Ok(())
+}
+
+/// The Markdown grid: one cell per genus, its picture, name, what it shows and the view.
+fn index(tiles: &[Tile], a: &GalleryArgs, adapter: &str, width: u32, height: u32) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "<!-- Generated by Nimbus: nimbus gallery -->");
+    let _ = writeln!(s, "# The genera\n");
+    let _ = writeln!(
+        s,
+        "Each genus from the view that shows its signature ({width}×{height}, {} frames, adapter: {adapter}), lowest clouds first.\n",
+        a.frames
+    );
+    let cols = a.columns.min(tiles.len().max(1));
+    let _ = writeln!(s, "|{}", " |".repeat(cols));
+    let _ = writeln!(s, "|{}", "---|".repeat(cols));
+    for row in tiles.chunks(cols) {
+        let cells: Vec<String> = row
+            .iter()
+            .map(|t| {
+                format!(
+                    "![{genus}]({file})<br>**{genus}**: {about}<br><sub>{view}</sub>",
+                    genus = t.genus,
+                    file = t.file,
+                    about = t.about,
+                    view = t.view
+                )
+            })
+            .collect();
+        let _ = writeln!(s, "| {} |", cells.join(" | "));
+    }
+    s
+}

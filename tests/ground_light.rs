@@ -1,0 +1,129 @@
+//! The ground under clouds gets the light they scatter down, not only the direct beam: the
+//! two-stream slab transmittance against a Monte Carlo random walk, and rendered ground under
+//! an overcast that is not black (the "black wedge" and "dark ground" artefacts).
+
+mod common;
+
+use std::path::Path;
+
+use nimbus_clouds::model::transmission::{slab_diffuse_transmittance, slab_transmittance};
+use nimbus_clouds::{CloudLibrary, Quality};
+use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+
+/// Fraction of photons entering a non-absorbing slab of vertical optical depth `tau` at cosine
+/// `mu0` that leave through its bottom, scattering with a Henyey–Greenstein phase of
+/// asymmetry `g` (sampled exactly).
+fn monte_carlo(tau: f64, mu0: f64, g: f64, photons: u32, rng: &mut common::Rng) -> f64 {
+    let mut uniform = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let mut through = 0u32;
+    for _ in 0..photons {
+        let (mut z, mut mu) = (0.0f64, mu0);
+        loop {
+            z += -(1.0 - uniform()).ln() * mu;
+            if z >= tau {
+                through += 1;
+                break;
+            }
+            if z < 0.0 {
+                break;
+            }
+            let s = (1.0 - g * g) / (1.0 - g + 2.0 * g * uniform());
+            let cos = (1.0 + g * g - s * s) / (2.0 * g);
+            let phi = std::f64::consts::TAU * uniform();
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            mu = mu * cos + (1.0 - mu * mu).max(0.0).sqrt() * sin * phi.cos();
+        }
+    }
+    f64::from(through) / f64::from(photons)
+}
+
+#[test]
+fn slab_transmittance_matches_a_random_walk_and_the_direct_beam_does_not() {
+    let g = 0.85;
+    let mut rng = common::Rng::new(41);
+    let mut worst = 0.0f64;
+    for mu in [0.3, 0.6, 1.0] {
+        for tau in [0.5, 2.0, 8.0, 20.0, 50.0] {
+            let photons = if tau < 10.0 { 6000 } else { 2000 };
+            let mc = monte_carlo(tau, mu, g, photons, &mut rng);
+            let model = f64::from(slab_transmittance(tau as f32, mu as f32, g as f32));
+            let direct = (-tau / mu).exp();
+            let allowed = 0.1 * mc + 0.02;
+            println!(
+                "μ {mu} τ {tau:>4}: random walk {mc:.3}, two-stream {model:.3}, direct beam {direct:.3}"
+            );
+            assert!(
+                (model - mc).abs() <= allowed,
+                "μ {mu} τ {tau}: two-stream {model:.3} against the random walk's {mc:.3}"
+            );
+            worst = worst.max((model - mc).abs() / mc);
+            // Control: the direct beam alone (what the ground had before) is far off once the
+            // cloud is more than thin.
+            if tau >= 2.0 {
+                assert!(
+                    mc - direct > allowed,
+                    "the direct beam would pass at τ {tau}"
+                );
+            }
+        }
+    }
+    println!("largest relative difference {:.1} %", worst * 100.0);
+    // Diffuse light: the collimated transmittance averaged over the cosine-weighted hemisphere.
+    for tau in [0.5f32, 8.0, 50.0] {
+        let n = 2000;
+        let mean: f32 = (0..n)
+            .map(|i| {
+                let mu = ((i as f32 + 0.5) / n as f32).sqrt();
+                slab_transmittance(tau, mu, g as f32)
+            })
+            .sum::<f32>()
+            / n as f32;
+        let diffuse = slab_diffuse_transmittance(tau, g as f32);
+        assert!(
+            (mean - diffuse).abs() < 0.05 * diffuse + 0.01,
+            "τ {tau}: hemisphere mean {mean} against diffuse {diffuse}"
+        );
+    }
+}
+
+/// Rendered ground under an overcast of stratus against the same view with no clouds: lit
+/// by what the deck lets through (about a third at its optical depth), not by the sky alone.
+#[test]
+fn ground_under_an_overcast_is_lit_by_the_light_the_clouds_let_through() {
+    let Some(gpu) = common::gpu() else { return };
+    println!("adapter: {}", gpu.info());
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let genus = lib.genus("stratus").expect("stratus").clone();
+    let ground_mean = |coverage: f32, renderer: &mut Renderer<'_>| {
+        let mut g = genus.clone();
+        g.coverage = coverage;
+        let mut f = Frame::new(g, Quality::Medium, 96, 54);
+        f.camera_pitch_deg = -30.0;
+        f.camera_altitude = 2.0;
+        f.sun_elevation_deg = 45.0;
+        let im = renderer.render(&f).expect("render");
+        // The lower half of the image is ground, seen from 2 m.
+        let rows = (im.height / 2)..im.height;
+        let px: Vec<[f32; 4]> = rows
+            .flat_map(|y| (0..im.width).map(move |x| (x, y)))
+            .map(|(x, y)| im.pixels[(y * im.width + x) as usize])
+            .collect();
+        px.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).sum::<f32>() / px.len() as f32
+    };
+    let mut renderer = Renderer::new(gpu, TextureSizes::default());
+    let clear = ground_mean(0.0, &mut renderer);
+    let overcast = ground_mean(1.0, &mut renderer);
+    let ratio = overcast / clear;
+    println!("ground under the overcast / clear ground: {ratio:.3}");
+    // Stratus at coverage 1: 400 m of density 0.1 × profile, τ_v ≈ 30 → two-stream ≈ 0.3 of
+    // the sun plus the sky through it; the direct beam alone leaves only the sky, under 0.1.
+    assert!(
+        ratio > 0.15,
+        "the ground under the overcast is near-black: {ratio}"
+    );
+    assert!(
+        ratio < 0.8,
+        "the overcast lets nearly everything through: {ratio}"
+    );
+}
