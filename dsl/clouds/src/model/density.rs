@@ -53,7 +53,7 @@ impl Default for MediaParams {
 /// 0 or 1, never 0/0.
 #[shader_fn]
 pub fn height_fraction(altitude: f32, layers: LayerGroup) -> Vec4 {
-    let thickness = (layers.max_height - layers.min_height).max(Vec4::splat(1e-3));
+    let thickness = (layers.max_height - layers.min_height).max(Vec4::splat(1e-4));
     ((Vec4::splat(altitude) - layers.min_height) / thickness).saturate()
 }
 
@@ -155,5 +155,7 @@ pub fn eroded_density(
             .x;
         density = detail_erosion(density, d, eta, layers.shape_detail_amount);
     }
-    (density * layers.density_scale * genus_profile(key, eta, layers)).saturate()
+    // Not clamped to 1: `density_scale` is extinction per metre at full density, so a 1 mm
+    // layer of scale 1000 has optical depth 1 (the reference library's saturate made it 1e-3).
+    (density * layers.density_scale * genus_profile(key, eta, layers)).max(Vec4::ZERO)
 }

@@ -374,6 +374,18 @@ pub fn sun_attenuation(altitude: f32, camera_altitude: f32, sun_cos: f32) -> f32
     (0.1 * air_mass * density_difference).min(20.0).exp()
 }
 
+/// Light a haze particle scatters from everything but the direct sun, for an isotropic share
+/// of its phase function: the sky dome above (`∫L dΩ ≈ 2·E_sky` for a sky of near-uniform
+/// radiance) and the Lambertian ground below (`2·albedo·(E_sun·μ + E_sky)`), over 4π. It used
+/// to be `E_sky/4π` alone, six times too little: the haze then darkened every horizon it
+/// thickened, a dark band between a bright sky and a bright ground.
+#[shader_fn]
+pub fn haze_ambient(light: LightParams, sky: AtmosphereParams, sun_mu: f32) -> Vec3 {
+    let ground =
+        sky.ground_albedo * (light.sun_irradiance * sun_mu.max(0.0) + light.sky_irradiance);
+    (light.sky_irradiance + ground) * (2.0 * INV_FOUR_PI)
+}
+
 /// Opacity of the haze over `distance` along a ray with up-cosine `mu` from `camera_altitude`:
 /// `1 − e^(−τ)`, `τ = ρ₀ e^(−k h_c) (1 − e^(−kμL)) / (kμ)`, with μ kept off 0 so horizontal rays
 /// stay finite (the limit is `ρ₀ e^(−k h_c) L`).
@@ -425,7 +437,7 @@ pub fn layers_containing(altitude: f32, group: u32) -> f32 {
     let tolerance = Vec4::splat(1e-2);
     let inside = step(group.min_height - tolerance, h)
         * step(h, group.max_height + tolerance)
-        * step(Vec4::splat(1e-3), group.max_height - group.min_height);
+        * step(Vec4::splat(1e-4), group.max_height - group.min_height);
     inside.dot(Vec4::ONE)
 }
 
@@ -437,6 +449,21 @@ pub fn layers_containing(altitude: f32, group: u32) -> f32 {
 pub fn march_step(t: f32) -> f32 {
     let march = CLOUDS.get().march;
     (march.min_step + (march.perspective_step_scale - 1.0) * t.max(0.0)).min(march.max_step)
+}
+
+/// The first step into a layer entered at `t`: the ordinary step, but no longer than the ray's
+/// path to the next layer boundary. A layer thinner than a step (a 1 m veil under 100 m steps)
+/// then gets one sample that stands for its whole path, instead of being hit by one jittered
+/// sample in a hundred and drawn as scattered dots (or, at 1 mm, not at all).
+#[shader_fn]
+pub fn layer_step(mu: f32, t: f32, #[spec] key: CloudKey) -> f32 {
+    // Past the boundary just crossed: its root, recomputed, can land a few ulps beyond `t`.
+    let past = t + t.abs() * 4e-7 + 1e-5;
+    let mut exit = 1e30f32;
+    for group in 0u32..key_count(key, GROUPS) {
+        exit = next_boundary(mu, past, group, exit);
+    }
+    march_step(t).min((exit - t).max(1e-5))
 }
 
 /// The earlier of `best` and each root of `roots` that lies beyond `t`.
@@ -490,8 +517,9 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
     let mut depth_sum = 0.0f32;
     let mut weight_sum = 0.0f32;
     let mut samples = 0.0f32;
-    let mut step = march_step(range.x);
-    let mut t = range.x.max(0.0) + step * jitter;
+    let start = range.x.max(0.0);
+    let mut step = layer_step(mu, start, key);
+    let mut t = start + step * jitter;
     for _i in 0u32..m.max_iterations {
         if t > range.y {
             break;
@@ -512,7 +540,7 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
             }
             // Resume inside the next layer as a march starting there would: same step, same
             // jitter.
-            step = march_step(next);
+            step = layer_step(mu, next, key);
             t = next + step * jitter;
             continue;
         }
@@ -737,7 +765,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         let albedo = u.haze.scattering_coefficient
             / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
         let haze_light = (u.light.sun_irradiance * (cloud_phase(cos_theta, 1.0, key) * sunlit)
-            + u.light.sky_irradiance * INV_FOUR_PI)
+            + haze_ambient(u.light, u.sky, sun.y))
             * albedo;
         color = color + (haze_light - color) * opacity;
     }
