@@ -18,6 +18,9 @@ use crate::error::CliError;
 /// The index written last into the gallery folder; its presence marks a folder Nimbus wrote.
 const INDEX: &str = "gallery.md";
 
+/// Every genus in one picture, in the index's grid.
+const SHEET: &str = "contact-sheet.png";
+
 /// What `nimbus gallery` takes.
 #[derive(Args)]
 pub(crate) struct GalleryArgs {
@@ -100,11 +103,30 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
     let start = Instant::now();
     let tiles = replace_folder(&a.out, INDEX, overwrite, |tmp| {
         let mut tiles = Vec::new();
-        for (_, scene, frame) in &frames {
+        let cols = a.columns.min(frames.len().max(1)) as u32;
+        let rows = frames.len().div_ceil(cols as usize) as u32;
+        // The grid as one picture, 4 px of white between the tiles.
+        let gap = 4;
+        let mut sheet = image::RgbaImage::from_pixel(
+            cols * (width + gap) - gap,
+            rows * (height + gap) - gap,
+            image::Rgba([255, 255, 255, 255]),
+        );
+        for (i, (_, scene, frame)) in frames.iter().enumerate() {
             let t = Instant::now();
             let image = renderer.render(frame)?;
             let file = format!("{}.png", scene.name);
             image.save_png(&tmp.join(&file), a.exposure, Overwrite::Force)?;
+            let (x, y) = (
+                (i as u32 % cols) * (width + gap),
+                (i as u32 / cols) * (height + gap),
+            );
+            image::imageops::replace(
+                &mut sheet,
+                &image.to_rgba8(a.exposure),
+                i64::from(x),
+                i64::from(y),
+            );
             println!(
                 "{:>14}: {} ({:.1} s)",
                 scene.name,
@@ -124,6 +146,12 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
                 ),
             });
         }
+        nimbus_output::write_png(
+            &tmp.join(SHEET),
+            sheet.dimensions(),
+            sheet.as_raw(),
+            Overwrite::Force,
+        )?;
         let index = index(&tiles, a, &gpu.info().to_string(), width, height);
         std::fs::write(tmp.join(INDEX), index).map_err(|e| CliError::Unknown {
             kind: "gallery index",
@@ -148,7 +176,7 @@ fn index(tiles: &[Tile], a: &GalleryArgs, adapter: &str, width: u32, height: u32
     let _ = writeln!(s, "# The genera\n");
     let _ = writeln!(
         s,
-        "Each genus from the view that shows its signature ({width}×{height}, {} frames, adapter: {adapter}), lowest clouds first.\n",
+        "Each genus from the view that shows its signature ({width}×{height}, {} frames, adapter: {adapter}), lowest clouds first; all of them in one picture: [{SHEET}]({SHEET}).\n",
         a.frames
     );
     let cols = a.columns.min(tiles.len().max(1));

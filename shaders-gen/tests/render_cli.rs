@@ -188,7 +188,11 @@ fn a_user_texture_replaces_the_procedural_one() {
     }
     // An empty weather map leaves clear blue sky; a full one an overcast, grey or dim one.
     let tmp = tempfile::tempdir().expect("tempdir");
-    let clear_blue = |img: &image::RgbImage| img.pixels().filter(|p| p[2] > p[0] + 50).count();
+    let clear_blue = |img: &image::RgbImage| {
+        img.pixels()
+            .filter(|p| u16::from(p[2]) > u16::from(p[0]) + 50)
+            .count()
+    };
     let empty = clear_blue(&render_with_weather(tmp.path(), "empty", 0));
     let full = clear_blue(&render_with_weather(tmp.path(), "full", 255));
     println!(
