@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use nimbus_dsl::prelude::*;
 
-use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE};
+use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER};
 use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, gate};
 use super::genus_fns::{genus_profile, genus_shape, genus_weather};
 use super::layers::LayerGroup;
@@ -31,6 +31,9 @@ pub struct MediaParams {
     /// Detail (Worley) texture repeats per metre and offset (tiles).
     pub detail_repeat: Vec3,
     pub detail_offset: Vec3,
+    /// How much the planet-scale weather ([`planet_coverage`]) moves the coverage beyond the
+    /// viewer's surroundings: 0 (every tile alike) to 1.
+    pub planet_weather: f32,
 }
 
 impl Default for MediaParams {
@@ -45,6 +48,7 @@ impl Default for MediaParams {
             shape_offset: Vec3::ZERO,
             detail_repeat: Vec3::splat(6e-3),
             detail_offset: Vec3::ZERO,
+            planet_weather: 1.0,
         }
     }
 }
@@ -108,7 +112,42 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32, #[spec] key: C
     let weather = genus_weather(key, vec2(position.x, position.z), layers);
     let eta = height_fraction(altitude, layers);
     let shape = genus_shape(key, eta, layers);
-    coverage_remap(weather, media.coverage, shape, layers.coverage_filter_width)
+    let coverage = planet_coverage(position, media.coverage);
+    coverage_remap(weather, coverage, shape, layers.coverage_filter_width)
+}
+
+/// The coverage at `position` (noise space) under planet-scale weather. The weather texture
+/// repeats every 100 km, so a long horizon or a view from orbit showed the same tile again
+/// and again, each cell below a pixel: white noise. Beyond the viewer's surroundings the
+/// coverage now follows a field of fronts and clear regions hundreds of kilometres across:
+/// two octaves of the weather texture itself, 37× and 9× coarser and turned against the tile
+/// grid, as a factor of mean ~1 (0.2 to 1.8). Within 30 km of the camera the coverage is the
+/// one asked for, so a scene still gets the sky it names; the field fades in by 150 km.
+#[shader_fn]
+pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
+    let u = CLOUDS.get();
+    let media = u.media;
+    let offset = position - u.camera_offset;
+    let far = smoothstep(30_000.0, 150_000.0, offset.length()) * media.planet_weather;
+    if far <= 0.0 {
+        // Near the camera: no texture reads.
+        return coverage;
+    }
+    let uv = vec2(position.x, position.z) * media.weather_repeat;
+    // Turned by ~29° so that no grid line of the field runs along one of the tiles'.
+    let turned = vec2(uv.x * 0.875 - uv.y * 0.485, uv.x * 0.485 + uv.y * 0.875);
+    let smp = LINEAR_REPEAT.get();
+    let fronts = WEATHER
+        .get()
+        .sample_level(&smp, turned * (1.0 / 37.0) + vec2(0.31, 0.77), 0.0)
+        .x;
+    let systems = WEATHER
+        .get()
+        .sample_level(&smp, turned * (1.0 / 9.0) + vec2(0.53, 0.11), 0.0)
+        .y;
+    let field = (fronts * 0.65 + systems * 0.35).saturate();
+    let factor = 0.2 + 1.6 * smoothstep(0.15, 0.85, field);
+    (coverage * (1.0 + (factor - 1.0) * far)).saturate()
 }
 
 /// Density of each layer of group `group` at `position` (noise space: camera-relative metres in
