@@ -121,13 +121,33 @@ pub fn shape_noise(uvw: Vec3, cells: i32) -> f32 {
     let perlin01 = perlin_fbm(p, cells, 1u32, 4u32);
     let w = worley_fbm(p, cells, 2u32);
     // remap(perlin, 0, 1, worley, 1)
-    (w + perlin01 * (1.0 - w)).clamp(0.0, 1.0) * w.max(0.35)
+    let s = (w + perlin01 * (1.0 - w)).clamp(0.0, 1.0) * w.max(0.35);
+    (SHAPE_MATCH.x + SHAPE_MATCH.y * s).saturate()
 }
+
+/// `offset, gain` that give the shape noise the distribution of @takram/three-clouds'
+/// `shape.bin` (quantiles 10/25/50/75/90 %: 0.694, 0.749, 0.804, 0.855, 0.890; ours were 0.235,
+/// 0.282, 0.361, 0.439, 0.518). The erosion cuts `amount·(1 − s)`, so with the raw noise
+/// (mean 0.37 against 0.80) a coverage of 0.4 left mostly clear sky where the reference library
+/// shows mostly cloud: matched, a coverage means what it means there.
+const SHAPE_MATCH: Vec2 = Vec2::new(0.545, 0.69);
+
+/// The same for the detail noise against `shape_detail.bin` (0.588, 0.647, 0.718, 0.784,
+/// 0.839; ours were 0.329, 0.396, 0.478, 0.561, 0.631).
+const DETAIL_MATCH: Vec2 = Vec2::new(0.315, 0.831);
+
+/// Per-channel `gain, offset` that give the weather channels the distribution of
+/// `local_weather.png` (R: a quarter of it 0, median 0.224, 90 % 0.678; G: median 0.035,
+/// 90 % 0.522; B: median 0.498; A: median 0.384), so that each layer's channel covers as much of
+/// the sky at a given coverage as the reference library's does.
+const WEATHER_GAIN: Vec4 = Vec4::new(2.16, 2.30, 1.261, 1.33);
+const WEATHER_OFFSET: Vec4 = Vec4::new(-0.847, -1.111, -0.116, -0.27);
 
 /// The detail texture's value: Worley octaves only (wispy erosion).
 #[shader_fn]
 pub fn detail_noise(uvw: Vec3, cells: i32) -> f32 {
-    worley_fbm(uvw * (cells as f32), cells, 3u32)
+    let d = worley_fbm(uvw * (cells as f32), cells, 3u32);
+    (DETAIL_MATCH.x + DETAIL_MATCH.y * d).saturate()
 }
 
 /// Contrast of the weather signals about their mean.
@@ -140,11 +160,15 @@ pub fn weather_noise(uv: Vec2, cells: i32) -> Vec4 {
     let p = vec3(uv.x, uv.y, 0.0) * (cells as f32);
     let r = perlin_fbm(p, cells, 4u32, 5u32);
     let g = perlin_fbm(p * 2.0, cells * 2i32, 5u32, 4u32);
-    let b = perlin_fbm(p * 0.5 + vec3(0.0, 0.0, 0.5), cells, 6u32, 4u32);
+    // Half the frequency needs half the period, or the channel does not tile: its seam was a
+    // hard straight edge across every high layer (cirrus, cirrocumulus, cirrostratus read b).
+    let b = perlin_fbm(p * 0.5 + vec3(0.0, 0.0, 0.5), cells / 2i32, 6u32, 4u32);
     let a = perlin_fbm(p + vec3(0.0, 0.0, 1.5), cells, 7u32, 3u32);
     // fbm clusters around 0.5; stretching it gives clear sky between cloud fields, as a
     // painted weather map has.
-    ((vec4(r, g, b, a) - Vec4::splat(0.5)) * WEATHER_CONTRAST + Vec4::splat(0.5)).saturate()
+    let w =
+        ((vec4(r, g, b, a) - Vec4::splat(0.5)) * WEATHER_CONTRAST + Vec4::splat(0.5)).saturate();
+    (w * WEATHER_GAIN + WEATHER_OFFSET).saturate()
 }
 
 /// Curl of a tileable 2D potential at `uv`, encoded in [0, 1] (0.5 = no flow), for turbulence.
