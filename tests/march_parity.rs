@@ -34,12 +34,10 @@ fn texels(rng: &mut Rng, n: usize, scale: [f32; 4]) -> Vec<Vec4> {
 fn march_clouds_matches_cpu_over_a_set_of_rays() {
     let lib =
         CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
-    march_parity(
-        lib.genus("cumulus").expect("cumulus"),
-        400,
-        10,
-        MARCH_TOLERANCE,
-    );
+    // Half the sky covered, so that enough rays meet clouds.
+    let mut cumulus = lib.genus("cumulus").expect("cumulus").clone();
+    cumulus.coverage = 0.5;
+    march_parity(&cumulus, 400, 10, MARCH_TOLERANCE);
 }
 
 /// A genus of a user's own: the supercell example crate's shape and profile `#[shader_fn]`s,
@@ -76,15 +74,20 @@ fn genus_weather_functions_march_matches_cpu() {
     for weather in [CELLULAR_WEATHER, STREAK_WEATHER] {
         let mut genus = lib.genus("cumulus").expect("cumulus").clone();
         genus.functions.weather = weather;
+        // Cells within patches leave most of the sky clear at cumulus' coverage: more cloud,
+        // so that enough rays meet some.
+        genus.coverage = 0.8;
         march_parity(&genus, 100, 3, MARCH_TOLERANCE);
     }
 }
 
 /// Hundreds of steps of exp/pow and texture filtering; hardware GPUs filter with fewer weight
-/// bits than lavapipe, hence the margin.
+/// bits than lavapipe, hence the margin. Beyond 30 km every density sample also reads the
+/// planet-scale coverage field (two more filtered samples), which took the worst of 1,200
+/// cumulus rays from 3.2e-3 to 4.4e-3 relative.
 const MARCH_TOLERANCE: Tolerance = Tolerance {
     abs: 5e-4,
-    rel: 5e-3,
+    rel: 7e-3,
 };
 
 /// The march of `genus` at `high`, `rays` rays from each of three camera altitudes, on the GPU

@@ -120,8 +120,8 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32, #[spec] key: C
 /// repeats every 100 km, so a long horizon or a view from orbit showed the same tile again
 /// and again, each cell below a pixel: white noise. Beyond the viewer's surroundings the
 /// coverage now follows a field of fronts and clear regions hundreds of kilometres across:
-/// two octaves of the weather texture itself, 37× and 9× coarser and turned against the tile
-/// grid, as a factor of mean ~1 (0.2 to 1.8). Within 30 km of the camera the coverage is the
+/// two octaves of the weather texture's smooth channels (b, a), 37× and 9× coarser and turned
+/// against the tile grid, as a factor of mean ~1 (0.2 to 1.8). Within 30 km of the camera the coverage is the
 /// one asked for, so a scene still gets the sky it names; the field fades in by 150 km.
 #[shader_fn]
 pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
@@ -140,11 +140,11 @@ pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
     let fronts = WEATHER
         .get()
         .sample_level(&smp, turned * (1.0 / 37.0) + vec2(0.31, 0.77), 0.0)
-        .x;
+        .z;
     let systems = WEATHER
         .get()
         .sample_level(&smp, turned * (1.0 / 9.0) + vec2(0.53, 0.11), 0.0)
-        .y;
+        .w;
     let field = (fronts * 0.65 + systems * 0.35).saturate();
     let factor = 0.2 + 1.6 * smoothstep(0.15, 0.85, field);
     (coverage * (1.0 + (factor - 1.0) * far)).saturate()
