@@ -818,7 +818,9 @@ impl<'g> Renderer<'g> {
         let frames = frame.frames.max(1);
         let variant = frame.variant();
         let clouds_key = ShaderKey::Clouds(if self.uber {
-            CloudKey::uber()
+            // The functions are the genus' code, not a run-time choice: the uber-shader has
+            // them too.
+            CloudKey::uber().with_functions(variant.key.functions)
         } else {
             variant.key
         });

@@ -80,6 +80,14 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
             scenes.push((path, scene));
         }
     }
+    if scenes.is_empty() {
+        return Err(CliError::Unknown {
+            kind: "gallery scene",
+            given: format!("none in {}", scenes_dir.display()),
+            known: "one scene file (TOML) per genus".into(),
+        }
+        .into());
+    }
     // Lowest clouds first, as the cloud atlases order the genera.
     let mut frames = Vec::new();
     for (path, scene) in &scenes {

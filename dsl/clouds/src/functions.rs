@@ -13,7 +13,7 @@
 //! or [`weather_fn!`](crate::weather_fn): the CPU twin runs in the stability catalogue and the
 //! parity tests, the shader twin is recorded into the genus' shaders. The functions are part of
 //! the shader key (a genus with its own profile gets its own shader, named after it), and a
-//! TOML genus names them (`functions = { shape = "anvil" }`): the built-ins below, or any a
+//! TOML genus names them (`functions = { shape = "anvil_shape" }`): the built-ins below, or any a
 //! program has [`register`]ed before it loads its files.
 
 use std::fmt;

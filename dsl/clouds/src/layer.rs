@@ -96,7 +96,7 @@ impl Default for CloudLayer {
 }
 
 /// Largest magnitude a density profile may reach in its layer: ample for any density (it is
-/// clamped to 1 after scaling), and 340 times below f32's 3.4e38, so `a·e^(b·η)` is finite and
+/// bounded by `MAX_DENSITY`, 1e6 per metre, after scaling), and 340 times below f32's 3.4e38, so `a·e^(b·η)` is finite and
 /// the shader never multiplies an infinite profile by a zero coverage (a NaN).
 pub const MAX_PROFILE_VALUE: f64 = 1e36;
 

@@ -5,7 +5,7 @@
 //! weather signal, the coverage shape over height, the density profile over height. This crate
 //! writes two of them. Each runs on the CPU (the stability catalogue and the parity tests call
 //! it) and is recorded into the genus' shaders, which are named after it
-//! (`...-shape_supercell_shape-supercell_profile`) and validated for every target like the
+//! (`...-supercell_shape-supercell_profile`) and validated for every target like the
 //! built-in ones.
 
 use std::path::Path;
@@ -21,7 +21,7 @@ use nimbus_dsl::prelude::*;
 /// twice the tower's width between 66 % and 84 % of the height and is sheared off flat at
 /// 90 % (the tropopause), and above it the overshooting top: the updraught's core alone,
 /// narrowing to nothing at the top of the layer. The layer's `shape_altering_bias` scales the
-/// anvil's spread (1: twice the tower's width).
+/// anvil's spread (1: 2.5 times the tower's width where the anvil begins).
 ///
 /// The value scales the coverage threshold (`1 − shape·coverage`): where it is large, weaker
 /// weather signal still makes cloud, so the anvil covers far more ground than the tower.
@@ -50,7 +50,7 @@ pub fn supercell_profile(eta: Vec4, layers: LayerGroup) -> Vec4 {
 /// The shape function, as genus files and keys see it.
 pub const SHAPE: HeightFn = height_fn!(
     supercell_shape,
-    "flat base, tower, anvil spreading to 2x between 66% and 84% of the height, overshooting top"
+    "flat base, tower, anvil spreading to 2.5x between 66% and 84% of the height, overshooting top"
 );
 
 /// The profile function.

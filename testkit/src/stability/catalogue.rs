@@ -270,11 +270,18 @@ fn camera_on_layer_boundary() -> Case {
         b.fan(uniforms(&g, 30.0, boundary));
         for mu in [-0.3f32, -0.01, -0.005, 0.005, 0.01, 0.3] {
             for az in [0.4f32, 3.3] {
+                // Grazing rays meet their clouds 100–200 km away, after a gap whose far root
+                // the two cameras compute in different ways (from inside the layer, from below
+                // it): the last bits differ, the samples' phase with them, and over random
+                // textures the far cloud's radiance by up to 8 % (the planet-scale coverage
+                // made those far clouds denser in this case). A jump across the shell (the bug
+                // this pair guards) is a factor, not per cent.
+                let rel = if mu.abs() <= 0.01 { 0.1 } else { 0.05 };
                 b.pair(
                     uniforms(&g, 30.0, boundary - 1e-3),
                     uniforms(&g, 30.0, boundary + 1e-3),
                     direction(mu, az),
-                    0.05,
+                    rel,
                     1e-4,
                 );
             }
@@ -311,11 +318,13 @@ pub fn genus_case(name: &'static str, about: &'static str, genus: &Genus) -> Cas
     let bottom = genus
         .layers
         .iter()
+        .filter(|l| l.is_enabled())
         .map(|l| l.altitude)
         .fold(f32::MAX, f32::min);
     let top = genus
         .layers
         .iter()
+        .filter(|l| l.is_enabled())
         .map(|l| l.altitude + l.height)
         .fold(0.0, f32::max);
     let mut b = Builder::new(genus);

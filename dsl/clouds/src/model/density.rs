@@ -53,6 +53,10 @@ impl Default for MediaParams {
     }
 }
 
+/// Largest density (extinction per metre at unit coefficients): a millimetre of it is optical
+/// depth 1,000, opaque to any step; far from f32's overflow however it is multiplied.
+pub const MAX_DENSITY: f32 = 1e6;
+
 /// Height fraction η ∈ [0, 1] of `altitude` in each layer. A zero-height (absent) layer gives
 /// 0 or 1, never 0/0.
 #[shader_fn]
@@ -133,7 +137,8 @@ pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
         // Near the camera: no texture reads.
         return coverage;
     }
-    let uv = vec2(position.x, position.z) * media.weather_repeat;
+    // With the weather offset, so that fronts drift with the wind as the local weather does.
+    let uv = vec2(position.x, position.z) * media.weather_repeat + media.weather_offset;
     // Turned by ~29° so that no grid line of the field runs along one of the tiles'.
     let turned = vec2(uv.x * 0.875 - uv.y * 0.485, uv.x * 0.485 + uv.y * 0.875);
     let smp = LINEAR_REPEAT.get();
@@ -146,7 +151,8 @@ pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
         .sample_level(&smp, turned * (1.0 / 9.0) + vec2(0.53, 0.11), 0.0)
         .w;
     let field = (fronts * 0.65 + systems * 0.35).saturate();
-    let factor = 0.2 + 1.6 * smoothstep(0.15, 0.85, field);
+    // Centred on the field's own mean (0.47), so the factor averages 1.
+    let factor = 0.2 + 1.6 * smoothstep(0.12, 0.82, field);
     (coverage * (1.0 + (factor - 1.0) * far)).saturate()
 }
 
@@ -196,5 +202,8 @@ pub fn eroded_density(
     }
     // Not clamped to 1: `density_scale` is extinction per metre at full density, so a 1 mm
     // layer of scale 1000 has optical depth 1 (the reference library's saturate made it 1e-3).
-    (density * layers.density_scale * genus_profile(key, eta, layers)).max(Vec4::ZERO)
+    // Bounded by MAX_DENSITY: an unbounded scale times a profile near its 1e36 limit would be
+    // infinite, and ∞·0 (an empty step, an empty shadow texel) a NaN.
+    (density * layers.density_scale * genus_profile(key, eta, layers))
+        .clamp(Vec4::ZERO, Vec4::splat(MAX_DENSITY))
 }

@@ -35,7 +35,9 @@ pub fn texture_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
 #[shader_fn]
 pub fn streak_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
     let media = CLOUDS.get().media;
-    let uv = xz * media.weather_repeat * vec2(1.0 / 12.0, 3.0) + media.weather_offset;
+    // The offset (the wind) moves the field before it is stretched, as in every weather
+    // function, so that all genera drift alike.
+    let uv = (xz * media.weather_repeat + media.weather_offset) * vec2(1.0 / 12.0, 3.0);
     let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
     (layers.channel_matrix * rgba)
         .saturate()
@@ -48,7 +50,7 @@ pub fn streak_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
 #[shader_fn]
 pub fn sparse_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
     let media = CLOUDS.get().media;
-    let uv = xz * media.weather_repeat * 0.2 + media.weather_offset;
+    let uv = (xz * media.weather_repeat + media.weather_offset) * 0.2;
     let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
     (layers.channel_matrix * rgba)
         .saturate()
@@ -87,7 +89,7 @@ pub fn rounded_shape(eta: Vec4, layers: LayerGroup) -> Vec4 {
 }
 
 /// A cumulonimbus: a flat base reached within the lowest 3 % of the layer, a tower that narrows
-/// slowly with height, and from 75 % of the height an anvil that spreads out to 1.5× the
+/// slowly with height, and from 72 % of the height an anvil that spreads out to 1.5× the
 /// tower's width, levelled off under a flat top (the tropopause). The spread makes the
 /// coverage threshold low near the top, so the anvil covers far more ground than the tower
 /// below it. `shape_altering_bias` moves the anvil: 1 puts its widest point at 88 % of the

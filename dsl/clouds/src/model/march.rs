@@ -376,13 +376,15 @@ pub fn sun_attenuation(altitude: f32, camera_altitude: f32, sun_cos: f32) -> f32
 
 /// Light a haze particle scatters from everything but the direct sun, for an isotropic share
 /// of its phase function: the sky dome above (`∫L dΩ ≈ 2·E_sky` for a sky of near-uniform
-/// radiance) and the Lambertian ground below (`2·albedo·(E_sun·μ + E_sky)`), over 4π. It used
-/// to be `E_sky/4π` alone, six times too little: the haze then darkened every horizon it
-/// thickened, a dark band between a bright sky and a bright ground.
+/// radiance) and the Lambertian ground below (`2·albedo·(E_sun·μ + E_sky)`), over 4π, the
+/// sun on the ground taken as shaded where the coverage says there is cloud (the haze sees a
+/// wide stretch of ground, not the one point a shadow-map lookup would give). It used to be
+/// `E_sky/4π` alone, six times too little: the haze then darkened every horizon it thickened,
+/// a dark band between a bright sky and a bright ground.
 #[shader_fn]
-pub fn haze_ambient(light: LightParams, sky: AtmosphereParams, sun_mu: f32) -> Vec3 {
-    let ground =
-        sky.ground_albedo * (light.sun_irradiance * sun_mu.max(0.0) + light.sky_irradiance);
+pub fn haze_ambient(light: LightParams, sky: AtmosphereParams, sun_mu: f32, coverage: f32) -> Vec3 {
+    let sunlit = light.sun_irradiance * (sun_mu.max(0.0) * (1.0 - coverage.saturate()));
+    let ground = sky.ground_albedo * (sunlit + light.sky_irradiance);
     (light.sky_irradiance + ground) * (2.0 * INV_FOUR_PI)
 }
 
@@ -765,7 +767,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         let albedo = u.haze.scattering_coefficient
             / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
         let haze_light = (u.light.sun_irradiance * (cloud_phase(cos_theta, 1.0, key) * sunlit)
-            + haze_ambient(u.light, u.sky, sun.y))
+            + haze_ambient(u.light, u.sky, sun.y, u.media.coverage))
             * albedo;
         color = color + (haze_light - color) * opacity;
     }

@@ -49,8 +49,9 @@ pub fn altitude_at(p: Vec3, camera_altitude: f32, radius: f32) -> f32 {
     y + d2 / ((r * r + d2).sqrt() + r)
 }
 
-/// The atlas texel of the finest cascade that holds camera-relative `p`; an empty texel (no
-/// optical depth) outside every cascade.
+/// The atlas texel of the finest cascade that holds camera-relative `p`, its optical depth
+/// faded out towards the edge of the last cascade; an empty texel (no optical depth) outside
+/// every cascade.
 #[shader_fn]
 pub fn shadow_texel(p: Vec3) -> Vec4 {
     let s = CLOUDS.get().shadow;
@@ -67,11 +68,17 @@ pub fn shadow_texel(p: Vec3) -> Vec4 {
     }
     let k = count - n;
     let local = base / s.cascade_scales[k as u32 as usize] + Vec2::splat(0.5);
-    SHADOW_MAP.get().sample_level(
+    let texel = SHADOW_MAP.get().sample_level(
         &LINEAR_REPEAT.get(),
         vec2((k + local.x) / count, local.y),
         0.0,
-    )
+    );
+    // Fade the optical depth out over the outer fifth of the last cascade: beyond it nothing
+    // is known and nothing shadows, and a shadow cut off there was a straight-edged wedge on
+    // the ground (and a jump in the light shafts) wherever the map's coverage ended.
+    let last = s.cascade_scales[(count as u32 - 1u32) as usize] * margin;
+    let fade = 1.0 - smoothstep(0.8, 1.0, extent / last);
+    vec4(texel.x, texel.y * fade, texel.z * fade, texel.w * fade)
 }
 
 /// One texel of the shadow atlas: march along the sun's rays, down from the top of the
