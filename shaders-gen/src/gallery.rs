@@ -96,11 +96,8 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
         frame.frames = a.frames;
         frame.validate()?;
         let base = genus
-            .layers
-            .iter()
-            .filter(|l| l.is_enabled())
-            .map(|l| l.altitude)
-            .fold(f32::MAX, f32::min);
+            .altitude_range()
+            .map_or(f32::MAX, |(bottom, _)| bottom);
         frames.push((base, scene, frame));
     }
     frames.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.name.cmp(&y.1.name)));

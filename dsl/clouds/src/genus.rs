@@ -164,6 +164,15 @@ impl Genus {
         Ok(())
     }
 
+    /// Bottom of the lowest and top of the highest layer that renders anything (m), if any.
+    pub fn altitude_range(&self) -> Option<(f32, f32)> {
+        let enabled = self.layers.iter().filter(|l| l.is_enabled());
+        enabled.fold(None, |range, l| {
+            let (lo, hi) = range.unwrap_or((f32::MAX, f32::MIN));
+            Some((lo.min(l.altitude), hi.max(l.altitude + l.height)))
+        })
+    }
+
     /// Number of vec4 lane groups the layers need (4 layers per group).
     pub fn layer_groups(&self) -> usize {
         self.layers.len().div_ceil(4).max(1)

@@ -315,18 +315,7 @@ fn camera_in_orbit() -> Case {
 /// A genus as a case: fans of rays from below, inside and above its layers, under the sun at
 /// 30°. How a genus of one's own, with its own functions, joins the catalogue's checks.
 pub fn genus_case(name: &'static str, about: &'static str, genus: &Genus) -> Case {
-    let bottom = genus
-        .layers
-        .iter()
-        .filter(|l| l.is_enabled())
-        .map(|l| l.altitude)
-        .fold(f32::MAX, f32::min);
-    let top = genus
-        .layers
-        .iter()
-        .filter(|l| l.is_enabled())
-        .map(|l| l.altitude + l.height)
-        .fold(0.0, f32::max);
+    let (bottom, top) = genus.altitude_range().unwrap_or((0.0, 0.0));
     let mut b = Builder::new(genus);
     for camera in [2.0, 0.5 * (bottom + top), top + 2000.0] {
         b.fan(uniforms(genus, 30.0, camera));
