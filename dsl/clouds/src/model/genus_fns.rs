@@ -155,65 +155,43 @@ pub fn builtin_weather_fns() -> Vec<WeatherFn> {
     ]
 }
 
-/// The weather signal of the key's genus at `xz` (CPU twin).
-pub fn genus_weather(key: CloudKey, xz: Vec2, layers: LayerGroup) -> Vec4 {
-    (key.functions.weather.cpu)(xz, layers)
+/// One call through the key's genus function of `slot`: the CPU twin calls the function's CPU
+/// twin, the shader twin (`$name::shader`, found by the `#[shader_fn]` call convention of
+/// `nimbus_dsl::twin`) records its shader twin. Written once for the three slots.
+macro_rules! genus_slot {
+    ($(#[$doc:meta])* $name:ident, $twin:ident, $slot:ident, $arg:ident: $cpu:ty => $dsl:ty) => {
+        $(#[$doc])*
+        pub fn $name(key: CloudKey, $arg: $cpu, layers: LayerGroup) -> Vec4 {
+            (key.functions.$slot.cpu)($arg, layers)
+        }
+
+        #[doc(hidden)]
+        pub use $name::shader as $twin;
+
+        #[doc = concat!("Shader twin of [`", stringify!($name), "()`](fn@", stringify!($name), ").")]
+        pub mod $name {
+            use super::*;
+
+            pub fn shader(
+                key: CloudKey,
+                $arg: impl Into<$dsl>,
+                layers: impl Into<LayerGroupShader>,
+            ) -> shader::Vec4 {
+                (key.functions.$slot.shader)($arg.into(), layers.into())
+            }
+        }
+    };
 }
 
-/// The coverage shape of the key's genus at height fractions `eta` (CPU twin).
-pub fn genus_shape(key: CloudKey, eta: Vec4, layers: LayerGroup) -> Vec4 {
-    (key.functions.shape.cpu)(eta, layers)
-}
-
-/// The density profile of the key's genus at height fractions `eta` (CPU twin).
-pub fn genus_profile(key: CloudKey, eta: Vec4, layers: LayerGroup) -> Vec4 {
-    (key.functions.profile.cpu)(eta, layers)
-}
-
-#[doc(hidden)]
-pub use genus_weather::shader as __shader_twin_genus_weather;
-
-/// Shader twin of [`genus_weather()`](fn@genus_weather).
-pub mod genus_weather {
-    use super::*;
-
-    pub fn shader(
-        key: CloudKey,
-        xz: impl Into<shader::Vec2>,
-        layers: impl Into<LayerGroupShader>,
-    ) -> shader::Vec4 {
-        (key.functions.weather.shader)(xz.into(), layers.into())
-    }
-}
-
-#[doc(hidden)]
-pub use genus_shape::shader as __shader_twin_genus_shape;
-
-/// Shader twin of [`genus_shape()`](fn@genus_shape).
-pub mod genus_shape {
-    use super::*;
-
-    pub fn shader(
-        key: CloudKey,
-        eta: impl Into<shader::Vec4>,
-        layers: impl Into<LayerGroupShader>,
-    ) -> shader::Vec4 {
-        (key.functions.shape.shader)(eta.into(), layers.into())
-    }
-}
-
-#[doc(hidden)]
-pub use genus_profile::shader as __shader_twin_genus_profile;
-
-/// Shader twin of [`genus_profile()`](fn@genus_profile).
-pub mod genus_profile {
-    use super::*;
-
-    pub fn shader(
-        key: CloudKey,
-        eta: impl Into<shader::Vec4>,
-        layers: impl Into<LayerGroupShader>,
-    ) -> shader::Vec4 {
-        (key.functions.profile.shader)(eta.into(), layers.into())
-    }
-}
+genus_slot!(
+    /// The weather signal of the key's genus at `xz` (CPU twin).
+    genus_weather, __shader_twin_genus_weather, weather, xz: Vec2 => shader::Vec2
+);
+genus_slot!(
+    /// The coverage shape of the key's genus at height fractions `eta` (CPU twin).
+    genus_shape, __shader_twin_genus_shape, shape, eta: Vec4 => shader::Vec4
+);
+genus_slot!(
+    /// The density profile of the key's genus at height fractions `eta` (CPU twin).
+    genus_profile, __shader_twin_genus_profile, profile, eta: Vec4 => shader::Vec4
+);
