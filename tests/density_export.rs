@@ -81,7 +81,7 @@ fn vol_file_holds_the_models_extinction_at_voxel_centres() {
         let h = altitude_at(p, f.camera_altitude, u.march.radius);
         let want = {
             let _bound = t.bind(u);
-            total_density(p, h, key) * sigma
+            total_density(p, h, 0.0, key) * sigma
         };
         let got = f32_at(&b, 48 + 4 * (((z * 6 + y) * 12 + x) as usize));
         assert_eq!(got, want, "voxel ({x}, {y}, {z})");
@@ -179,7 +179,7 @@ fn box_filtered_voxels_average_the_density_over_the_voxel() {
             let c = corner + voxel * (sub + 0.5) / 3.0;
             let p = Vec3::new(c.x, c.y - f.camera_altitude, c.z);
             let h = altitude_at(p, f.camera_altitude, u.march.radius);
-            sum += total_density(p, h, key);
+            sum += total_density(p, h, 0.0, key);
         }
         let want = sum / 27.0 * sigma;
         let got = filtered.values[((z * 4 + y) * 10 + x) as usize];

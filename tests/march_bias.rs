@@ -49,7 +49,7 @@ fn fine_optical_depth(
         .map(|i| {
             let t = (i as f32 + 0.5) * dt;
             let ht = altitude_along(h, dir.y, t, u.march.radius);
-            f64::from(total_density(p + dir * t, ht, key)) * sigma * f64::from(dt)
+            f64::from(total_density(p + dir * t, ht, 0.0, key)) * sigma * f64::from(dt)
         })
         .sum()
 }
@@ -106,7 +106,7 @@ fn measure(
             h,
             rng.range(-20_000.0, 20_000.0),
         );
-        if total_density(p, h, key) <= 0.0 {
+        if total_density(p, h, 0.0, key) <= 0.0 {
             continue;
         }
         let full = down || m.secondary_full_path > 0;
@@ -118,7 +118,7 @@ fn measure(
         let fine = fine_optical_depth(&u, key, p, h, dir, length);
         let march = offsets
             .iter()
-            .map(|&o| f64::from(secondary_optical_depth(p, h, dir, steps, o, full, key)))
+            .map(|&o| f64::from(secondary_optical_depth(p, h, dir, steps, o, full, 0.0, key)))
             .sum::<f64>()
             / offsets.len() as f64;
         bias.march += march;
@@ -235,7 +235,7 @@ fn reference_primary_march_is_unbiased() {
                 .map(|i| {
                     let s = range.x + (i as f32 + 0.5) * dt;
                     let h = altitude_along(0.0, dir.y, s, u.march.radius);
-                    f64::from(total_density(dir * s, h, key)) * sigma * f64::from(dt)
+                    f64::from(total_density(dir * s, h, 0.0, key)) * sigma * f64::from(dt)
                 })
                 .sum();
             if !(0.05..30.0).contains(&tau) {
@@ -243,7 +243,7 @@ fn reference_primary_march_is_unbiased() {
             }
             let marched = offsets
                 .iter()
-                .map(|&j| -f64::from(march_clouds(dir, j, key).transmittance).ln())
+                .map(|&j| -f64::from(march_clouds(dir, j, 0.0, key).transmittance).ln())
                 .sum::<f64>()
                 / offsets.len() as f64;
             march += marched;
@@ -282,7 +282,7 @@ fn old_reference_optical_depth(
     let mut tau = 0.0f64;
     for _ in 0..16 {
         let ht = altitude_along(h, dir.y, t, u.march.radius);
-        tau += f64::from(total_density(p + dir * t, ht, key)) * sigma * f64::from(step);
+        tau += f64::from(total_density(p + dir * t, ht, 0.0, key)) * sigma * f64::from(step);
         t += step;
         step *= 1.25;
     }
@@ -312,7 +312,7 @@ fn the_old_reference_sun_march_was_biased() {
             h,
             rng.range(-20_000.0, 20_000.0),
         );
-        if total_density(p, h, key) <= 0.0 {
+        if total_density(p, h, 0.0, key) <= 0.0 {
             continue;
         }
         old += old_reference_optical_depth(&u, key, p, h, dir);

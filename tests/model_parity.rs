@@ -421,13 +421,22 @@ fn erosion_and_coverage_match_cpu() {
         tol,
     );
     let call = |x: &[ExprId]| {
-        detail_erosion::shader(vec4_(x[0]), f32_(x[1]), vec4_(x[2]), vec4_(x[3])).id()
+        detail_erosion::shader(
+            vec4_(x[0]),
+            f32_(x[1]),
+            f32_(x[2]),
+            vec4_(x[3]),
+            vec4_(x[4]),
+        )
+        .id()
     };
     let det_inputs: Vec<Vec<u32>> = inputs
         .iter()
         .map(|w| {
             let mut v = w[12..16].to_vec();
+            // The two erosion signals: any d⁶-like value and any billowy value.
             v.push(w[16]);
+            v.push(f(1.0 - f32::from_bits(w[16]).clamp(0.0, 1.0)));
             v.extend(&w[..4]);
             v.extend(
                 &w[4..8]
@@ -440,11 +449,19 @@ fn erosion_and_coverage_match_cpu() {
         .collect();
     compare(
         "detail_erosion",
-        vec![VEC4, Type::F32, VEC4, VEC4],
+        vec![VEC4, Type::F32, Type::F32, VEC4, VEC4],
         VEC4,
         &call,
         &det_inputs,
-        |w| out4(detail_erosion(v4(w, 0), a(w, 4), v4(w, 5), v4(w, 9))),
+        |w| {
+            out4(detail_erosion(
+                v4(w, 0),
+                a(w, 4),
+                a(w, 5),
+                v4(w, 6),
+                v4(w, 10),
+            ))
+        },
         tol,
     );
 }

@@ -139,7 +139,7 @@ fn thin_medium_radiance_is_linear_in_density() {
         let key = CloudVariant::new(&genus, q, q.features()).key;
         let u = CloudUniforms::for_genus(&genus, q, Vec3::new(0.3, 0.8, 0.2), 2.0);
         let _bound = t.bind(u);
-        let r = march_clouds(Vec3::Y, 0.5, key);
+        let r = march_clouds(Vec3::Y, 0.5, 0.0, key);
         r.radiance.x
     };
     let (one, two) = (radiance(1e-9), radiance(2e-9));

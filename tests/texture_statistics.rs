@@ -60,6 +60,28 @@ fn procedural_textures_have_the_reference_library_s_value_distributions() {
     }
 }
 
+/// The detail noise's means that far samples erode with (`detail_level`) are the procedural
+/// texture's own, at the size `nimbus render` uses and at twice it.
+#[test]
+fn detail_moments_are_the_texture_s() {
+    use nimbus_clouds::model::noise::{DETAIL_MOMENTS, DETAIL_SIZE};
+    for n in [DETAIL_SIZE, DETAIL_SIZE * 2] {
+        let v = texels(NoiseKind::Detail, n, n, 0);
+        let count = v.len() as f64;
+        let mean = v.iter().map(|&d| f64::from(d)).sum::<f64>() / count;
+        let sixth = v.iter().map(|&d| f64::from(d).powi(6)).sum::<f64>() / count;
+        println!("detail {n}³: mean {mean:.4}, mean of d⁶ {sixth:.4} (constants {DETAIL_MOMENTS})");
+        assert!(
+            (mean - f64::from(DETAIL_MOMENTS.x)).abs() < 0.005,
+            "mean {mean}"
+        );
+        assert!(
+            (sixth - f64::from(DETAIL_MOMENTS.y)).abs() < 0.005,
+            "d⁶ {sixth}"
+        );
+    }
+}
+
 /// Every procedural texture tiles: across its wrap (last column to first, last row to first)
 /// neighbouring texels differ no more than neighbours inside it do. The weather's `b` channel
 /// ran at half the frequency with the full period and did not tile; its seam was a hard

@@ -79,7 +79,7 @@ fn thin_layers_have_their_analytic_optical_depth() {
             let n = 32;
             let got: f32 = (0..n)
                 .map(|j| {
-                    let r = march_clouds(direction, (j as f32 + 0.5) / n as f32, key);
+                    let r = march_clouds(direction, (j as f32 + 0.5) / n as f32, 0.0, key);
                     -r.transmittance.max(1e-30).ln()
                 })
                 .sum::<f32>()

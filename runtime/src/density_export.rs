@@ -157,7 +157,7 @@ pub fn density_grid(
                     // Camera-relative position; the altitude follows the planet's curvature.
                     let p = Vec3::new(local.x, local.y - frame.camera_altitude, local.z);
                     let h = altitude_at(p, frame.camera_altitude, u.march.radius);
-                    sum += total_density(p, h, key);
+                    sum += total_density(p, h, 0.0, key);
                 }
                 out.push(sum * inv * inv * inv * sigma);
             }

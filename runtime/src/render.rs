@@ -20,7 +20,7 @@ use nimbus_clouds::catalog::ShaderKey;
 use nimbus_clouds::limits::{self, Limit, Origin};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
-use nimbus_clouds::model::march::{CloudUniforms, CompositeParams};
+use nimbus_clouds::model::march::{CloudUniforms, CompositeParams, subpixel_offset};
 use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
 use nimbus_clouds::model::sun::sun_direction;
 use nimbus_clouds::{Features, Genus, PixelOutput, Quality, ScenePreset, analyse};
@@ -49,7 +49,7 @@ impl Default for TextureSizes {
         Self {
             weather: 512,
             shape: 128,
-            detail: 32,
+            detail: nimbus_clouds::model::noise::DETAIL_SIZE,
             turbulence: 128,
         }
     }
@@ -833,6 +833,15 @@ impl<'g> Renderer<'g> {
 
         // Pipelines first: their bindings decide which textures and samplers exist.
         self.prepare(clouds_key)?;
+        // The detail's level of detail follows the texture bound: its texel size and means.
+        let detail = self
+            .user
+            .get(&NoiseKind::Detail)
+            .or_else(|| self.textures.get(&NoiseKind::Detail));
+        if let Some(t) = detail {
+            let moments = t.red_moments.unwrap_or(u.media.detail_moments);
+            u.media = u.media.with_detail_lod(t.size, moments);
+        }
         if self.uber {
             if self.uber_resources.is_none() {
                 let key = uniform_buffer(
@@ -1048,6 +1057,10 @@ impl<'g> Renderer<'g> {
             u.jitter = (index as f32 * 0.618_034 + frame.seed as f32 * 0.754_877_7).fract();
             u.pixel_scale = scale as f32;
             u.pixel_offset = Vec2::new(offset[0] as f32, offset[1] as f32);
+            // The how-many-th sample this frame gives each pixel it shades; the first is at the
+            // centre, so a single frame is the same picture as before sub-pixel offsets.
+            let visit = if frame.upscale { index / 16 } else { index };
+            u.subpixel = subpixel_offset(visit);
             let clouds = self.clouds.as_ref().ok_or_else(missing)?;
             self.gpu
                 .queue()

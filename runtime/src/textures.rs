@@ -127,6 +127,10 @@ pub struct GpuTexture {
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,
     pub size: u32,
+    /// Means of the red channel and of its sixth power, where known: the detail noise's level
+    /// of detail erodes with them where the noise is finer than a sample
+    /// (`MediaParams::with_detail_lod`).
+    pub red_moments: Option<glam::Vec2>,
 }
 
 impl Gpu {
@@ -180,6 +184,8 @@ impl Gpu {
             texture,
             view,
             size,
+            red_moments: (kind == NoiseKind::Detail)
+                .then_some(nimbus_clouds::model::noise::DETAIL_MOMENTS),
         })
     }
 
@@ -210,6 +216,7 @@ impl Gpu {
             texture,
             view,
             size: 1,
+            red_moments: Some(glam::Vec2::new(texel[0], texel[0].powi(6))),
         }
     }
 

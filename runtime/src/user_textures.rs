@@ -60,10 +60,22 @@ impl Gpu {
             rgba,
         );
         let view = texture.create_view(&Default::default());
+        // The red channel's means, for the detail level of detail.
+        let count = (rgba.len() / 4).max(1) as f64;
+        let (mut mean, mut sixth) = (0.0f64, 0.0f64);
+        for texel in rgba.chunks_exact(4) {
+            let r = f64::from(texel[0]) / 255.0;
+            mean += r;
+            sixth += r.powi(6);
+        }
         GpuTexture {
             texture,
             view,
             size: size.width,
+            red_moments: Some(glam::Vec2::new(
+                (mean / count) as f32,
+                (sixth / count) as f32,
+            )),
         }
     }
 

@@ -300,7 +300,8 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             "bayer_offsets": nimbus_clouds::model::resolve::BAYER_OFFSETS,
             "sequence": "frame i (from 0): pixel_offset = bayer_offsets[i % 16] when upscaling \
                          (else 0); frame = seed × 7919 + i; jitter = fract(i × 0.618034 + seed \
-                         × 0.7548777); resolve.current_weight = 1 / (visits + 1) with visits = \
+                         × 0.7548777); subpixel = fract(0.5 + v × (0.7548777, 0.5698403)) \
+                         with v = floor(i / 16) upscaled, i otherwise; resolve.current_weight = 1 / (visits + 1) with visits = \
                          floor(i / 16) upscaled, i otherwise; resolve.history_valid = 0 at i = 0",
         },
         "targets": targets_json(),
@@ -657,6 +658,11 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
          resolution",
     ),
     (
+        "subpixel",
+        "every frame: where in its pixel the ray passes, fract(0.5 + v × (0.7548777, \
+         0.5698403)) for the v-th visit of a pixel ((0.5, 0.5) for one frame)",
+    ),
+    (
         "frame",
         "every frame: a frame counter (seeds the jitter hash)",
     ),
@@ -697,6 +703,15 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
     (
         "media.coverage",
         "to change how much of the sky is cloudy (0..1)",
+    ),
+    (
+        "media.detail_fade",
+        "when media.detail_repeat or the detail texture changes: (1, 3) × the detail texel in \
+         metres, 1 / (detail_repeat × texels per side)",
+    ),
+    (
+        "media.detail_moments",
+        "when the detail texture changes: the means of its red channel r and of r⁶ (0..1)",
     ),
 ];
 

@@ -141,7 +141,13 @@ fn detail_erosion_at_amount_zero_is_no_detail() {
     for rho in [0.0f32, 0.1, 0.37, 0.5, 0.99, 1.0] {
         for d in [0.0f32, 0.3, 1.0] {
             let eta = glam::Vec4::new(0.0, 0.25, 0.6, 1.0);
-            let out = detail_erosion(glam::Vec4::splat(rho), d, eta, glam::Vec4::ZERO);
+            let out = detail_erosion(
+                glam::Vec4::splat(rho),
+                d.powi(6),
+                1.0 - d,
+                eta,
+                glam::Vec4::ZERO,
+            );
             assert_eq!(out, glam::Vec4::splat(rho), "rho {rho}, d {d}");
         }
     }
@@ -150,7 +156,13 @@ fn detail_erosion_at_amount_zero_is_no_detail() {
     let eta = glam::Vec4::splat(1.0);
     let m = 1.0 - d;
     let expect = ((2.0 * rho - 0.5 * m) / (1.0 - 0.5 * m)).clamp(0.0, 1.0);
-    let got = detail_erosion(glam::Vec4::splat(rho), d, eta, glam::Vec4::ONE);
+    let got = detail_erosion(
+        glam::Vec4::splat(rho),
+        d.powi(6),
+        1.0 - d,
+        eta,
+        glam::Vec4::ONE,
+    );
     assert!((got.x - expect).abs() < 1e-6, "{got} vs {expect}");
 }
 

@@ -351,6 +351,10 @@ export class NimbusClouds {
     u.setUint('frame', (Math.imul(this.seed, 7919) + index) >>> 0);
     u.setFloats('jitter', [(index * 0.618034 + this.seed * 0.7548777) % 1]);
     u.setFloats('pixel_offset', offset);
+    // The how-many-th sample each shaded pixel gets: the R2 sequence moves it over the pixel
+    // (centre first), so accumulated frames average the pixel's area, not one point of it.
+    const visit = this.upscale ? Math.floor(index / 16) : index;
+    u.setFloats('subpixel', [(0.5 + visit * 0.7548776662) % 1, (0.5 + visit * 0.5698402910) % 1]);
     const previous = renderer.getRenderTarget();
     if (this.passes.shadow && this.shadowDirty) {
       this.draw(renderer, this.passes.shadow, this.shadowTarget);
@@ -362,12 +366,11 @@ export class NimbusClouds {
       const read = this.latest;
       const write = 1 - read;
       const r = this.blocks.resolve;
-      const visits = this.upscale ? Math.floor(index / 16) : index;
       const prev = this.previousViewProjection ?? this.viewProjection;
       const inverse = this.viewProjection.clone().invert();
       r.setFloats('reprojection', new THREE.Matrix4().multiplyMatrices(prev, inverse).elements);
       r.setFloats('pixel_offset', offset);
-      r.setFloats('current_weight', [1 / (visits + 1)]);
+      r.setFloats('current_weight', [1 / (visit + 1)]);
       r.setFloats('history_valid', [index === 0 ? 0 : 1]);
       for (const d of this.dynamic) {
         if (d.pass === 'resolve') d.uniform.value = this.history[read].texture;

@@ -15,11 +15,16 @@ pub struct RayOutcome {
     pub colour: Vec4,
 }
 
+/// The angle a probe's pixel subtends (rad): a 1920-pixel-wide, 90° view. The catalogue's
+/// samples then stand for metres to kilometres, so the detail's level-of-detail blend is
+/// exercised from all detail to none.
+pub const PROBE_PIXEL_ANGLE: f32 = 8.2e-4;
+
 /// Marches `direction` and composites it, as [`nimbus_clouds::model::march::cloud_fragment`] does for
 /// the ray of a pixel.
 #[shader_fn]
 pub fn probe_ray(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> RayOutcome {
-    let march = march_clouds(direction, jitter, key);
+    let march = march_clouds(direction, jitter, PROBE_PIXEL_ANGLE, key);
     let colour = composite(direction, jitter, march, key);
     RayOutcome { march, colour }
 }

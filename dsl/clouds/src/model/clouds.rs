@@ -181,6 +181,7 @@ impl CloudUniforms {
             resolution: Vec2::new(640.0, 360.0),
             pixel_offset: Vec2::ZERO,
             pixel_scale: 1.0,
+            subpixel: Vec2::splat(0.5),
             frame: 0,
             jitter: 0.0,
         };

@@ -11,6 +11,7 @@ use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER}
 use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, gate};
 use super::genus_fns::{genus_profile, genus_shape, genus_weather};
 use super::layers::LayerGroup;
+use super::noise::{DETAIL_MOMENTS, DETAIL_SIZE};
 use crate::key::CloudKey;
 
 /// Sampling frequencies and offsets of the textures, and the coverage.
@@ -34,6 +35,13 @@ pub struct MediaParams {
     /// How much the planet-scale weather ([`planet_coverage`]) moves the coverage beyond the
     /// viewer's surroundings: 0 (every tile alike) to 1.
     pub planet_weather: f32,
+    /// Footprints (m) between which the detail noise gives way to its mean: all detail while a
+    /// sample stands for less than `x`, none from `y` on ([`detail_level`]). Set with
+    /// [`MediaParams::with_detail_lod`] from the texture's texel size.
+    pub detail_fade: Vec2,
+    /// Means of the detail noise `d` and of `d⁶` over the texture: the erosion's inputs where
+    /// the detail is finer than a sample's footprint.
+    pub detail_moments: Vec2,
 }
 
 impl Default for MediaParams {
@@ -49,7 +57,26 @@ impl Default for MediaParams {
             detail_repeat: Vec3::splat(6e-3),
             detail_offset: Vec3::ZERO,
             planet_weather: 1.0,
+            detail_fade: Vec2::ZERO,
+            detail_moments: Vec2::ZERO,
         }
+        .with_detail_lod(DETAIL_SIZE, DETAIL_MOMENTS)
+    }
+}
+
+/// Footprints, in detail texels, over which the detail noise fades to its mean: a sample that
+/// stands for one texel still resolves the noise's finest octave (two to three texels across);
+/// by three texels it would alias, and what a pixel shows there is the noise's mean.
+pub const DETAIL_FADE_TEXELS: Vec2 = Vec2::new(0.5, 2.0);
+
+impl MediaParams {
+    /// The detail level of detail for a detail texture of `size` texels per side (at this
+    /// `detail_repeat`) whose red channel has the means `moments` (`d`, `d⁶`).
+    pub fn with_detail_lod(mut self, size: u32, moments: Vec2) -> Self {
+        let texel = 1.0 / (self.detail_repeat.max_element().max(1e-9) * size.max(1) as f32);
+        self.detail_fade = DETAIL_FADE_TEXELS * texel;
+        self.detail_moments = moments;
+        self
     }
 }
 
@@ -90,17 +117,16 @@ pub fn shape_erosion(density: Vec4, s: f32, amount: Vec4) -> Vec4 {
     ((density - cut) / (Vec4::ONE - cut).max(Vec4::splat(1e-5))).saturate()
 }
 
-/// Erodes density by the detail noise `d` (0..1): wispy `d⁶` at the bottom, billowy `1 − d`
-/// towards the top.
+/// Erodes density by the detail noise, given as its two erosion signals `wispy` (`d⁶`, at the
+/// bottom) and `billowy` (`1 − d`, towards the top) so that a far sample can pass their means
+/// ([`detail_level`]).
 ///
 /// The reference computes `(2ρ − m/2) / (1 − m/2)`, whose gain of 2 applies even at amount 0,
 /// so "detail on, amount 0" would be twice as dense as "detail off". Here the gain is
 /// `1 + amount`: amount 1 is the reference, amount 0 leaves the density exactly as it is, so a
 /// variant without the stage is exact for layers that do not use it.
 #[shader_fn]
-pub fn detail_erosion(density: Vec4, d: f32, eta: Vec4, amount: Vec4) -> Vec4 {
-    let wispy = d * d * d * d * d * d;
-    let billowy = 1.0 - d;
+pub fn detail_erosion(density: Vec4, wispy: f32, billowy: f32, eta: Vec4, amount: Vec4) -> Vec4 {
     let t = ((eta - Vec4::splat(0.2)) / 0.2).saturate();
     let m = (Vec4::splat(wispy) + (Vec4::splat(billowy) - Vec4::splat(wispy)) * t) * amount;
     ((density * (Vec4::ONE + amount) - m * 0.5) / (Vec4::ONE - m * 0.5)).saturate()
@@ -156,13 +182,35 @@ pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
     (coverage * (1.0 + (factor - 1.0) * far)).saturate()
 }
 
+/// How far the detail noise has given way to its mean for a sample that stands for
+/// `footprint` metres (0: all detail, 1: only the mean).
+///
+/// The detail noise has 5 m features (a 32³ tile per 167 m). A pixel 5 km away at 640 × 360
+/// covers 16 m: one noise value picked per pixel was a mosaic of unrelated values that did not
+/// average out over accumulated frames, and single bright pixels on cloud edges; in the shadow
+/// map each 40 m texel picked one, a blocky pattern when magnified at a low sun. What such a
+/// sample should see is the noise's mean over its footprint, as a mip-mapped texture would give;
+/// the erosion is linear in its two signals, so their means are exact up to the final clamp.
+#[shader_fn]
+pub fn detail_level(footprint: f32) -> f32 {
+    let fade = CLOUDS.get().media.detail_fade;
+    smoothstep(fade.x, fade.y, footprint)
+}
+
 /// Density of each layer of group `group` at `position` (noise space: camera-relative metres in
 /// the local tangent frame, y up, plus the camera's offset) and `altitude` (m above the ground),
-/// with the erosion stages of `key`.
+/// with the erosion stages of `key`, for a sample that stands for `footprint` metres across
+/// (0: a point).
 #[shader_fn]
-pub fn layer_density(position: Vec3, altitude: f32, group: u32, #[spec] key: CloudKey) -> Vec4 {
+pub fn layer_density(
+    position: Vec3,
+    altitude: f32,
+    group: u32,
+    footprint: f32,
+    #[spec] key: CloudKey,
+) -> Vec4 {
     let coverage = weather_density(position, altitude, group, key);
-    eroded_density(position, altitude, group, coverage, key)
+    eroded_density(position, altitude, group, coverage, footprint, key)
 }
 
 /// [`layer_density`] from the coverage-stage density `coverage` ([`weather_density`]) already
@@ -174,6 +222,7 @@ pub fn eroded_density(
     altitude: f32,
     group: u32,
     coverage: Vec4,
+    footprint: f32,
     #[spec] key: CloudKey,
 ) -> Vec4 {
     let layers = CLOUDS.get().groups[group as usize];
@@ -194,11 +243,19 @@ pub fn eroded_density(
         .x;
     let mut density = shape_erosion(coverage, s, layers.shape_amount);
     if gate(key, SHAPE_DETAIL) {
-        let d = DETAIL
-            .get()
-            .sample_level(&smp, p * media.detail_repeat + media.detail_offset, 0.0)
-            .x;
-        density = detail_erosion(density, d, eta, layers.shape_detail_amount);
+        let level = detail_level(footprint);
+        let mut d = media.detail_moments.x;
+        let mut d6 = media.detail_moments.y;
+        // Beyond the fade no texture read at all: far samples are cheaper, not only smoother.
+        if level < 1.0 {
+            let n = DETAIL
+                .get()
+                .sample_level(&smp, p * media.detail_repeat + media.detail_offset, 0.0)
+                .x;
+            d = mix(n, d, level);
+            d6 = mix(n * n * n * n * n * n, d6, level);
+        }
+        density = detail_erosion(density, d6, 1.0 - d, eta, layers.shape_detail_amount);
     }
     // Not clamped to 1: `density_scale` is extinction per metre at full density, so a 1 mm
     // layer of scale 1000 has optical depth 1 (the reference library's saturate made it 1e-3).

@@ -146,10 +146,24 @@ pub struct CloudUniforms {
     /// (scale 4 and a Bayer offset per frame when temporally upscaled; 1 and 0 otherwise).
     pub pixel_offset: Vec2,
     pub pixel_scale: f32,
+    /// Where in its pixel the ray passes ((0.5, 0.5): the centre). Accumulated frames move it
+    /// over the pixel ([`subpixel_offset`]), so their mean is the pixel's area average: the
+    /// detail that a single sample per pixel aliased into a mosaic averages out.
+    pub subpixel: Vec2,
     /// Frame index, which varies the per-pixel jitter of the first sample.
     pub frame: u32,
     /// Per-frame jitter phase in [0, 1), added to the per-pixel jitter.
     pub jitter: f32,
+}
+
+/// Sub-pixel position of the `visit`-th sample a pixel gets (0: its centre): the R2 sequence
+/// (Roberts 2018), whose successive points cover the square evenly for any count.
+pub fn subpixel_offset(visit: u32) -> Vec2 {
+    let v = visit as f64;
+    Vec2::new(
+        (0.5 + v * 0.754_877_666_246_692_8).fract() as f32,
+        (0.5 + v * 0.569_840_290_998_053_3).fract() as f32,
+    )
 }
 
 /// Result of a march.
@@ -220,13 +234,15 @@ pub fn multiple_scattering(optical_depth: f32, cos_theta: f32, #[spec] key: Clou
     sum
 }
 
-/// Density (summed over the layer groups of the key) at a camera-relative position.
+/// Density (summed over the layer groups of the key) at a camera-relative position, for a
+/// sample that stands for `footprint` metres across (0: a point; see
+/// [`super::density::detail_level`]).
 #[shader_fn]
-pub fn total_density(position: Vec3, altitude: f32, #[spec] key: CloudKey) -> f32 {
+pub fn total_density(position: Vec3, altitude: f32, footprint: f32, #[spec] key: CloudKey) -> f32 {
     let p = position + CLOUDS.get().camera_offset;
     let mut sum = 0.0f32;
     for group in 0u32..key_count(key, GROUPS) {
-        sum += layer_density(p, altitude, group, key).dot(Vec4::ONE);
+        sum += layer_density(p, altitude, group, footprint, key).dot(Vec4::ONE);
     }
     sum
 }
@@ -263,7 +279,12 @@ pub fn geometric_span(steps: u32, scale: f32) -> f32 {
 /// always spans the whole path). A
 /// sample near the start of each interval would over-weight the dense start (the ray leaves a
 /// point inside a cloud): +11.6 % on the reference before this scheme. With 0 steps it is 0.
+/// Its samples stand for `footprint` metres across, as the primary sample it starts from does.
 #[shader_fn]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a shader function: its inputs are values, not a struct the GPU would copy"
+)]
 pub fn secondary_optical_depth(
     position: Vec3,
     altitude: f32,
@@ -271,6 +292,7 @@ pub fn secondary_optical_depth(
     steps: u32,
     offset: f32,
     full_path: bool,
+    footprint: f32,
     #[spec] key: CloudKey,
 ) -> f32 {
     let m = CLOUDS.get().march;
@@ -287,7 +309,7 @@ pub fn secondary_optical_depth(
     for _i in 0u32..steps {
         let t = start + offset * step;
         let h = altitude_along(altitude, direction.y, t, m.radius);
-        let rho = total_density(position + direction * t, h, key);
+        let rho = total_density(position + direction * t, h, footprint, key);
         let sigma_t = rho * (l.scattering_coefficient + l.absorption_coefficient);
         tau += sigma_t * step;
         start += step;
@@ -504,9 +526,16 @@ pub fn empty_step(t: f32, step: f32) -> f32 {
     mix(step, march.max_step.max(step), far)
 }
 
-/// Marches one view ray (unit `direction`, local frame) through the clouds.
+/// Marches one view ray (unit `direction`, local frame) through the clouds; `pixel_angle` is
+/// the angle (rad) its pixel subtends, so a sample at distance `t` stands for `t·pixel_angle`
+/// metres across (0: every sample a point).
 #[shader_fn]
-pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> MarchResult {
+pub fn march_clouds(
+    direction: Vec3,
+    jitter: f32,
+    pixel_angle: f32,
+    #[spec] key: CloudKey,
+) -> MarchResult {
     let u = CLOUDS.get();
     let m = u.march;
     let l = u.light;
@@ -563,9 +592,12 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
             step = march_step(t);
             continue;
         }
-        let mut rho = eroded_density(q, h, 0u32, first, key).dot(Vec4::ONE);
+        // The secondary rays' samples stand for as much as this one: the light at a pixel is
+        // the mean over what the pixel covers.
+        let footprint = t * pixel_angle;
+        let mut rho = eroded_density(q, h, 0u32, first, footprint, key).dot(Vec4::ONE);
         if key_count(key, GROUPS) > 1u32 {
-            rho += eroded_density(q, h, 1u32, second, key).dot(Vec4::ONE);
+            rho += eroded_density(q, h, 1u32, second, footprint, key).dot(Vec4::ONE);
         }
         samples += 1.0;
         let sigma_s = rho * l.scattering_coefficient;
@@ -586,6 +618,7 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
                 m.sun_steps,
                 offset,
                 m.secondary_full_path > 0u32,
+                footprint,
                 key,
             );
             if gate(key, SHADOWS) {
@@ -613,6 +646,7 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
                     m.ground_steps,
                     offset,
                     true,
+                    footprint,
                     key,
                 );
                 let ground_irradiance = l.sky_irradiance
@@ -662,22 +696,34 @@ pub fn march_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Marc
     }
 }
 
-/// Colour of one pixel: its ray marched through the clouds, then composited
-/// ([`composite`]), or one of the linear or instrumented layers of [`PixelOutput`].
+/// Unit direction (local frame) of the view ray through `pixel` (output pixels, y down; the
+/// centre of pixel (0, 0) is (0.5, 0.5)).
 #[shader_fn]
-pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
+pub fn view_direction(pixel: Vec2) -> Vec3 {
     let u = CLOUDS.get();
-    let pixel = vec2(frag_coord.x, frag_coord.y).floor() * u.pixel_scale
-        + u.pixel_offset
-        + Vec2::splat(0.5);
     let ndc = vec2(
         pixel.x / u.resolution.x * 2.0 - 1.0,
         1.0 - pixel.y / u.resolution.y * 2.0,
     );
     let clip = u.inverse_view_projection * vec4(ndc.x, ndc.y, 1.0, 1.0);
-    let direction = (clip.xyz() / clip.w).normalize();
-    let jitter = (interleaved_gradient_noise(pixel, u.frame) + u.jitter).fract_gl();
-    let clouds = march_clouds(direction, jitter, key);
+    (clip.xyz() / clip.w).normalize()
+}
+
+/// Colour of one pixel: its ray marched through the clouds, then composited
+/// ([`composite`]), or one of the linear or instrumented layers of [`PixelOutput`].
+#[shader_fn]
+pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
+    let u = CLOUDS.get();
+    let cell = vec2(frag_coord.x, frag_coord.y).floor() * u.pixel_scale + u.pixel_offset;
+    let pixel = cell + u.subpixel;
+    let direction = view_direction(pixel);
+    // The angle one output pixel subtends here (chord ≈ arc at these sizes).
+    let pixel_angle = (view_direction(pixel + vec2(1.0, 0.0)) - direction).length();
+    // Seeded by the pixel, not the sample point within it: a pixel's jitter sequence is the
+    // same whatever the sub-pixel offset.
+    let jitter =
+        (interleaved_gradient_noise(cell + Vec2::splat(0.5), u.frame) + u.jitter).fract_gl();
+    let clouds = march_clouds(direction, jitter, pixel_angle, key);
     if key.writes(PixelOutput::Clouds) {
         return clouds.radiance.extend(clouds.transmittance);
     }

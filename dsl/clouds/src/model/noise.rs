@@ -143,6 +143,14 @@ const DETAIL_MATCH: Vec2 = Vec2::new(0.315, 0.831);
 const WEATHER_GAIN: Vec4 = Vec4::new(2.16, 2.30, 1.261, 1.33);
 const WEATHER_OFFSET: Vec4 = Vec4::new(-0.847, -1.111, -0.116, -0.27);
 
+/// Texels per side of the procedural detail texture (@takram/three-clouds' 32³).
+pub const DETAIL_SIZE: u32 = 32;
+
+/// Means of the procedural detail noise `d` and of `d⁶` over its texture (pinned by
+/// `texture_statistics::detail_moments_are_the_texture_s`): what the erosion sees where the
+/// detail is finer than a sample's footprint.
+pub const DETAIL_MOMENTS: Vec2 = Vec2::new(0.714, 0.171);
+
 /// The detail texture's value: Worley octaves only (wispy erosion).
 #[shader_fn]
 pub fn detail_noise(uvw: Vec3, cells: i32) -> f32 {

@@ -98,6 +98,11 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     // Through the whole slab of shadow-casting layers, however low the sun.
     let length = ((m.shadow_top_height - m.min_height) / sun.y.max(0.01)).min(m.max_ray_distance);
     let step_size = (length / (s.max_iterations.max(1u32) as f32)).clamp(s.min_step, s.max_step);
+    // What one texel stands for across (m): the detail finer than that is its mean here, or
+    // each texel picks one noise value and the map is a blocky mosaic when magnified.
+    let footprint = (s.inverse_matrix * vec4(1.0, 0.0, 0.0, 0.0)).xyz().length()
+        * s.cascade_scales[k as u32 as usize]
+        / s.map_size;
     let mut t = step_size * 0.5;
     let mut transmittance = 1.0f32;
     let mut optical_depth = 0.0f32;
@@ -112,7 +117,7 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
         }
         let p = top - sun * t;
         let h = altitude_at(p, u.camera_altitude, m.radius);
-        let sigma_t = total_density(p, h, key) * sigma_ratio;
+        let sigma_t = total_density(p, h, footprint, key) * sigma_ratio;
         if sigma_t > s.min_extinction {
             extinction_sum += sigma_t;
             samples += 1.0;
