@@ -739,6 +739,31 @@ pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     color
 }
 
+/// Samples of [`overhead_optical_depth`].
+pub const OVERHEAD_STEPS: u32 = 8;
+
+/// Vertical optical depth of the shadow-casting layers above the ground point `ground`
+/// (camera-relative), by [`OVERHEAD_STEPS`] stratified samples offset by `jitter`. Each sample
+/// stands for its whole interval, so the detail is its mean ([`super::density::detail_level`])
+/// and no detail texture is read.
+#[shader_fn]
+pub fn overhead_optical_depth(ground: Vec3, jitter: f32, #[spec] key: CloudKey) -> f32 {
+    let u = CLOUDS.get();
+    let m = u.march;
+    let sigma_ratio = u.light.scattering_coefficient + u.light.absorption_coefficient;
+    let bottom = m.min_height;
+    let dh = (m.shadow_top_height - bottom).max(0.0) / OVERHEAD_STEPS as f32;
+    let mut tau = 0.0f32;
+    for i in 0u32..OVERHEAD_STEPS {
+        let h = bottom + (i as f32 + jitter) * dh;
+        // Straight up from the ground point: its horizontal position is the noise's, `h` its
+        // altitude.
+        let p = vec3(ground.x, h - u.camera_altitude, ground.z);
+        tau += total_density(p, h, dh, key) * sigma_ratio * dh;
+    }
+    tau
+}
+
 /// What a view ray shows around the clouds' march result: the clouds over a physically based
 /// sky, or over the ground lit by the sun through the clouds' shadows; the air between the
 /// camera and the clouds in front; then haze, lit by the sun only where the light-shaft march
@@ -772,7 +797,11 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
             let texel = shadow_texel(ground);
             let tau = shadow_optical_depth(texel, u.march.shadow_top_height / mu, 0.0) * mu;
             sun_through = slab_transmittance(tau, mu, DROPLET_ASYMMETRY);
-            sky_through = slab_diffuse_transmittance(tau, DROPLET_ASYMMETRY);
+            // The sky's light comes from the whole dome: what dims it is the cloud overhead,
+            // not the cloud on the way to the sun. With the sun's path for both, the ground in
+            // the shadow of a storm tower 20 km away went black.
+            let overhead = overhead_optical_depth(ground, jitter, key);
+            sky_through = slab_diffuse_transmittance(overhead, DROPLET_ASYMMETRY);
         }
         background += air.transmittance
             * ground_radiance(
