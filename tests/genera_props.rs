@@ -107,6 +107,9 @@ fn scene() -> impl Strategy<Value = ScenePreset> {
                     octaves,
                     ..FeatureOverrides::default()
                 },
+                clock: None,
+                wind: None,
+                weather: Vec::new(),
             },
         )
 }

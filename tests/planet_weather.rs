@@ -36,10 +36,8 @@ fn grid(u: CloudUniforms, centre: Vec2, step: f32, n: i32) -> Vec<f32> {
     for i in 0..n {
         for j in 0..n {
             let xz = centre + Vec2::new(i as f32, j as f32) * step;
-            out.push(planet_coverage(
-                Vec3::new(xz.x, 1500.0, xz.y) + u.camera_offset,
-                u.media.coverage,
-            ));
+            let p = Vec3::new(xz.x, 1500.0, xz.y) + u.camera_offset;
+            out.push(planet_coverage(p, p, u.media.coverage));
         }
     }
     out

@@ -23,6 +23,7 @@ use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
 use nimbus_clouds::model::march::{CloudUniforms, CompositeParams, subpixel_offset};
 use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
 use nimbus_clouds::model::sun::sun_direction;
+use nimbus_clouds::wind::Drift;
 use nimbus_clouds::{Features, Genus, PixelOutput, Quality, ScenePreset, analyse};
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -92,8 +93,10 @@ pub struct Frame {
     pub continue_history: bool,
     /// Seed of the per-frame jitter sequence: same seed and frame, same pixels.
     pub seed: u32,
-    /// Offset of the weather texture in tiles (wind drift).
+    /// Offset of the weather texture in tiles.
     pub weather_offset: Vec2,
+    /// How far the wind has carried the clouds (see [`nimbus_clouds::wind`]).
+    pub wind: Drift,
     /// Haze density at sea level (1/m).
     pub haze_density: f32,
     /// Turbulent displacement of cloud bases (m).
@@ -132,6 +135,7 @@ impl Frame {
             continue_history: false,
             seed: 0,
             weather_offset: Vec2::ZERO,
+            wind: Drift::default(),
             haze_density: 3e-5,
             turbulence_displacement: 350.0,
             output: PixelOutput::Composite,
@@ -729,6 +733,8 @@ impl<'g> Renderer<'g> {
         u.inverse_view_projection = frame.view_projection().inverse();
         u.resolution = Vec2::new(frame.width as f32, frame.height as f32);
         u.media.weather_offset = frame.weather_offset;
+        u.media.wind_drift = frame.wind.ground;
+        u.media.wind_shear_drift = frame.wind.per_metre;
         u.media.turbulence_displacement = frame.turbulence_displacement;
         u.haze.density = frame.haze_density;
         u.composite = frame.composite;

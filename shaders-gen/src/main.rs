@@ -1,5 +1,6 @@
 //! `nimbus`: emit, check, list and benchmark the generated shaders, and render scenes.
 
+mod animate;
 mod bench;
 mod bench_frames;
 mod check;
@@ -168,6 +169,10 @@ enum Command {
     /// Render every genus from the view that shows its signature (the data folder's
     /// `gallery/` scenes) and write a Markdown grid of them.
     Gallery(Box<gallery::GalleryArgs>),
+    /// Render a scene's timeline (the sun by its clock, the clouds drifting with its wind, its
+    /// weather states one after another) as PNG frames, a GIF, and an MP4 where ffmpeg is
+    /// installed.
+    Animate(Box<animate::AnimateArgs>),
     /// Milliseconds per frame of every quality preset, full resolution and upscaled, as
     /// ratios to `high` (takes the same scene arguments as `render`).
     BenchFrames {
@@ -266,6 +271,7 @@ fn main() -> ExitCode {
         } => check::run(data, &variants.selection(), !no_external),
         Command::Render(args) => render::run(data, args),
         Command::Gallery(args) => gallery::run(data, args),
+        Command::Animate(args) => animate::run(data, args),
         Command::BenchFrames {
             render,
             iterations,

@@ -705,6 +705,16 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
         "to change how much of the sky is cloudy (0..1)",
     ),
     (
+        "media.wind_drift",
+        "to move the clouds with the wind: how far the air near the ground has travelled since \
+         the start (m, x east and z south): velocity × time",
+    ),
+    (
+        "media.wind_shear_drift",
+        "with media.wind_drift: how much farther the air has travelled per metre of altitude \
+         (shear): (velocity at 10 km − velocity at the ground) × time / 10,000",
+    ),
+    (
         "media.detail_fade",
         "when media.detail_repeat or the detail texture changes: (1, 3) × the detail texel in \
          metres, 1 / (detail_repeat × texels per side)",

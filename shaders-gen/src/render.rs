@@ -57,6 +57,10 @@ pub(crate) struct RenderArgs {
     /// Temporal upscaling: shade one pixel in sixteen per frame.
     #[arg(long)]
     upscale: bool,
+    /// Seconds into the scene's timeline: the sun follows its clock, the clouds its wind, the
+    /// weather its states (see `nimbus animate`).
+    #[arg(long)]
+    pub(crate) time: Option<f64>,
     /// Sun elevation above the horizon (degrees).
     #[arg(long, allow_hyphen_values = true)]
     sun_elevation: Option<f32>,
@@ -272,18 +276,70 @@ pub(crate) fn frame(
     data: Option<&Path>,
     a: &RenderArgs,
 ) -> Result<Frame, Box<dyn std::error::Error>> {
-    let (width, height) = parse_resolution(&a.resolution)?;
-    limits::EXPOSURE.check(f64::from(a.exposure), Origin::Flag(limits::EXPOSURE.flag))?;
+    let mut frames = frames(data, a)?;
+    if frames.len() > 1 {
+        return Err(CliError::Unknown {
+            kind: "--time for this command",
+            given: "a moment while one genus gives way to another".into(),
+            known: "a time at which one weather state holds (or changes within its genus)".into(),
+        }
+        .into());
+    }
+    Ok(frames.remove(0).0)
+}
+
+/// The frames the arguments describe, each with its weight in the picture: one, or with
+/// `--time` during a change of genus two, blended ([`nimbus_clouds::timeline`]). At `--time`
+/// the sun follows the scene's clock (unless a flag sets it), the clouds its wind, and the
+/// genus and coverage its weather states.
+pub(crate) fn frames(
+    data: Option<&Path>,
+    a: &RenderArgs,
+) -> Result<Vec<(Frame, f32)>, Box<dyn std::error::Error>> {
     let lib = library_for(data, a.scene.as_deref())?;
     let scene_file = match &a.scene {
         Some(p) => p.clone(),
         None => data::data_dir(data)?.join("scenes/default.toml"),
     };
     let scene = load_scene(&scene_file)?;
-    let mut genus = match a.genus.as_deref() {
-        Some(name) => genus_of(&lib, name)?,
-        None => scene_genus(&lib, &scene_file, &scene)?,
+    let Some(seconds) = a.time else {
+        let genus = match a.genus.as_deref() {
+            Some(name) => genus_of(&lib, name)?,
+            None => scene_genus(&lib, &scene_file, &scene)?,
+        };
+        return Ok(vec![(frame_of(a, &scene_file, scene, genus)?, 1.0)]);
     };
+    limits::TIME.check(seconds, Origin::Flag(limits::TIME.flag))?;
+    let at = scene.at(seconds, &|name| lib.genus(name).map_or(0.0, |g| g.coverage));
+    let mut out = Vec::new();
+    for layer in at.layers {
+        let mut s = scene.clone();
+        s.genus = layer.genus;
+        s.coverage = Some(layer.coverage.clamp(0.0, 1.0));
+        if scene.clock.is_some() {
+            s.sun_elevation_deg = at.sun.elevation_deg as f32;
+            s.sun_azimuth_deg = at.sun.azimuth_deg.rem_euclid(360.0) as f32;
+        }
+        let genus = match a.genus.as_deref() {
+            Some(name) => genus_of(&lib, name)?,
+            None => scene_genus(&lib, &scene_file, &s)?,
+        };
+        let mut f = frame_of(a, &scene_file, s, genus)?;
+        f.wind = at.drift;
+        out.push((f, layer.weight));
+    }
+    Ok(out)
+}
+
+/// The frame of `scene` (already at the asked time) with the flags' overrides.
+fn frame_of(
+    a: &RenderArgs,
+    scene_file: &Path,
+    scene: ScenePreset,
+    mut genus: Genus,
+) -> Result<Frame, Box<dyn std::error::Error>> {
+    let (width, height) = parse_resolution(&a.resolution)?;
+    limits::EXPOSURE.check(f64::from(a.exposure), Origin::Flag(limits::EXPOSURE.flag))?;
 
     // The flags override the scene; what they set is checked as theirs.
     let mut seen = scene.clone();
@@ -324,7 +380,7 @@ pub(crate) fn frame(
             Origin::Flag(l.flag)
         } else {
             Origin::File {
-                file: scene_file.clone(),
+                file: scene_file.to_path_buf(),
                 field: l.field.to_string(),
             }
         }
@@ -349,7 +405,8 @@ pub(crate) fn frame(
 }
 
 pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let frame = frame(data, a)?;
+    let frames = frames(data, a)?;
+    let frame = frames[0].0.clone();
     // The destination and the user's textures are checked before any GPU work: a bad -o or
     // texture fails now, not after the render.
     let overwrite = Overwrite::forced(a.force);
@@ -397,7 +454,30 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     );
     let start = Instant::now();
     let mut progress = |done: u32, _| bar.set_position(u64::from(done));
+    if frames.len() > 1 {
+        for (f, w) in &frames {
+            println!(
+                "  blending {} (coverage {:.3}) with weight {w:.3}",
+                f.genus.name, f.genus.coverage
+            );
+        }
+    }
     match format {
+        ImageFormat::Png if frames.len() > 1 => {
+            let image = renderer.render_blend(&frames);
+            bar.finish_and_clear();
+            image?.save_png(&a.out, a.exposure, overwrite)?;
+        }
+        ImageFormat::Exr if frames.len() > 1 => {
+            return Err(CliError::Unknown {
+                kind: "--time with EXR output",
+                given: "a moment while one genus gives way to another".into(),
+                known: "PNG output (the two genera's pictures are blended), or a time at \
+                        which one weather state holds"
+                    .into(),
+            }
+            .into());
+        }
         ImageFormat::Png => {
             let image = renderer.render_with_progress(&frame, &mut progress);
             bar.finish_and_clear();

@@ -7,6 +7,7 @@
 
 pub mod analysis;
 pub mod catalog;
+pub mod clock;
 mod error;
 mod features;
 pub mod functions;
@@ -18,6 +19,8 @@ mod load;
 pub mod model;
 mod quality;
 mod scene;
+pub mod timeline;
+pub mod wind;
 
 pub use analysis::{Analysis, analyse};
 pub use error::DataError;

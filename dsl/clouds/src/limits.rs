@@ -249,3 +249,73 @@ pub const OCTAVES: Limit = Limit {
     unit: "",
     hint: "1 is single scattering; 12 is the reference",
 };
+
+pub const LATITUDE: Limit = Limit {
+    field: "clock.latitude_deg",
+    flag: "--latitude",
+    min: -90.0,
+    max: 90.0,
+    unit: "°",
+    hint: "degrees north of the equator (south negative)",
+};
+
+pub const LONGITUDE: Limit = Limit {
+    field: "clock.longitude_deg",
+    flag: "--longitude",
+    min: -180.0,
+    max: 180.0,
+    unit: "°",
+    hint: "degrees east of Greenwich (west negative)",
+};
+
+pub const UTC_OFFSET: Limit = Limit {
+    field: "clock.utc_offset_hours",
+    flag: "--utc-offset",
+    min: -14.0,
+    max: 14.0,
+    unit: " h",
+    hint: "local time minus UTC; time zones span −12 to +14 hours",
+};
+
+pub const WIND_SPEED: Limit = Limit {
+    field: "wind.speed",
+    flag: "--wind-speed",
+    min: 0.0,
+    max: 150.0,
+    unit: " m/s",
+    hint: "jet streams reach about 100 m/s",
+};
+
+pub const WIND_TOP_SPEED: Limit = Limit {
+    field: "wind.top_speed",
+    ..WIND_SPEED
+};
+
+pub const WIND_DIRECTION: Limit = Limit {
+    field: "wind.direction_deg",
+    flag: "--wind-direction",
+    min: -1e6,
+    max: 1e6,
+    unit: "°",
+    hint: "where the wind blows from, degrees clockwise from north; any angle, it wraps",
+};
+
+pub const WIND_TOP_DIRECTION: Limit = Limit {
+    field: "wind.top_direction_deg",
+    ..WIND_DIRECTION
+};
+
+pub const WEATHER_AT: Limit = Limit {
+    field: "weather[].at",
+    flag: "--time",
+    min: 0.0,
+    max: 1e7,
+    unit: " s",
+    hint: "seconds from the start of the timeline (1e7 s is about 116 days)",
+};
+
+pub const TIME: Limit = Limit {
+    field: "time",
+    flag: "--time",
+    ..WEATHER_AT
+};

@@ -197,8 +197,10 @@ impl CloudLibrary {
                         continue;
                     }
                 };
-                if !lib.genera.contains_key(&s.genus) {
-                    lib.problems.push(lib.missing_genus(&file, &s.genus));
+                let named =
+                    std::iter::once(&s.genus).chain(s.weather.iter().flat_map(|w| &w.genus));
+                if let Some(missing) = named.into_iter().find(|g| !lib.genera.contains_key(*g)) {
+                    lib.problems.push(lib.missing_genus(&file, missing));
                     continue;
                 }
                 lib.scenes.insert(s.name.clone(), (file, s));

@@ -7,8 +7,11 @@ use serde::{Deserialize, Serialize};
 use crate::error::DataError;
 use crate::limits::{self, Limit, Origin};
 
+use super::clock::Clock;
 use super::features::FeatureOverrides;
 use super::quality::Quality;
+use super::timeline::WeatherState;
+use super::wind::Wind;
 
 /// A scene preset file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -52,6 +55,16 @@ pub struct ScenePreset {
     pub quality: Quality,
     #[serde(default)]
     pub features: FeatureOverrides,
+    /// Place and local time at the timeline's start: the sun follows them (and
+    /// `sun_elevation_deg`, `sun_azimuth_deg` are then unused).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clock: Option<Clock>,
+    /// The wind the clouds drift with.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind: Option<Wind>,
+    /// Weather states over time, in time order (`[[weather]]` tables).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub weather: Vec<WeatherState>,
 }
 
 /// A pair of numbers, refusing a list of any other length (serde's fixed arrays accept and drop
@@ -124,6 +137,37 @@ impl ScenePreset {
         }
         if let Some(o) = self.features.octaves {
             limits::OCTAVES.check(f64::from(o), origin(&limits::OCTAVES))?;
+        }
+        if let Some(c) = &self.clock {
+            limits::LATITUDE.check(c.latitude_deg, origin(&limits::LATITUDE))?;
+            limits::LONGITUDE.check(c.longitude_deg, origin(&limits::LONGITUDE))?;
+            limits::UTC_OFFSET.check(c.utc_offset_hours, origin(&limits::UTC_OFFSET))?;
+        }
+        if let Some(w) = &self.wind {
+            check(&limits::WIND_SPEED, w.speed)?;
+            check(&limits::WIND_DIRECTION, w.direction_deg)?;
+            if let Some(v) = w.top_speed {
+                check(&limits::WIND_TOP_SPEED, v)?;
+            }
+            if let Some(v) = w.top_direction_deg {
+                check(&limits::WIND_TOP_DIRECTION, v)?;
+            }
+        }
+        let mut previous = 0.0f64;
+        for state in &self.weather {
+            limits::WEATHER_AT.check(state.at, origin(&limits::WEATHER_AT))?;
+            if state.at < previous {
+                return Err(DataError::OutOfRange {
+                    origin: origin(&limits::WEATHER_AT),
+                    value: format!("{} s", state.at),
+                    allowed: format!("≥ {previous} s, the time of the state before it"),
+                    hint: "weather states are listed in time order",
+                });
+            }
+            previous = state.at;
+            if let Some(c) = state.coverage {
+                check(&limits::COVERAGE, c)?;
+            }
         }
         Ok(())
     }

@@ -42,6 +42,10 @@ pub struct MediaParams {
     /// Means of the detail noise `d` and of `d⁶` over the texture: the erosion's inputs where
     /// the detail is finer than a sample's footprint.
     pub detail_moments: Vec2,
+    /// How far the wind has carried the clouds (m, x and z) at the ground, and how much more
+    /// per metre of altitude (shear): see [`wind_drifted`] and `crate::wind`.
+    pub wind_drift: Vec2,
+    pub wind_shear_drift: Vec2,
 }
 
 impl Default for MediaParams {
@@ -59,6 +63,8 @@ impl Default for MediaParams {
             planet_weather: 1.0,
             detail_fade: Vec2::ZERO,
             detail_moments: Vec2::ZERO,
+            wind_drift: Vec2::ZERO,
+            wind_shear_drift: Vec2::ZERO,
         }
         .with_detail_lod(DETAIL_SIZE, DETAIL_MOMENTS)
     }
@@ -139,11 +145,22 @@ pub fn detail_erosion(density: Vec4, wispy: f32, billowy: f32, eta: Vec4, amount
 pub fn weather_density(position: Vec3, altitude: f32, group: u32, #[spec] key: CloudKey) -> Vec4 {
     let layers = CLOUDS.get().groups[group as usize];
     let media = CLOUDS.get().media;
-    let weather = genus_weather(key, vec2(position.x, position.z), layers);
+    let drifted = wind_drifted(position, altitude);
+    let weather = genus_weather(key, vec2(drifted.x, drifted.z), layers);
     let eta = height_fraction(altitude, layers);
     let shape = genus_shape(key, eta, layers);
-    let coverage = planet_coverage(position, media.coverage);
+    let coverage = planet_coverage(position, drifted, media.coverage);
     coverage_remap(weather, coverage, shape, layers.coverage_filter_width)
+}
+
+/// Where the air at `position` (noise space) and `altitude` was when the wind started: the
+/// point whose noise it now carries. Weather, shape, detail and turbulence all read there, so
+/// a cloud drifts whole, and a tall one leans downwind with the shear.
+#[shader_fn]
+pub fn wind_drifted(position: Vec3, altitude: f32) -> Vec3 {
+    let media = CLOUDS.get().media;
+    let d = media.wind_drift + media.wind_shear_drift * altitude;
+    position - vec3(d.x, 0.0, d.y)
 }
 
 /// The coverage at `position` (noise space) under planet-scale weather. The weather texture
@@ -153,8 +170,11 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32, #[spec] key: C
 /// two octaves of the weather texture's smooth channels (b, a), 37× and 9× coarser and turned
 /// against the tile grid, as a factor of mean ~1 (0.2 to 1.8). Within 30 km of the camera the coverage is the
 /// one asked for, so a scene still gets the sky it names; the field fades in by 150 km.
+///
+/// `position` says how far from the camera the point is; `drifted` (the same point carried
+/// back by the wind) where in the field it lies, so that fronts move with the wind.
 #[shader_fn]
-pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
+pub fn planet_coverage(position: Vec3, drifted: Vec3, coverage: f32) -> f32 {
     let u = CLOUDS.get();
     let media = u.media;
     let offset = position - u.camera_offset;
@@ -164,7 +184,7 @@ pub fn planet_coverage(position: Vec3, coverage: f32) -> f32 {
         return coverage;
     }
     // With the weather offset, so that fronts drift with the wind as the local weather does.
-    let uv = vec2(position.x, position.z) * media.weather_repeat + media.weather_offset;
+    let uv = vec2(drifted.x, drifted.z) * media.weather_repeat + media.weather_offset;
     // Turned by ~29° so that no grid line of the field runs along one of the tiles'.
     let turned = vec2(uv.x * 0.875 - uv.y * 0.485, uv.x * 0.485 + uv.y * 0.875);
     let smp = LINEAR_REPEAT.get();
@@ -229,9 +249,9 @@ pub fn eroded_density(
     let media = CLOUDS.get().media;
     let smp = LINEAR_REPEAT.get();
     let eta = height_fraction(altitude, layers);
-    let mut p = position;
+    let mut p = wind_drifted(position, altitude);
     if gate(key, TURBULENCE_ON) {
-        let uv = vec2(position.x, position.z) * media.weather_repeat * media.turbulence_repeat;
+        let uv = vec2(p.x, p.z) * media.weather_repeat * media.turbulence_repeat;
         let curl = TURBULENCE.get().sample_level(&smp, uv, 0.0).xyz() * 2.0 - Vec3::ONE;
         // Strongest at the base, gone by η = 0.3, weighted by how much cloud is there.
         let fade = ((Vec4::splat(0.3) - eta) / 0.3).saturate();

@@ -1,0 +1,66 @@
+//! Wind: the clouds drift with the air they are in, faster and turned with height (shear).
+//!
+//! A scene gives the wind near the ground and at [`TOP_ALTITUDE`]; between them it changes
+//! linearly with altitude, so each layer moves with the wind at its own height and a tall
+//! cloud leans downwind. The clouds' noise positions are displaced by the wind's drift, the
+//! same in the weather, shape and detail textures, so a cloud moves as a whole.
+
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+/// Altitude (m) of a scene's `top_speed` and `top_direction_deg`.
+pub const TOP_ALTITUDE: f32 = 10_000.0;
+
+/// A scene's wind.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wind {
+    /// Speed near the ground, m/s.
+    pub speed: f32,
+    /// Where the wind blows from, degrees clockwise from north (270: a westerly, blowing east).
+    pub direction_deg: f32,
+    /// Speed at 10 km (m/s); the ground's when absent (no shear).
+    pub top_speed: Option<f32>,
+    /// Direction at 10 km; the ground's when absent (no veer).
+    pub top_direction_deg: Option<f32>,
+}
+
+/// Velocity (m/s, local x east, z south) of a wind of `speed` from `direction_deg`.
+pub fn velocity(speed: f32, direction_deg: f32) -> Vec2 {
+    let from = direction_deg.to_radians();
+    // It blows towards the opposite azimuth: −(sin, −cos) of where it comes from.
+    Vec2::new(-from.sin(), from.cos()) * speed
+}
+
+/// How far the clouds have drifted after `seconds`: the displacement at the ground (m) and its
+/// growth per metre of altitude (shear), as the shader's `media.wind_drift` and
+/// `media.wind_shear_drift` take them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Drift {
+    pub ground: Vec2,
+    pub per_metre: Vec2,
+}
+
+impl Wind {
+    /// The velocity at `altitude` (m): linear in altitude through the ground's and
+    /// [`TOP_ALTITUDE`]'s, continued above (the shader's drift is the same line).
+    pub fn velocity_at(&self, altitude: f32) -> Vec2 {
+        let low = velocity(self.speed, self.direction_deg);
+        let high = velocity(
+            self.top_speed.unwrap_or(self.speed),
+            self.top_direction_deg.unwrap_or(self.direction_deg),
+        );
+        low + (high - low) * (altitude / TOP_ALTITUDE)
+    }
+
+    /// The drift after `seconds`.
+    pub fn drift(&self, seconds: f64) -> Drift {
+        let low = self.velocity_at(0.0);
+        let high = self.velocity_at(TOP_ALTITUDE);
+        let t = seconds as f32;
+        Drift {
+            ground: low * t,
+            per_metre: (high - low) * (t / TOP_ALTITUDE),
+        }
+    }
+}
