@@ -88,6 +88,17 @@ fn slab_transmittance_matches_a_random_walk_and_the_direct_beam_does_not() {
 
 /// Rendered ground under an overcast of stratus against the same view with no clouds: lit
 /// by what the deck lets through, not by the sky alone.
+/// Mean linear radiance (over R, G, B) of the lower half of `im`: ground a few metres from a
+/// camera 2 m up looking down.
+fn lower_half_mean(im: &nimbus_runtime::render::Image) -> f32 {
+    let rows = (im.height / 2)..im.height;
+    let px: Vec<[f32; 4]> = rows
+        .flat_map(|y| (0..im.width).map(move |x| (x, y)))
+        .map(|(x, y)| im.pixels[(y * im.width + x) as usize])
+        .collect();
+    px.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).sum::<f32>() / px.len() as f32
+}
+
 #[test]
 fn ground_under_an_overcast_is_lit_by_the_light_the_clouds_let_through() {
     let Some(gpu) = common::gpu() else { return };
@@ -102,14 +113,7 @@ fn ground_under_an_overcast_is_lit_by_the_light_the_clouds_let_through() {
         f.camera_pitch_deg = -30.0;
         f.camera_altitude = 2.0;
         f.sun_elevation_deg = 45.0;
-        let im = renderer.render(&f).expect("render");
-        // The lower half of the image is ground, seen from 2 m.
-        let rows = (im.height / 2)..im.height;
-        let px: Vec<[f32; 4]> = rows
-            .flat_map(|y| (0..im.width).map(move |x| (x, y)))
-            .map(|(x, y)| im.pixels[(y * im.width + x) as usize])
-            .collect();
-        px.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).sum::<f32>() / px.len() as f32
+        lower_half_mean(&renderer.render(&f).expect("render"))
     };
     let mut renderer = Renderer::new(gpu, TextureSizes::default());
     let clear = ground_mean(0.0, &mut renderer);
@@ -187,14 +191,7 @@ fn ground_in_a_distant_storm_s_shadow_keeps_the_sky_s_light() {
         f
     };
     let ground = |f: &Frame, renderer: &mut Renderer<'_>| {
-        let im = renderer.render(f).expect("render");
-        // The lower half of the image: ground a few metres from the camera.
-        let rows = (im.height / 2)..im.height;
-        let px: Vec<[f32; 4]> = rows
-            .flat_map(|y| (0..im.width).map(move |x| (x, y)))
-            .map(|(x, y)| im.pixels[(y * im.width + x) as usize])
-            .collect();
-        px.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).sum::<f32>() / px.len() as f32
+        lower_half_mean(&renderer.render(f).expect("render"))
     };
     let clear_frame = frame(0.0);
     let clear = ground(&clear_frame, &mut renderer);

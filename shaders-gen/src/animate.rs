@@ -32,13 +32,13 @@ pub(crate) struct AnimateArgs {
     #[arg(short, long, default_value = "animation")]
     out: PathBuf,
     /// Timeline second of the first picture.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     from: f64,
     /// Timeline second of the last picture.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     to: f64,
     /// Pictures per second of the animation.
-    #[arg(long, default_value_t = 12.0)]
+    #[arg(long, default_value_t = 12.0, allow_hyphen_values = true)]
     fps: f64,
     /// Timeline seconds per second of the animation (a time-lapse factor: 600 shows ten
     /// minutes of the sky in each second).

@@ -59,7 +59,7 @@ pub(crate) struct RenderArgs {
     upscale: bool,
     /// Seconds into the scene's timeline: the sun follows its clock, the clouds its wind, the
     /// weather its states (see `nimbus animate`).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub(crate) time: Option<f64>,
     /// Sun elevation above the horizon (degrees).
     #[arg(long, allow_hyphen_values = true)]
@@ -310,23 +310,16 @@ pub(crate) fn frames(
         return Ok(vec![(frame_of(a, &scene_file, scene, genus)?, 1.0)]);
     };
     limits::TIME.check(seconds, Origin::Flag(limits::TIME.flag))?;
-    let at = scene.at(seconds, &|name| lib.genus(name).map_or(0.0, |g| g.coverage));
+    let coverage = |name: &str| lib.genus(name).map_or(0.0, |g| g.coverage);
     let mut out = Vec::new();
-    for layer in at.layers {
-        let mut s = scene.clone();
-        s.genus = layer.genus;
-        s.coverage = Some(layer.coverage.clamp(0.0, 1.0));
-        if scene.clock.is_some() {
-            s.sun_elevation_deg = at.sun.elevation_deg as f32;
-            s.sun_azimuth_deg = at.sun.azimuth_deg.rem_euclid(360.0) as f32;
-        }
+    for (s, drift, weight) in nimbus_runtime::scene_time::scenes_at(&scene, &coverage, seconds) {
         let genus = match a.genus.as_deref() {
             Some(name) => genus_of(&lib, name)?,
             None => scene_genus(&lib, &scene_file, &s)?,
         };
         let mut f = frame_of(a, &scene_file, s, genus)?;
-        f.wind = at.drift;
-        out.push((f, layer.weight));
+        f.wind = drift;
+        out.push((f, weight));
     }
     Ok(out)
 }

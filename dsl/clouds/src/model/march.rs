@@ -740,7 +740,7 @@ pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
 }
 
 /// Samples of [`overhead_optical_depth`].
-pub const OVERHEAD_STEPS: u32 = 8;
+pub const OVERHEAD_STEPS: u32 = 4;
 
 /// Vertical optical depth of the shadow-casting layers above the ground point `ground`
 /// (camera-relative), by [`OVERHEAD_STEPS`] stratified samples offset by `jitter`. Each sample

@@ -1,0 +1,119 @@
+//! `nimbus animate` and `nimbus render --time` as a user runs them: a scene's timeline as
+//! numbered frames, a GIF and an index; the sun moving by the clock; a folder Nimbus did not
+//! write left alone; bad times refused before anything is written.
+
+mod common;
+
+use common::{examples, have_gpu, nimbus, text, tree};
+
+#[test]
+fn animate_writes_the_timeline_as_frames_a_gif_and_an_index() {
+    if !have_gpu() {
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let out = tmp.path().join("anim");
+    let scene = examples("scenes/day-with-wind.toml");
+    let args = [
+        "animate",
+        scene.as_str(),
+        "--from",
+        "0",
+        "--to",
+        "14400",
+        "--fps",
+        "1",
+        "--speed",
+        "7200",
+        "-r",
+        "48x27",
+        "-f",
+        "1",
+        "-o",
+    ];
+    let o = nimbus(&[&args[..], &[out.to_str().expect("utf8")]].concat());
+    assert!(
+        o.status.success(),
+        "{}\n{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    // 0, 7200 and 14400 s: three frames, the last a stratocumulus deck, the sun lower each time.
+    let index: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("animation.json")).expect("index"))
+            .expect("json");
+    let frames = index["frames"].as_array().expect("frames");
+    assert_eq!(frames.len(), 3, "{index}");
+    let elevations: Vec<f64> = frames
+        .iter()
+        .map(|f| f["sun_elevation_deg"].as_f64().expect("sun"))
+        .collect();
+    assert!(
+        elevations.windows(2).all(|w| w[1] < w[0] - 5.0),
+        "the sun does not go down: {elevations:?}"
+    );
+    assert_eq!(frames[2]["weather"][0]["genus"], "stratocumulus", "{index}");
+    let mut pictures = Vec::new();
+    for k in 0..3 {
+        let img = image::open(out.join(format!("frame-{k:05}.png")))
+            .expect("png")
+            .to_rgb8();
+        assert_eq!(img.dimensions(), (48, 27));
+        pictures.push(img);
+    }
+    assert_ne!(
+        pictures[0], pictures[1],
+        "the timeline does not change the picture"
+    );
+    let gif = std::fs::read(out.join("animation.gif")).expect("gif");
+    assert!(gif.starts_with(b"GIF89a"), "not a GIF");
+
+    // A folder the user made is not replaced without --force, and is left as it was.
+    let mine = tmp.path().join("mine");
+    std::fs::create_dir(&mine).expect("mkdir");
+    std::fs::write(mine.join("notes.txt"), "mine").expect("write");
+    let before = tree(&mine);
+    let o = nimbus(&[&args[..], &[mine.to_str().expect("utf8")]].concat());
+    assert!(!o.status.success(), "replaced a foreign folder");
+    assert_eq!(tree(&mine), before, "the user's folder changed");
+}
+
+#[test]
+fn bad_times_are_refused_naming_the_flag() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let out = tmp.path().join("anim");
+    let scene = examples("scenes/day-with-wind.toml");
+    let scene = scene.as_str();
+    let cases: [(&[&str], &str); 4] = [
+        (&["--from", "100", "--to", "50"], "--to"),
+        (&["--to", "-5"], "--to"),
+        (&["--to", "100", "--fps", "0"], "--fps"),
+        (&["--to", "1e9", "--speed", "0.001"], "--to"),
+    ];
+    for (flags, named) in cases {
+        let o = nimbus(
+            &[
+                &["animate", scene][..],
+                flags,
+                &["-o", out.to_str().expect("utf8")],
+            ]
+            .concat(),
+        );
+        let err = text(&o.stderr);
+        assert!(!o.status.success(), "{flags:?} was accepted");
+        assert!(err.contains(named), "{flags:?}: {err}");
+        assert!(!out.exists(), "{flags:?}: something was written");
+    }
+    let png = tmp.path().join("t.png");
+    let o = nimbus(&[
+        "render",
+        scene,
+        "--time",
+        "-1",
+        "-o",
+        png.to_str().expect("utf8"),
+    ]);
+    let err = text(&o.stderr);
+    assert!(!o.status.success() && err.contains("--time"), "{err}");
+    assert!(!png.exists());
+}
