@@ -10,7 +10,7 @@
 //! averaged down to the same pixels, the picture a pixel should show. Measured on lavapipe at
 //! 320 × 180 before this change: 1.37 × the reference's, and 7 isolated bright pixels (73 in a
 //! single frame), and 1.68 temporally upscaled (32 frames: two visits per pixel); after: 0.93
-//! and 1 (18), and 1.10.
+//! and 1 (18), and 1.08.
 
 mod common;
 

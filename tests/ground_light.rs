@@ -86,8 +86,6 @@ fn slab_transmittance_matches_a_random_walk_and_the_direct_beam_does_not() {
     }
 }
 
-/// Rendered ground under an overcast of stratus against the same view with no clouds: lit
-/// by what the deck lets through, not by the sky alone.
 /// Mean linear radiance (over R, G, B) of the lower half of `im`: ground a few metres from a
 /// camera 2 m up looking down.
 fn lower_half_mean(im: &nimbus_runtime::render::Image) -> f32 {
@@ -99,6 +97,8 @@ fn lower_half_mean(im: &nimbus_runtime::render::Image) -> f32 {
     px.iter().map(|p| (p[0] + p[1] + p[2]) / 3.0).sum::<f32>() / px.len() as f32
 }
 
+/// Rendered ground under an overcast of stratus against the same view with no clouds: lit
+/// by what the deck lets through, not by the sky alone.
 #[test]
 fn ground_under_an_overcast_is_lit_by_the_light_the_clouds_let_through() {
     let Some(gpu) = common::gpu() else { return };
@@ -174,13 +174,13 @@ fn ground_in_a_distant_storm_s_shadow_keeps_the_sky_s_light() {
         NoiseKind::Weather,
         TextureSource::User(gpu.upload_texture(&weather).expect("upload")),
     );
-    let frame = |coverage: f32| {
+    let frame_at = |coverage: f32, u: f32| {
         let mut g = genus.clone();
         g.coverage = coverage;
         let mut f = Frame::new(g, Quality::Medium, 64, 36);
         // The camera in the middle of the clear strip (texture u 0.75): the wall's near edge
         // 25 km to the west, whose shadow at 15° reaches 41 km east of it.
-        f.weather_offset = glam::Vec2::new(0.75, 0.0);
+        f.weather_offset = glam::Vec2::new(u, 0.0);
         f.camera_altitude = 2.0;
         f.camera_pitch_deg = -40.0;
         f.camera_yaw_deg = 90.0;
@@ -193,6 +193,7 @@ fn ground_in_a_distant_storm_s_shadow_keeps_the_sky_s_light() {
     let ground = |f: &Frame, renderer: &mut Renderer<'_>| {
         lower_half_mean(&renderer.render(f).expect("render"))
     };
+    let frame = |coverage: f32| frame_at(coverage, 0.75);
     let clear_frame = frame(0.0);
     let clear = ground(&clear_frame, &mut renderer);
     // Coverage 0.6: the full half is cloud (1 − 0.6·shape lies below its weather 1), the
@@ -220,5 +221,12 @@ fn ground_in_a_distant_storm_s_shadow_keeps_the_sky_s_light() {
         ratio < 1.25 * sky_share,
         "the storm does not shadow the ground: {ratio:.3} of the clear ground (sky alone \
          {sky_share:.3})"
+    );
+    // Under the storm itself (texture u 0.25) the sky's light is dimmed by the cloud overhead.
+    let under = ground(&frame_at(0.6, 0.25), &mut renderer) / clear;
+    println!("ground under the storm / clear ground: {under:.4}");
+    assert!(
+        under < 0.25 * sky_share,
+        "the cloud overhead does not dim the sky's light: {under:.3} of the clear ground"
     );
 }

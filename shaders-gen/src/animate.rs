@@ -96,18 +96,24 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
         .into());
     }
     let step = a.speed / a.fps;
-    let count = ((a.to - a.from) / step + 1e-9).floor() as u64 + 1;
-    if count > MAX_PICTURES {
+    let intervals = ((a.to - a.from) / step + 1e-9).floor();
+    if !intervals.is_finite() || intervals >= MAX_PICTURES as f64 {
         return Err(CliError::Unknown {
             kind: "picture count",
-            given: format!("{count} (from {} s to {} s every {step} s)", a.from, a.to),
+            given: format!(
+                "{} (from {} s to {} s every {step} s)",
+                intervals + 1.0,
+                a.from,
+                a.to
+            ),
             known: format!("at most {MAX_PICTURES}: raise --speed or lower --fps"),
         }
         .into());
     }
+    let count = intervals as u64 + 1;
     let lib = crate::render::library_for(data, Some(&a.scene))?;
     let scene = load_scene(&a.scene)?;
-    let genus_of = |name: &str| lib.genus(name).cloned();
+    let genus_of = |name: &str| crate::render::genus_of(&lib, name).ok();
     // Every picture's frames are built (and checked) before any GPU work.
     let mut pictures = Vec::with_capacity(count as usize);
     for k in 0..count {
@@ -133,7 +139,9 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
         })?;
         let mut gif = image::codecs::gif::GifEncoder::new_with_speed(gif_file, 10);
         gif.set_repeat(image::codecs::gif::Repeat::Infinite)?;
-        let delay = image::Delay::from_numer_denom_ms(1000, a.fps.round().max(1.0) as u32);
+        let delay = image::Delay::from_saturating_duration(
+            std::time::Duration::try_from_secs_f64(1.0 / a.fps).unwrap_or(std::time::Duration::MAX),
+        );
         let mut index = Vec::new();
         for (k, (t, frames)) in pictures.iter().enumerate() {
             let image = renderer.render_blend(frames)?;

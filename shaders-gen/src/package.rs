@@ -605,9 +605,9 @@ fn frame_order(engine: Engine) -> Vec<&'static str> {
         );
     }
     steps.extend([
-        "shadow: draw into shadow_atlas when the pair has one and the sun, the layers or the \
-         weather offset changed since it was last drawn (Nimbus's runtime caches it; drawing it \
-         every frame is correct too)",
+        "shadow: draw into shadow_atlas when the pair has one and the sun, the layers or any \
+         media member (weather offset, wind drift, coverage) changed since it was last drawn \
+         (Nimbus's runtime caches it; drawing it every frame is correct too)",
         "clouds: draw into clouds_hdr every frame (full size, or a quarter of each side when \
          upscaling: then set pixel_scale = 4 and pixel_offset to the frame's Bayer offset)",
         "resolve: when upscaling or accumulating, draw into the history target not read this \
@@ -716,8 +716,8 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
     ),
     (
         "media.detail_fade",
-        "when media.detail_repeat or the detail texture changes: (1, 3) × the detail texel in \
-         metres, 1 / (detail_repeat × texels per side)",
+        "when media.detail_repeat or the detail texture changes: (0.5, 2) × the detail texel \
+         in metres, 1 / (detail_repeat × texels per side)",
     ),
     (
         "media.detail_moments",

@@ -302,15 +302,19 @@ pub(crate) fn frames(
         None => data::data_dir(data)?.join("scenes/default.toml"),
     };
     let scene = load_scene(&scene_file)?;
-    let Some(seconds) = a.time else {
-        let genus = match a.genus.as_deref() {
-            Some(name) => genus_of(&lib, name)?,
-            None => scene_genus(&lib, &scene_file, &scene)?,
-        };
-        return Ok(vec![(frame_of(a, &scene_file, scene, genus)?, 1.0)]);
-    };
+    // A scene without a timeline is the same at every time; one with a clock, wind or weather
+    // states starts at second 0.
+    let seconds = a.time.unwrap_or(0.0);
     limits::TIME.check(seconds, Origin::Flag(limits::TIME.flag))?;
-    let coverage = |name: &str| lib.genus(name).map_or(0.0, |g| g.coverage);
+    // A genus' own coverage where the scene or a state gives none: `--genus` stands in for the
+    // scene's genus; a genus named by path (a genus file) has its own too.
+    let coverage = |name: &str| {
+        let name = match a.genus.as_deref() {
+            Some(flagged) if name == scene.genus => flagged,
+            _ => name,
+        };
+        genus_of(&lib, name).map_or(0.0, |g| g.coverage)
+    };
     let mut out = Vec::new();
     for (s, drift, weight) in nimbus_runtime::scene_time::scenes_at(&scene, &coverage, seconds) {
         let genus = match a.genus.as_deref() {

@@ -208,7 +208,7 @@ fn explain_prints_each_effect_with_its_reason_and_the_variant() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     for line in [
         "haze                     out  haze density is 0",
-        "shadows                  out  sun -4° (below the horizon): nothing to shadow",
+        "shadows                  out  no layer casts shadows",
         "shape-detail             out  every layer's shape-detail amount is 0",
         "turbulence               out  turbulent displacement is 0",
         "shadow-map-pass          out  nothing samples it: no pass, no texture",

@@ -89,19 +89,22 @@ fn shadow_top(c: &SceneContent) -> Option<f32> {
         .reduce(f32::max)
 }
 
-/// Cloud shadows (beer shadow map): a shadow-casting layer, and a sun to cast them. Exact: with
-/// neither, the shadow map holds no optical depth.
+/// Cloud shadows (beer shadow map, and the sky's light on the ground dimmed by the cloud
+/// overhead): a shadow-casting layer. Exact: without one the map holds no optical depth and no
+/// cloud stands over the ground. With the sun down the map casts nothing, but the cloud
+/// overhead still dims the sky's light, so the effect stays (or the ground under an overcast
+/// would brighten at the moment of sunset).
 pub fn shadows(c: &SceneContent) -> Verdict {
     let clouds = clouds_present(c);
     if !clouds.visible {
         return clouds;
     }
-    let sun = sun_up(c);
-    if !sun.visible {
-        return verdict(false, format!("{}: nothing to shadow", sun.reason));
-    }
     match shadow_top(c) {
-        Some(_) => verdict(true, "a layer casts shadows and the sun is up"),
+        Some(_) if sun_up(c).visible => verdict(true, "a layer casts shadows and the sun is up"),
+        Some(_) => verdict(
+            true,
+            "the sun is down, but a shadow-casting layer still dims the sky's light on the ground",
+        ),
         None => verdict(false, "no layer casts shadows"),
     }
 }
@@ -121,6 +124,10 @@ pub fn light_shafts(c: &SceneContent) -> Verdict {
     let h = haze(c);
     if !h.visible {
         return verdict(false, format!("{}: no air to show shafts in", h.reason));
+    }
+    let sun = sun_up(c);
+    if !sun.visible {
+        return verdict(false, format!("{}: no shafts without it", sun.reason));
     }
     let s = shadows(c);
     if !s.visible {

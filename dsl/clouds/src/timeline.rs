@@ -1,10 +1,12 @@
 //! A scene over time: the sun from its clock, the clouds' drift from its wind, and its weather
 //! states, each taking over from the one before.
 //!
-//! Between two states of the same genus every number of the scene is interpolated (the
-//! variant, its key and its pipeline stay the same: only uniforms change). Between two genera
-//! the pictures of both are blended, weighted by the same smooth ramp. Either way nothing
-//! jumps: a state is reached at its time, smoothly (`smoothstep` over the interval).
+//! Between two states of the same genus the coverage is interpolated (the variant, its key and
+//! its pipeline stay the same: only uniforms change). Between two genera the pictures of both
+//! are blended, weighted by the same smooth ramp. A state is reached at its time, smoothly
+//! (`smoothstep` over the interval from the state before it, or from second 0 for the first).
+//! Two states at the same time are a cut: the second takes over at once, as a scene that wants
+//! one asks.
 
 use serde::{Deserialize, Serialize};
 
@@ -12,15 +14,17 @@ use crate::clock::SunPosition;
 use crate::scene::ScenePreset;
 use crate::wind::Drift;
 
-/// One weather state: from `at` seconds on, the scene's genus and coverage become these.
+/// One weather state: by `at` seconds the weather has become this. What it does not name it
+/// keeps from the state before it (the scene itself before the first).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WeatherState {
     /// Seconds from the start of the timeline.
     pub at: f64,
-    /// Genus of this state; the scene's when absent.
+    /// Genus of this state; the previous state's when absent.
     pub genus: Option<String>,
-    /// Coverage of this state; the genus' when absent.
+    /// Coverage of this state; when absent the previous state's, or the genus' own where the
+    /// genus changes.
     pub coverage: Option<f32>,
 }
 
@@ -67,40 +71,47 @@ impl ScenePreset {
         }
     }
 
-    fn state_layer(&self, s: &WeatherState, genus_coverage: &dyn Fn(&str) -> f32) -> Layer {
-        let genus = s.genus.clone().unwrap_or_else(|| self.genus.clone());
-        let coverage = s
-            .coverage
-            .or(if s.genus.is_none() {
-                self.coverage
-            } else {
-                None
-            })
-            .unwrap_or_else(|| genus_coverage(&genus));
-        Layer {
-            genus,
-            coverage,
-            weight: 1.0,
-        }
-    }
-
     fn weather_layers(&self, seconds: f64, genus_coverage: &dyn Fn(&str) -> f32) -> Vec<Layer> {
         let own = Layer {
             genus: self.genus.clone(),
             coverage: self.coverage.unwrap_or_else(|| genus_coverage(&self.genus)),
             weight: 1.0,
         };
-        let layer = |s: &WeatherState| self.state_layer(s, genus_coverage);
-        let states = &self.weather;
+        // Each state keeps what it does not name from the state before it: its genus, and its
+        // coverage while the genus stays (a new genus brings its own).
+        let mut resolved: Vec<(f64, Layer)> = Vec::with_capacity(self.weather.len());
+        let mut previous = own.clone();
+        for state in &self.weather {
+            let genus = state
+                .genus
+                .clone()
+                .unwrap_or_else(|| previous.genus.clone());
+            let coverage = state.coverage.unwrap_or_else(|| {
+                if genus == previous.genus {
+                    previous.coverage
+                } else {
+                    genus_coverage(&genus)
+                }
+            });
+            previous = Layer {
+                genus,
+                coverage,
+                weight: 1.0,
+            };
+            resolved.push((state.at, previous.clone()));
+        }
         // Before the first state the scene's own weather holds and leads into it from 0.
-        let next = states.iter().position(|s| s.at > seconds);
-        let (from, from_at, to) = match next {
-            None => return vec![states.last().map_or(own, layer)],
-            Some(0) => (own, 0.0, &states[0]),
-            Some(i) => (layer(&states[i - 1]), states[i - 1].at, &states[i]),
+        let next = resolved.iter().position(|(at, _)| *at > seconds);
+        let (from, from_at, (to_at, to_layer)) = match next {
+            None => return vec![resolved.last().map_or(own, |(_, l)| l.clone())],
+            Some(0) => (own, 0.0, resolved[0].clone()),
+            Some(i) => (
+                resolved[i - 1].1.clone(),
+                resolved[i - 1].0,
+                resolved[i].clone(),
+            ),
         };
-        let to_layer = layer(to);
-        let span = to.at - from_at;
+        let span = to_at - from_at;
         let s = if span > 0.0 {
             ramp((seconds - from_at) / span)
         } else {

@@ -53,14 +53,14 @@ impl Wind {
         low + (high - low) * (altitude / TOP_ALTITUDE)
     }
 
-    /// The drift after `seconds`.
+    /// The drift after `seconds` (in f64, then rounded once: an f32 time would step by a
+    /// second after a few days of timeline).
     pub fn drift(&self, seconds: f64) -> Drift {
-        let low = self.velocity_at(0.0);
-        let high = self.velocity_at(TOP_ALTITUDE);
-        let t = seconds as f32;
+        let low = self.velocity_at(0.0).as_dvec2();
+        let high = self.velocity_at(TOP_ALTITUDE).as_dvec2();
         Drift {
-            ground: low * t,
-            per_metre: (high - low) * (t / TOP_ALTITUDE),
+            ground: (low * seconds).as_vec2(),
+            per_metre: ((high - low) * (seconds / f64::from(TOP_ALTITUDE))).as_vec2(),
         }
     }
 }

@@ -353,7 +353,8 @@ export class NimbusClouds {
     u.setFloats('pixel_offset', offset);
     // The how-many-th sample each shaded pixel gets: the R2 sequence moves it over the pixel
     // (centre first), so accumulated frames average the pixel's area, not one point of it.
-    const visit = this.upscale ? Math.floor(index / 16) : index;
+    // Without a resolve nothing averages the visits: the ray stays at the pixel's centre.
+    const visit = this.upscale ? Math.floor(index / 16) : temporal ? index : 0;
     u.setFloats('subpixel', [(0.5 + visit * 0.7548776662) % 1, (0.5 + visit * 0.5698402910) % 1]);
     const previous = renderer.getRenderTarget();
     if (this.passes.shadow && this.shadowDirty) {

@@ -70,9 +70,9 @@ impl Default for MediaParams {
     }
 }
 
-/// Footprints, in detail texels, over which the detail noise fades to its mean: a sample that
-/// stands for one texel still resolves the noise's finest octave (two to three texels across);
-/// by three texels it would alias, and what a pixel shows there is the noise's mean.
+/// Footprints, in detail texels, over which the detail noise fades to its mean: the finest
+/// Worley octave has cells two texels across, so a sample half a texel across still resolves
+/// it; by two texels it would alias, and what a pixel shows there is the noise's mean.
 pub const DETAIL_FADE_TEXELS: Vec2 = Vec2::new(0.5, 2.0);
 
 impl MediaParams {
@@ -209,8 +209,9 @@ pub fn planet_coverage(position: Vec3, drifted: Vec3, coverage: f32) -> f32 {
 /// covers 16 m: one noise value picked per pixel was a mosaic of unrelated values that did not
 /// average out over accumulated frames, and single bright pixels on cloud edges; in the shadow
 /// map each 40 m texel picked one, a blocky pattern when magnified at a low sun. What such a
-/// sample should see is the noise's mean over its footprint, as a mip-mapped texture would give;
-/// the erosion is linear in its two signals, so their means are exact up to the final clamp.
+/// sample should see is the noise's mean over its footprint, as a mip-mapped texture would give.
+/// The erosion's numerator is linear in its two signals; its divisor and clamp are not, so the
+/// means stand in for the mean erosion (as a mip level would), not exactly.
 #[shader_fn]
 pub fn detail_level(footprint: f32) -> f32 {
     let fade = CLOUDS.get().media.detail_fade;

@@ -800,8 +800,12 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
             // The sky's light comes from the whole dome: what dims it is the cloud overhead,
             // not the cloud on the way to the sun. With the sun's path for both, the ground in
             // the shadow of a storm tower 20 km away went black.
-            let overhead = overhead_optical_depth(ground, jitter, key);
-            sky_through = slab_diffuse_transmittance(overhead, DROPLET_ASYMMETRY);
+            // Only where the ground shows through the clouds in front: four density samples
+            // per pixel are not spent on ground nobody sees.
+            if clouds.transmittance > 0.0 {
+                let overhead = overhead_optical_depth(ground, jitter, key);
+                sky_through = slab_diffuse_transmittance(overhead, DROPLET_ASYMMETRY);
+            }
         }
         background += air.transmittance
             * ground_radiance(
