@@ -145,7 +145,9 @@ impl Frame {
     }
 
     /// The frame a scene describes, with the variant the scene derives (see
-    /// [`nimbus_clouds::analyse`]): only the effects it can show.
+    /// [`nimbus_clouds::analyse`]): only the effects it can show. Its fixed sun and weather:
+    /// for a moment of its timeline (clock, wind, weather states) see
+    /// [`crate::scene_time::frames_at`].
     pub fn from_scene(scene: &ScenePreset, genus: &Genus, width: u32, height: u32) -> Frame {
         let mut genus = genus.clone();
         if let Some(c) = scene.coverage {
