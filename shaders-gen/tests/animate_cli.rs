@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{examples, have_gpu, nimbus, text, tree};
+use common::{examples, have_gpu, nimbus, refuses_a_foreign_folder, text};
 
 #[test]
 fn animate_writes_the_timeline_as_frames_a_gif_and_an_index() {
@@ -69,13 +69,7 @@ fn animate_writes_the_timeline_as_frames_a_gif_and_an_index() {
     assert!(gif.starts_with(b"GIF89a"), "not a GIF");
 
     // A folder the user made is not replaced without --force, and is left as it was.
-    let mine = tmp.path().join("mine");
-    std::fs::create_dir(&mine).expect("mkdir");
-    std::fs::write(mine.join("notes.txt"), "mine").expect("write");
-    let before = tree(&mine);
-    let o = nimbus(&[&args[..], &[mine.to_str().expect("utf8")]].concat());
-    assert!(!o.status.success(), "replaced a foreign folder");
-    assert_eq!(tree(&mine), before, "the user's folder changed");
+    refuses_a_foreign_folder(&args, tmp.path());
 }
 
 #[test]

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{examples, have_gpu, nimbus, text, tree};
+use common::{examples, have_gpu, nimbus, refuses_a_foreign_folder, text};
 
 #[test]
 fn gallery_renders_every_genus_with_an_index_and_a_contact_sheet() {
@@ -61,13 +61,7 @@ fn gallery_renders_every_genus_with_an_index_and_a_contact_sheet() {
     );
 
     // A folder the user made is not replaced without --force, and is left as it was.
-    let mine = tmp.path().join("mine");
-    std::fs::create_dir(&mine).expect("mkdir");
-    std::fs::write(mine.join("notes.txt"), "mine").expect("write");
-    let before = tree(&mine);
-    let o = nimbus(&[&args[..], &[mine.to_str().expect("utf8")]].concat());
-    assert!(!o.status.success(), "replaced a foreign folder");
-    assert_eq!(tree(&mine), before, "the user's folder changed");
+    refuses_a_foreign_folder(&args, tmp.path());
 }
 
 #[test]

@@ -47,6 +47,18 @@ pub fn have_gpu() -> bool {
     ok
 }
 
+/// Runs `nimbus` with `args` and a folder the user made (holding a file of theirs, under
+/// `parent`) as the last argument: the command must fail and leave the folder as it was.
+pub fn refuses_a_foreign_folder(args: &[&str], parent: &Path) {
+    let mine = parent.join("mine");
+    std::fs::create_dir(&mine).expect("mkdir");
+    std::fs::write(mine.join("notes.txt"), "mine").expect("write");
+    let before = tree(&mine);
+    let o = nimbus(&[args, &[mine.to_str().expect("utf8")]].concat());
+    assert!(!o.status.success(), "replaced a foreign folder");
+    assert_eq!(tree(&mine), before, "the user's folder changed");
+}
+
 /// Every file under `dir` with its bytes, and every folder (as `name/`), by relative path:
 /// what a test compares to show a folder unchanged, or equal to another.
 pub fn tree(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
