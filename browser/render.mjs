@@ -1,7 +1,8 @@
 // Renders a Nimbus three.js package in headless Chromium (Debian's, driven by playwright-core)
 // and writes the frame as PNG, with every console message and shader log beside it.
 //
-//   node render.mjs PACKAGE_DIR OUT.png [key=value ...]   (width, height, pitch, yaw, fov, pair)
+//   node render.mjs PACKAGE_DIR OUT.png [key=value ...]   (width, height, pitch, yaw, fov, pair,
+//                                                          sun, wind, weather, time, frames, upscale)
 //
 // Files are served on 127.0.0.1 only: the package under /pkg/, three.js under /three/, the
 // page under /page/. Exits non-zero, saying why, when the page fails or anything was logged.

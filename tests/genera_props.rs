@@ -110,6 +110,7 @@ fn scene() -> impl Strategy<Value = ScenePreset> {
                 clock: None,
                 wind: None,
                 weather: Vec::new(),
+                formation: None,
             },
         )
 }

@@ -152,7 +152,7 @@ fn clouds_drift_with_the_wind_at_their_altitude() {
     let top = wind.velocity_at(TOP_ALTITUDE) * seconds as f32;
     let shear = drift.ground + drift.per_metre * TOP_ALTITUDE;
     assert!((top - shear).length() < 1e-2, "{top} vs {shear}");
-    let westerly = nimbus_clouds::wind::velocity(10.0, 270.0);
+    let westerly = nimbus_clouds::wind::wind_velocity(10.0, 270.0);
     assert!(
         (westerly - Vec2::new(10.0, 0.0)).length() < 1e-5,
         "a westerly blows east: {westerly}"

@@ -38,6 +38,20 @@ async function run(result) {
     const [elevation, azimuth] = q.get('sun').split(',').map(Number);
     clouds.setSun(elevation, azimuth);
   }
+  // With `first=1`, a frame is drawn before the clock moves (its shadow atlas then stale), and
+  // the frame sequence restarts (setSize) so the frame after matches a one-frame render.
+  if (q.get('first') === '1') {
+    clouds.render(renderer);
+    clouds.setSize(width, height);
+  }
+  // A scene's [wind] and [[weather]] (`speed,from[,top,topFrom]`; `coverage,at[,over];...`),
+  // then its clock: the package's own setWind, setWeather and setTime.
+  if (q.has('wind')) clouds.setWind(...q.get('wind').split(',').map(Number));
+  for (const state of q.get('weather')?.split(';') ?? []) {
+    const [coverage, at, over] = state.split(',').map(Number);
+    clouds.setWeather(coverage, { at, over });
+  }
+  if (q.has('time')) clouds.setTime(number('time', 0));
   const gl = renderer.getContext();
   if (q.has('bench')) {
     // Milliseconds per frame (timing.mjs). The shadow atlas is redrawn every

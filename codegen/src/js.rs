@@ -73,15 +73,30 @@ const PRELUDE: &str = r#"const nb = {
 };
 "#;
 
-/// Prints `exports` and every function and constant they reach as an ES module.
+/// Prints `exports` and every function and constant they reach as an ES module. An export
+/// may also name a constant the module's functions read (`TOP_ALTITUDE`): it is exported as
+/// the `const` it prints as.
 pub fn print_js(module: &Module, exports: &[&str]) -> Result<String, CodegenError> {
     let by_name = |n: &str| module.functions.iter().find(|f| f.name == n);
+    let is_const = |n: &str| {
+        module
+            .globals
+            .iter()
+            .any(|g| g.name == n && matches!(g.kind, GlobalKind::Const { .. }))
+    };
     // Callees before callers: the order the recorder keeps; walk what the exports reach.
     let mut needed = BTreeSet::new();
-    let mut stack: Vec<String> = exports.iter().map(|s| s.to_string()).collect();
+    let mut stack: Vec<String> = exports
+        .iter()
+        .filter(|n| !is_const(n))
+        .map(|s| s.to_string())
+        .collect();
     while let Some(name) = stack.pop() {
         let Some(f) = by_name(&name) else {
-            return Err(host_error(&name, "is not a function of the module"));
+            return Err(host_error(
+                &name,
+                "is neither a function nor a constant of the module",
+            ));
         };
         if needed.insert(name.clone()) {
             for e in &f.exprs {
@@ -98,7 +113,12 @@ pub fn print_js(module: &Module, exports: &[&str]) -> Result<String, CodegenErro
     out.push_str(PRELUDE);
     for g in &module.globals {
         if let GlobalKind::Const { value } = g.kind {
-            let _ = writeln!(out, "const {} = {};", g.name, literal(value));
+            let export = if exports.contains(&g.name.as_str()) {
+                "export "
+            } else {
+                ""
+            };
+            let _ = writeln!(out, "{export}const {} = {};", g.name, literal(value));
         }
     }
     for f in &module.functions {

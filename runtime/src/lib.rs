@@ -8,6 +8,7 @@
 
 pub mod density_export;
 mod error;
+pub mod formation;
 mod gpu;
 pub mod linear_image;
 pub mod mitsuba_scene;

@@ -21,7 +21,7 @@ use nimbus_clouds::limits::{self, Limit, Origin};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
 use nimbus_clouds::model::march::{CloudUniforms, CompositeParams, subpixel_offset};
-use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams, reprojection};
+use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams};
 use nimbus_clouds::model::sun::sun_direction;
 use nimbus_clouds::wind::Drift;
 use nimbus_clouds::{Features, Genus, PixelOutput, Quality, ScenePreset, analyse};
@@ -97,6 +97,10 @@ pub struct Frame {
     pub weather_offset: Vec2,
     /// How far the wind has carried the clouds (see [`nimbus_clouds::wind`]).
     pub wind: Drift,
+    /// With `continue_history`: read the history where the wind had the clouds a frame ago
+    /// (the drift's change since the previous call), so drifting clouds do not smear. Off, the
+    /// history is reprojected for the camera alone (for comparison).
+    pub reproject_wind: bool,
     /// Haze density at sea level (1/m).
     pub haze_density: f32,
     /// Turbulent displacement of cloud bases (m).
@@ -136,6 +140,7 @@ impl Frame {
             seed: 0,
             weather_offset: Vec2::ZERO,
             wind: Drift::default(),
+            reproject_wind: true,
             haze_density: 3e-5,
             turbulence_displacement: 350.0,
             output: PixelOutput::Composite,
@@ -304,6 +309,8 @@ struct History {
     latest: usize,
     upscale: bool,
     view_projection: Mat4,
+    /// The wind's drift at the latest frame (the clouds' move since is the next frame's shift).
+    wind: Drift,
     frames: u32,
 }
 
@@ -918,6 +925,7 @@ impl<'g> Renderer<'g> {
                     latest: 0,
                     upscale: frame.upscale,
                     view_projection,
+                    wind: frame.wind,
                     frames: 0,
                 });
                 self.epoch += 1;
@@ -927,6 +935,7 @@ impl<'g> Renderer<'g> {
                 // A fresh start on the kept targets: frame 0 ignores the history.
                 h.frames = 0;
                 h.view_projection = view_projection;
+                h.wind = frame.wind;
             }
             if self.resolve.is_none() {
                 self.resolve = Some(ResolvePass {
@@ -1091,8 +1100,28 @@ impl<'g> Renderer<'g> {
             if let (Some(h), Some(pass)) = (&self.history, &self.resolve) {
                 // Upscaled, a pixel is refreshed once per 16 frames: average those visits.
                 let visits = if frame.upscale { index / 16 } else { index };
+                // Where a ray first meets the clouds (the slab's face towards the camera: the
+                // bases seen from below, the tops from above), and how far the wind moved the
+                // clouds there since the history's frame (zero within one call: its frames
+                // share one drift).
+                let cloud_altitude = nimbus_clouds::model::resolve::facing_altitude(
+                    u.camera_altitude,
+                    u.march.min_height,
+                    u.march.max_height,
+                );
+                let at = |d: &Drift| d.ground + d.per_metre * cloud_altitude;
+                let shift = if frame.reproject_wind {
+                    at(&frame.wind) - at(&h.wind)
+                } else {
+                    Vec2::ZERO
+                };
                 let params = ResolveParams {
-                    reprojection: reprojection(h.view_projection, view_projection.inverse()),
+                    inverse_view_projection: view_projection.inverse(),
+                    previous_view_projection: h.view_projection,
+                    cloud_shift: Vec3::new(shift.x, 0.0, shift.y),
+                    cloud_altitude,
+                    camera_altitude: u.camera_altitude,
+                    planet_radius: u.march.radius,
                     resolution: u.resolution,
                     low_resolution: Vec2::new(lw as f32, lh as f32),
                     pixel_offset: u.pixel_offset,
@@ -1128,6 +1157,7 @@ impl<'g> Renderer<'g> {
             if let Some(h) = &mut self.history {
                 h.latest = 1 - h.latest;
                 h.view_projection = view_projection;
+                h.wind = frame.wind;
             }
             progress(f + 1, frames);
         }

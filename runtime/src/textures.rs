@@ -47,7 +47,7 @@ impl NoiseKind {
     /// Lattice cells per side: the noise's base frequency within one tile.
     fn cells(self) -> i32 {
         match self {
-            NoiseKind::Weather => 8,
+            NoiseKind::Weather => nimbus_clouds::model::noise::WEATHER_CELLS,
             NoiseKind::Shape => 4,
             NoiseKind::Detail => 4,
             NoiseKind::Turbulence => 8,
@@ -136,13 +136,35 @@ pub struct GpuTexture {
 impl Gpu {
     /// Generates a procedural texture of `kind` with `size` texels per side on the GPU.
     pub fn noise_texture(&self, kind: NoiseKind, size: u32) -> Result<GpuTexture, RuntimeError> {
+        let buffer = self.noise_buffer(kind, size)?;
+        Ok(self.texture_from_texels(kind, &buffer, size))
+    }
+
+    /// The texels of a procedural texture, RGBA8 in a storage buffer with rows padded to
+    /// [`padded_row`] (what the formation kernel gates, and what textures are copied from).
+    pub(crate) fn noise_buffer(
+        &self,
+        kind: NoiseKind,
+        size: u32,
+    ) -> Result<wgpu::Buffer, RuntimeError> {
         let depth = if kind.is_3d() { size } else { 1 };
         let count = size * size * depth;
         let row = padded_row(size);
         let words = (row * size * depth) as usize;
         let kernel = noise_kernel(kind, size)?;
         let groups = count.div_ceil(64);
-        let buffer = self.compute_to_buffer(&kernel, "fill", words, groups)?;
+        self.compute_to_buffer(&kernel, "fill", words, groups)
+    }
+
+    /// A texture of `kind` holding the padded RGBA8 texels of `buffer` ([`Self::noise_buffer`]).
+    pub(crate) fn texture_from_texels(
+        &self,
+        kind: NoiseKind,
+        buffer: &wgpu::Buffer,
+        size: u32,
+    ) -> GpuTexture {
+        let depth = if kind.is_3d() { size } else { 1 };
+        let row = padded_row(size);
         let texture = self.create_texture(&wgpu::TextureDescriptor {
             label: Some(kind.name()),
             size: wgpu::Extent3d {
@@ -164,7 +186,7 @@ impl Gpu {
         let mut encoder = self.device().create_command_encoder(&Default::default());
         encoder.copy_buffer_to_texture(
             wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
+                buffer,
                 layout: wgpu::TexelCopyBufferLayout {
                     offset: 0,
                     bytes_per_row: Some(row * 4),
@@ -180,13 +202,13 @@ impl Gpu {
         );
         self.queue().submit([encoder.finish()]);
         let view = texture.create_view(&Default::default());
-        Ok(GpuTexture {
+        GpuTexture {
             texture,
             view,
             size,
             red_moments: (kind == NoiseKind::Detail)
                 .then_some(nimbus_clouds::model::noise::DETAIL_MOMENTS),
-        })
+        }
     }
 
     /// A 1×1 texture holding `texel` (e.g. an empty shadow map).

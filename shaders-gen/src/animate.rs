@@ -10,6 +10,7 @@ use nimbus_clouds::limits::{self, Origin};
 use nimbus_clouds::load_scene;
 use nimbus_output::{Overwrite, replace_folder};
 use nimbus_runtime::Gpu;
+use nimbus_runtime::formation::FormationSim;
 use nimbus_runtime::render::{Renderer, TextureSizes};
 use nimbus_runtime::scene_time::frames_at;
 use serde_json::json;
@@ -128,6 +129,11 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
     let gpu = Gpu::new()?;
     println!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
+    // Clouds forming and dissolving: the automaton advances with the pictures.
+    let mut formation = match scene.formation {
+        Some(f) => Some(FormationSim::new(&gpu, f, TextureSizes::default().weather)?),
+        None => None,
+    };
     let start = Instant::now();
     let video = ffmpeg_available();
     let overwrite = Overwrite::forced(a.force);
@@ -144,6 +150,9 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
         );
         let mut index = Vec::new();
         for (k, (t, frames)) in pictures.iter().enumerate() {
+            if let Some(sim) = &mut formation {
+                sim.apply(&mut renderer, *t)?;
+            }
             let image = renderer.render_blend(frames)?;
             let file = format!("frame-{k:05}.png");
             image.save_png(&tmp.join(&file), a.exposure, Overwrite::Force)?;

@@ -40,13 +40,31 @@ pub(crate) const PACKAGE_FILE: &str = "nimbus-package.json";
 /// The JavaScript twin of `sun_light`, in packages for engines with a JavaScript host.
 const SUN_MODULE: &str = "nimbus-sun.js";
 
-/// The three.js files a three package ships: the renderer of the package, an EffectComposer
-/// pass around it, and an example page where the sun moves (`npx serve DIR`, open
-/// `example.html`).
-const THREE_MODULES: [(&str, &str); 3] = [
+/// The JavaScript twins of the wind's velocity, the weather's ramp and the altitude the
+/// resolve moves with the wind (`timeline::host_module`), in packages for engines with a
+/// JavaScript host.
+const WIND_MODULE: &str = "nimbus-wind.js";
+
+/// What `WIND_MODULE` exports: the functions and the altitude of a scene's top wind.
+const WIND_EXPORTS: [&str; 5] = [
+    "wind_velocity",
+    "wind_velocity_at",
+    "weather_coverage",
+    "facing_altitude",
+    "TOP_ALTITUDE",
+];
+
+/// The three.js files a three package ships: the renderer of the package, its timeline (wind
+/// drift and weather states, no three.js), an EffectComposer pass around it, and an example
+/// page where the sun moves (`npx serve DIR`, open `example.html`).
+const THREE_MODULES: [(&str, &str); 4] = [
     (
         "nimbus-clouds.js",
         include_str!("../assets/three/nimbus-clouds.js"),
+    ),
+    (
+        "nimbus-timeline.js",
+        include_str!("../assets/three/nimbus-timeline.js"),
     ),
     (
         "nimbus-clouds-pass.js",
@@ -246,7 +264,12 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         }));
     }
     let resolve_defaults = ResolveParams {
-        reprojection: glam::Mat4::IDENTITY,
+        inverse_view_projection: glam::Mat4::IDENTITY,
+        previous_view_projection: glam::Mat4::IDENTITY,
+        cloud_shift: glam::Vec3::ZERO,
+        cloud_altitude: 1500.0,
+        camera_altitude: 2.0,
+        planet_radius: nimbus_clouds::model::shell::EARTH_RADIUS,
         resolution: glam::Vec2::new(640.0, 360.0),
         low_resolution: glam::Vec2::new(160.0, 90.0),
         pixel_offset: glam::Vec2::ZERO,
@@ -316,6 +339,11 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         let host = nimbus_clouds::model::sun::host_module()?;
         let js = print_js(&host, &["sun_direction", "sun_light"])?;
         files.push((SUN_MODULE.to_string(), js.into_bytes()));
+        // What the wind and the weather change as the scene runs: the JavaScript twins of the
+        // same functions whose CPU twins give `nimbus render --time` its drift and coverage.
+        let host = nimbus_clouds::timeline::host_module()?;
+        let js = print_js(&host, &WIND_EXPORTS)?;
+        files.push((WIND_MODULE.to_string(), js.into_bytes()));
     }
     if engine == Engine::Three {
         // The ES modules that draw the package with three.js alone.
@@ -702,17 +730,23 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
     ),
     (
         "media.coverage",
-        "to change how much of the sky is cloudy (0..1)",
+        "to change how much of the sky is cloudy (0..1); a scene's weather states ramp it \
+         within a genus as weather_coverage(from, to, fraction of the interval gone by) \
+         (smoothstep; nimbus-wind.js in JavaScript packages, NimbusClouds.setWeather and \
+         setTime in three.js); redraw the shadow atlas",
     ),
     (
         "media.wind_drift",
         "to move the clouds with the wind: how far the air near the ground has travelled since \
-         the start (m, x east and z south): velocity × time",
+         the start (m, x east and z south): wind_velocity(speed, direction_deg) × time, the \
+         direction where the wind blows from, degrees clockwise from north (nimbus-wind.js in \
+         JavaScript packages; NimbusClouds.setWind and setTime in three.js); redraw the shadow \
+         atlas",
     ),
     (
         "media.wind_shear_drift",
         "with media.wind_drift: how much farther the air has travelled per metre of altitude \
-         (shear): (velocity at 10 km − velocity at the ground) × time / 10,000",
+         (shear): (velocity at TOP_ALTITUDE = 10 km − velocity at the ground) × time / 10,000",
     ),
     (
         "media.detail_fade",
@@ -727,10 +761,32 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
 
 const RESOLVE_NOTES: &[(&str, &str)] = &[
     (
-        "reprojection",
-        "every frame: this frame's clip space to the previous frame's (directions only): \
-         previous (projection × view without translation) × inverse of this frame's",
+        "inverse_view_projection",
+        "every frame: the inverse of this frame's projection × view without translation (as \
+         the cloud block's)",
     ),
+    (
+        "previous_view_projection",
+        "every frame: the previous frame's projection × view without translation",
+    ),
+    (
+        "cloud_shift",
+        "every frame: how far the wind moved the clouds since the previous frame (m, x, 0, z): \
+         the change of media.wind_drift + media.wind_shear_drift × cloud_altitude; 0 for still \
+         clouds (the history is then reprojected for the camera alone)",
+    ),
+    (
+        "cloud_altitude",
+        "when the layers or the camera's altitude change: where view rays meet the clouds, \
+         facing_altitude(camera_altitude, march.min_height, march.max_height) (the bases from \
+         below, the tops from above, the middle from inside; nimbus-wind.js in JavaScript \
+         packages)",
+    ),
+    (
+        "camera_altitude",
+        "when the camera moves: as in the cloud block",
+    ),
+    ("planet_radius", "march.radius of the cloud block"),
     ("resolution", "every frame: the output size"),
     ("low_resolution", "every frame: the size of clouds_hdr"),
     ("pixel_offset", "every frame: as in the cloud block"),
@@ -849,11 +905,65 @@ fn readme(engine: Engine, table: &[Assignment]) -> String {
          - the shader files, named `<module>-<key>.<entry>.<ext>`, with a `.json` binding \
          manifest beside each GLSL, HLSL and MSL file.\n\n\
          ## A frame\n\n{frame}\n\
+         {host}\
          ## Conventions\n\n{conventions}\n\
          Bindings: {bindings}.\n",
         engine = engine.name(),
         language = engine.language(),
         pairs = pairs.join(", "),
         bindings = engine.binding_note(),
+        host = host_section(engine),
     )
+}
+
+/// The README's section on the package's JavaScript host code, for engines that have one.
+fn host_section(engine: Engine) -> &'static str {
+    match engine {
+        Engine::Three => {
+            "## three.js\n\n\
+             `nimbus-clouds.js` draws the package with three.js alone (`nimbus-clouds-pass.js` is \
+             the same as an EffectComposer pass; `example.html` a page where the sun moves):\n\n\
+             ```js\n\
+             import { NimbusClouds } from './nimbus-clouds.js';\n\
+             const clouds = await NimbusClouds.load(new URL('./', import.meta.url));\n\
+             clouds.setSize(width, height);\n\
+             clouds.setCamera(camera);              // a THREE.PerspectiveCamera, y up, metres\n\
+             clouds.setSun(30, 150);                // elevation, azimuth (degrees)\n\
+             clouds.setWind(6, 260, 20, 280);       // m/s and from (degrees): ground, 10 km\n\
+             clouds.setWeather(0.35, { at: 7200 }); // coverage reached by second 7200\n\
+             clouds.setTime(900);                   // seconds since the timeline's start\n\
+             clouds.render(renderer);\n\
+             ```\n\n\
+             - `setSun(elevation, azimuth)`: the sun `elevation` degrees above the horizon, \
+             `azimuth` clockwise from north (-z), as Nimbus's scenes give it; the sun's and sky's \
+             irradiance and the shadow cascades follow (`sun_light` from `nimbus-sun.js`).\n\
+             - `setWind(speed, directionDeg, topSpeed = speed, topDirectionDeg = directionDeg)`: \
+             a scene's `[wind]`: m/s near the ground and where the wind blows from, degrees \
+             clockwise from north (270: a westerly); `topSpeed` and `topDirectionDeg` at 10 km, \
+             linear in altitude between.\n\
+             - `setWeather(coverage, { at, over })`: a scene's `[[weather]]` within the pair's \
+             genus: by `at` seconds the coverage is `coverage` (0..1), a smoothstep ramp from the \
+             state before (its time, or second 0 and the package's coverage), or over the last \
+             `over` seconds; without `at`, `over` seconds from the current time (at once without \
+             it). `clearWeather()` forgets the states.\n\
+             - `setTime(seconds)`: the clock, as `nimbus render --time`: sets `media.wind_drift` \
+             and `media.wind_shear_drift` from the wind and `media.coverage` from the states.\n\n\
+             Changing the sun, the drift or the coverage redraws the shadow atlas on the next \
+             frame; only uniforms change (no other shader, no pipeline switch), so a change of \
+             genus needs another pair. The formulas are Nimbus's own `#[shader_fn]`s, printed as \
+             JavaScript: `nimbus-sun.js` (`sun_direction`, `sun_light`) and `nimbus-wind.js` \
+             (`wind_velocity`, `wind_velocity_at`, `TOP_ALTITUDE`, `weather_coverage`); \
+             `nimbus-timeline.js` (`NimbusTimeline`, no three.js) turns a wind and weather states \
+             into the uniforms at a time for any JavaScript host.\n\n"
+        }
+        Engine::Webgpu => {
+            "## JavaScript host code\n\n\
+             `nimbus-sun.js` (`sun_direction`, `sun_light`) recomputes what the sun's position \
+             decides, and `nimbus-wind.js` (`wind_velocity`, `wind_velocity_at`, `TOP_ALTITUDE`, \
+             `weather_coverage`) gives the wind's velocity and the weather's ramp: the JavaScript \
+             twins of Nimbus's own `#[shader_fn]`s (see the uniform notes of `media.wind_drift` \
+             and `media.coverage`).\n\n"
+        }
+        Engine::Wgpu | Engine::Vulkan | Engine::Unity | Engine::Metal => "",
+    }
 }

@@ -13,6 +13,7 @@ use nimbus_clouds::{
 };
 use nimbus_output::{Overwrite, Signature, check_file};
 use nimbus_runtime::Gpu;
+use nimbus_runtime::formation::FormationSim;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes, TextureSource};
 use nimbus_runtime::textures::NoiseKind;
 use nimbus_runtime::user_textures::DecodedTexture;
@@ -297,10 +298,7 @@ pub(crate) fn frames(
     a: &RenderArgs,
 ) -> Result<Vec<(Frame, f32)>, Box<dyn std::error::Error>> {
     let lib = library_for(data, a.scene.as_deref())?;
-    let scene_file = match &a.scene {
-        Some(p) => p.clone(),
-        None => data::data_dir(data)?.join("scenes/default.toml"),
-    };
+    let scene_file = scene_file(data, a)?;
     let scene = load_scene(&scene_file)?;
     // A scene without a timeline is the same at every time; one with a clock, wind or weather
     // states starts at second 0.
@@ -326,6 +324,14 @@ pub(crate) fn frames(
         out.push((f, weight));
     }
     Ok(out)
+}
+
+/// The scene file `--scene` names, or the data folder's default scene.
+fn scene_file(data: Option<&Path>, a: &RenderArgs) -> Result<PathBuf, Box<dyn std::error::Error>> {
+    Ok(match &a.scene {
+        Some(p) => p.clone(),
+        None => data::data_dir(data)?.join("scenes/default.toml"),
+    })
 }
 
 /// The frame of `scene` (already at the asked time) with the flags' overrides.
@@ -423,6 +429,16 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
             source: Box::new(source),
         })?;
         renderer.set_texture(*kind, TextureSource::User(t));
+    }
+    // Clouds forming and dissolving: the scene's automaton, run to `--time`, gates the weather.
+    if let Some(f) = load_scene(&scene_file(data, a)?)?.formation {
+        let mut sim = FormationSim::new(&gpu, f, TextureSizes::default().weather)?;
+        sim.apply(&mut renderer, a.time.unwrap_or(0.0))?;
+        println!(
+            "formation: step {} of the automaton ({} s per step)",
+            sim.step().saturating_sub(1),
+            f.step_seconds
+        );
     }
     let variant = frame.variant();
     println!(

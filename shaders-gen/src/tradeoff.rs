@@ -14,7 +14,7 @@ use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 use nimbus_testkit::metrics::ImageError;
 use nimbus_testkit::tradeoff::{
-    Clock, Measurement, StudyOptions, dominators, measure, pareto_front, reference, rows,
+    Clock, Measurement, RowSpec, StudyOptions, dominators, measure, pareto_front, reference, rows,
 };
 
 use crate::plot::{Point, svg_plot};
@@ -130,10 +130,23 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     };
     // Every view file is read and checked before any GPU work, as `render` reads a scene.
     let mut views: Vec<(String, Frame)> = Vec::new();
+    // Views where the analysis chooses the flat high layer at `high`: its error and cost are
+    // measured there, against the marched volume of the same preset.
+    let mut flat_views: Vec<String> = Vec::new();
     for file in view_files(&dir)? {
         let lib = crate::render::library_for(data, Some(&file))?;
         let scene = nimbus_clouds::load_scene(&file)?;
         let genus = crate::render::scene_genus(&lib, &file, &scene)?;
+        let at_high = nimbus_clouds::ScenePreset {
+            quality: Quality::High,
+            ..scene.clone()
+        };
+        if nimbus_clouds::analyse(&at_high, &genus)
+            .features
+            .flat_high_layer
+        {
+            flat_views.push(scene.name.clone());
+        }
         views.push((
             scene.name.clone(),
             Frame::from_scene(&scene, &genus, width, height),
@@ -167,7 +180,17 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     let gpu = Gpu::new()?;
     println!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
-    let bar = ProgressBar::new((views.len() * (specs.len() + 1)) as u64);
+    let flat_spec = RowSpec {
+        label: "high, flat high layer".into(),
+        quality: Quality::High,
+        features: nimbus_clouds::Features {
+            flat_high_layer: true,
+            ..Quality::High.features()
+        },
+        preset: false,
+    };
+    let mut approximations: Vec<Measurement> = Vec::new();
+    let bar = ProgressBar::new((views.len() * (specs.len() + 1) + flat_views.len()) as u64);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
@@ -186,6 +209,12 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
             let (m, c) = measure(&mut renderer, name, view, spec, &r, &options)?;
             clock = c;
             measurements.push(m);
+            bar.inc(1);
+        }
+        if flat_views.contains(name) {
+            bar.set_message(format!("{name}: {}", flat_spec.label));
+            let (m, _) = measure(&mut renderer, name, view, &flat_spec, &r, &options)?;
+            approximations.push(m);
             bar.inc(1);
         }
         references.push((
@@ -223,7 +252,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     // The front is judged on FLIP, the perceptual difference.
     let points: Vec<(f64, f64)> = summaries.iter().map(|s| (s.ms, s.flip)).collect();
     let front = pareto_front(&points);
-    let report = report(
+    let mut report = report(
         &gpu.info().to_string(),
         clock,
         (width, height),
@@ -234,6 +263,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         &measurements,
         &references,
     );
+    report.push_str(&approximations_section(&approximations, &measurements));
     write_file(&md, text, overwrite, report.as_bytes())?;
     let points: Vec<Point<'_>> = summaries
         .iter()
@@ -258,6 +288,54 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     print!("{report}");
     println!("wrote {} and {}", md.display(), svg.display());
     Ok(())
+}
+
+/// The approximations the scene analysis chooses, each beside the `high` preset's march on the
+/// same view: what it saves in time and what it costs in error.
+fn approximations_section(approximations: &[Measurement], measurements: &[Measurement]) -> String {
+    let mut out = String::from(
+        "\n## Approximations the analysis chooses\n\n\
+         The flat high layer (`flat-high-layer`): where `nimbus explain` finds that a thin high \
+         layer seen from far below is all the sky holds, the real-time presets draw it as a 2D \
+         layer. Measured on the views where the analysis chooses it, against the same reference, \
+         beside `high`'s march:\n\n",
+    );
+    if approximations.is_empty() {
+        out.push_str("(no view of this study has such a sky)\n");
+        return out;
+    }
+    out.push_str(
+        "| view | row | ms/frame | samples/px | FLIP | RMSE | luminance ratio |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for a in approximations {
+        let high = measurements
+            .iter()
+            .find(|m| m.view == a.view && m.row == Quality::High.name());
+        for m in high.into_iter().chain([a]) {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {:.2} | {:.1} | {:.4} | {:.4} | {:.3} |",
+                m.view,
+                m.row,
+                m.ms_per_frame,
+                m.samples_per_pixel,
+                m.error.flip,
+                m.error.rmse,
+                m.error.luminance_ratio
+            );
+        }
+        if let Some(h) = high {
+            let _ = writeln!(
+                out,
+                "\n{}: {:.1}× faster than the march, FLIP {:+.4} against it.\n",
+                a.view,
+                h.ms_per_frame / a.ms_per_frame.max(1e-9),
+                a.error.flip - h.error.flip
+            );
+        }
+    }
+    out
 }
 
 #[expect(

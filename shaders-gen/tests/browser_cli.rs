@@ -2,8 +2,9 @@
 //! SwiftShader) driven by playwright-core renders the package with three.js from npm, and each
 //! frame is compared with `nimbus render` of the same scene: two sun positions (a package per
 //! scene), one camera move, and the sun moved at run time by the package's own JavaScript
-//! (`setSun`, no Nimbus code); the shader logs must be empty. The screenshots stay in a folder
-//! the test prints.
+//! (`setSun`, no Nimbus code); the shader logs must be empty. A third test drives the wind, a
+//! weather state and the clock through the package's `setWind`, `setWeather` and `setTime`
+//! against `nimbus render --time`. The screenshots stay in a folder the test prints.
 //!
 //! Needs `node`, `browser/node_modules` (`npm ci` in browser/) and Chromium; without them the
 //! test says what is missing and passes, except under NIMBUS_REQUIRE_BROWSER=1 (CI), where it
@@ -301,6 +302,153 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
         score < MIN_SCORE || mean > MAX_MEAN,
         "the comparison cannot fail"
     );
+}
+
+/// The wind and weather of the timeline test's scene: a westerly strengthening and veering with
+/// height, and the cumulus thinning from 0.6 to 0.4 by second 1800 (one genus: only uniforms
+/// change), seen at second 900, halfway through the thinning (coverage 0.5, drift 10.8 km).
+const WIND: [f32; 4] = [12.0, 250.0, 25.0, 280.0];
+const THINNING: (f32, f64) = (0.4, 1800.0);
+const TIME: f64 = 900.0;
+
+/// The browser test's first view with `wind` (`[wind]`) and the thinning (`[[weather]]`) when
+/// asked, as a scene file.
+fn timeline_scene(dir: &Path, name: &str, wind: bool, weather: bool) -> PathBuf {
+    let v = &VIEWS[0];
+    let mut toml = std::fs::read_to_string(scene(dir, v)).expect("scene");
+    toml = toml.replace(&format!("browser-{}", v.name), &format!("browser-{name}"));
+    if wind {
+        toml.push_str(&format!(
+            "[wind]\nspeed = {}\ndirection_deg = {}\ntop_speed = {}\ntop_direction_deg = {}\n",
+            WIND[0], WIND[1], WIND[2], WIND[3]
+        ));
+    }
+    if weather {
+        toml.push_str(&format!(
+            "[[weather]]\nat = {}\ncoverage = {}\n",
+            THINNING.1, THINNING.0
+        ));
+    }
+    let file = dir.join(format!("browser-{name}.toml"));
+    std::fs::write(&file, toml).expect("write scene");
+    file
+}
+
+/// Clouds that change in the browser: the three.js package of the first view, given the wind
+/// (`setWind`), a weather state (`setWeather`) and a time (`setTime`) by its own JavaScript,
+/// draws what `nimbus render --time` draws of the scene with that `[wind]` and `[[weather]]`,
+/// after a frame drawn at second 0 (so a shadow atlas left stale by the clock's move fails).
+/// Controls: the same scene at second 0 (neither the drift nor the thinning applied), and at
+/// the same time without its wind (the thinning alone) or without its weather state (the
+/// drift alone), must each fail the comparison.
+#[test]
+fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
+    if let Some(why) = missing() {
+        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
+        println!("skipping the browser timeline test: {why}");
+        assert!(!required, "NIMBUS_REQUIRE_BROWSER=1 but {why}");
+        return;
+    }
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-timeline");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).expect("folder");
+    let (w, h) = (160u32, 90u32);
+    let v = &VIEWS[0];
+    let timed = timeline_scene(&out, "timeline", true, true);
+    let package = out.join("package");
+    let o = nimbus(&[
+        "emit",
+        "--engine",
+        "three",
+        "--scene",
+        timed.to_str().expect("utf8"),
+        "-o",
+        package.to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    let render = |scene: &Path, time: f64, png: &str| {
+        let png = out.join(png);
+        let (size, time) = (format!("{w}x{h}"), time.to_string());
+        let o = nimbus(&[
+            "render",
+            scene.to_str().expect("utf8"),
+            "--time",
+            &time,
+            "-r",
+            &size,
+            "-f",
+            "1",
+            "-o",
+            png.to_str().expect("utf8"),
+        ]);
+        assert!(o.status.success(), "render: {}", text(&o.stderr));
+        rgb(&png)
+    };
+    let want = render(&timed, TIME, "at-time-nimbus.png");
+    let at_start = render(&timed, 0.0, "at-start-nimbus.png");
+    let still = timeline_scene(&out, "still", false, true);
+    let without_wind = render(&still, TIME, "without-wind-nimbus.png");
+    let steady = timeline_scene(&out, "steady", true, false);
+    let without_weather = render(&steady, TIME, "without-weather-nimbus.png");
+    let browser_png = out.join("at-time-chromium.png");
+    let o = Command::new("node")
+        .current_dir(browser_dir())
+        .arg("render.mjs")
+        .arg(&package)
+        .arg(&browser_png)
+        .args([
+            format!("width={w}"),
+            format!("height={h}"),
+            format!("pitch={}", v.pitch),
+            format!("yaw={}", v.yaw),
+            "fov=60".to_string(),
+            format!("wind={},{},{},{}", WIND[0], WIND[1], WIND[2], WIND[3]),
+            format!("weather={},{}", THINNING.0, THINNING.1),
+            format!("time={TIME}"),
+            // A frame at second 0 first: the clock's move must redraw the shadow atlas.
+            "first=1".to_string(),
+        ])
+        .output()
+        .expect("run node");
+    let log =
+        std::fs::read_to_string(format!("{}.log.json", browser_png.display())).unwrap_or_default();
+    assert!(
+        o.status.success(),
+        "the page failed or logged: {}{}\n{log}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    let got = rgb(&browser_png);
+    println!("screenshots: {}", out.display());
+    let compare = |a: &image::RgbImage, b: &image::RgbImage| {
+        (
+            rgb_hybrid_compare(a, b).expect("same size").score,
+            mean_difference(a, b),
+        )
+    };
+    let (score, mean) = compare(&want, &got);
+    println!(
+        "at {TIME} s: similarity {score:.4}, mean difference {mean:.2}/255 against nimbus render \
+         --time {TIME}"
+    );
+    assert!(
+        score >= MIN_SCORE && mean <= MAX_MEAN,
+        "the browser frame differs from nimbus render --time {TIME} (similarity {score:.4} < \
+         {MIN_SCORE} or mean {mean:.2} > {MAX_MEAN}); see {}",
+        out.display()
+    );
+    for (name, control) in [
+        ("second 0", &at_start),
+        ("the same time without wind", &without_wind),
+        ("the same time without the thinning", &without_weather),
+    ] {
+        let (score, mean) = compare(control, &got);
+        println!("control ({name}): similarity {score:.4}, mean difference {mean:.2}/255");
+        assert!(
+            score < MIN_SCORE || mean > MAX_MEAN,
+            "the comparison cannot tell {name} from the frame at {TIME} s"
+        );
+    }
 }
 
 /// The example page a three.js package ships (`example.html`, where the sun moves) runs in

@@ -4,9 +4,11 @@
 mod common;
 
 use std::path::Path;
+use std::process::Command;
 
 use common::{have_gpu, nimbus, text};
-use serde_json::Value;
+use nimbus_clouds::{CloudLibrary, parse_scene};
+use serde_json::{Value, json};
 
 const ENGINES: [&str; 6] = ["three", "webgpu", "wgpu", "vulkan", "unity", "metal"];
 
@@ -63,6 +65,16 @@ fn every_engine_gets_a_complete_package() {
             out.join("nimbus-sun.js").is_file(),
             javascript,
             "{engine}: the sun's JavaScript twin ships with JavaScript hosts only"
+        );
+        assert_eq!(
+            out.join("nimbus-wind.js").is_file(),
+            javascript,
+            "{engine}: the wind's JavaScript twin ships with JavaScript hosts only"
+        );
+        assert_eq!(
+            out.join("nimbus-timeline.js").is_file(),
+            engine == "three",
+            "{engine}: the timeline module ships with three.js packages"
         );
         if !javascript {
             let sun = &pair["passes"][0];
@@ -270,5 +282,172 @@ fn requests_an_engine_cannot_run_are_refused_and_nothing_is_written() {
             .ok()
             .as_deref(),
         Some("keep")
+    );
+}
+
+/// Scenes of the timeline test: a wind (`[wind]`) and weather states within the genus
+/// (`[[weather]]`), as TOML, and the same as `NimbusTimeline` calls take them.
+struct Timeline {
+    wind: &'static str,
+    weather: &'static str,
+    /// `[speed, directionDeg, topSpeed?, topDirectionDeg?]`, then `[coverage, at, over?]` each.
+    js_wind: &'static [f64],
+    js_weather: &'static [&'static [f64]],
+}
+
+const TIMELINES: [Timeline; 4] = [
+    // A westerly that strengthens and veers with height; the cumulus grow, then a cut.
+    Timeline {
+        wind: "speed = 6.0\ndirection_deg = 260.0\ntop_speed = 20.0\ntop_direction_deg = 280.0\n",
+        weather: "[[weather]]\nat = 7200.0\ncoverage = 0.35\n\
+                  [[weather]]\nat = 20000.0\ncoverage = 0.6\n\
+                  [[weather]]\nat = 20000.0\ncoverage = 0.1\n",
+        js_wind: &[6.0, 260.0, 20.0, 280.0],
+        js_weather: &[&[0.35, 7200.0], &[0.6, 20000.0], &[0.1, 20000.0]],
+    },
+    // No shear (the top wind defaults to the ground's); a north-easterly.
+    Timeline {
+        wind: "speed = 11.5\ndirection_deg = 45.0\n",
+        weather: "[[weather]]\nat = 600.0\ncoverage = 0.9\n",
+        js_wind: &[11.5, 45.0],
+        js_weather: &[&[0.9, 600.0]],
+    },
+    // Shear from still air at the ground to a southerly jet, and a thinning held at first:
+    // `over` starts the ramp late, as a state that keeps the coverage at `at - over` does.
+    Timeline {
+        wind: "speed = 0.0\ndirection_deg = 0.0\ntop_speed = 45.0\ntop_direction_deg = 180.0\n",
+        weather: "[[weather]]\nat = 3000.0\n\
+                  [[weather]]\nat = 90000.0\ncoverage = 0.05\n",
+        js_wind: &[0.0, 0.0, 45.0, 180.0],
+        js_weather: &[&[0.05, 90000.0, 87000.0]],
+    },
+    // An easterly veering through north with height.
+    Timeline {
+        wind: "speed = 3.0\ndirection_deg = 90.0\ntop_speed = 8.0\ntop_direction_deg = 350.0\n",
+        weather: "",
+        js_wind: &[3.0, 90.0, 8.0, 350.0],
+        js_weather: &[],
+    },
+];
+
+const TIMES: [f64; 9] = [
+    0.0, 1.0, 299.5, 600.0, 3600.0, 9000.0, 19999.0, 20000.0, 99_999.0,
+];
+
+/// The three.js package's timeline (`nimbus-timeline.js` with the generated `nimbus-wind.js`,
+/// run by node, no browser) gives the cloud block the drift and coverage Nimbus's own timeline
+/// (`ScenePreset::at`, what `nimbus render --time` draws) gives, for four winds and weathers at
+/// nine times up to a day.
+#[test]
+fn the_three_package_timeline_drifts_and_changes_as_nimbus_does() {
+    if Command::new("node").arg("--version").output().is_err() {
+        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
+        println!("skipping: node is not installed");
+        assert!(
+            !required,
+            "NIMBUS_REQUIRE_BROWSER=1 but node is not installed"
+        );
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let pkg = tmp.path().join("pkg");
+    let (p, _) = package("three", &pkg);
+    let uniforms: Value = read_json(&pkg.join(p["pairs"][0]["uniforms"].as_str().expect("file")));
+    let coverage = uniforms["members"]
+        .as_array()
+        .and_then(|m| m.iter().find(|m| m["member"] == "media.coverage"))
+        .and_then(|m| m["value"][0].as_f64())
+        .expect("media.coverage");
+    let lib = CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples"))
+        .expect("data");
+    let genus_coverage = |g: &str| lib.genus(g).map_or(0.0, |g| g.coverage);
+    // Nimbus's timeline, for a scene at the package's coverage.
+    let mut want = Vec::new();
+    for t in &TIMELINES {
+        let text = format!(
+            "name = \"t\"\ndescription = \"\"\ngenus = \"cumulus\"\ncoverage = {coverage}\n\
+             quality = \"low\"\n[wind]\n{}{}",
+            t.wind, t.weather
+        );
+        let scene = parse_scene(Path::new("t.toml"), &text).expect("scene");
+        let at: Vec<Value> = TIMES
+            .iter()
+            .map(|&s| {
+                let a = scene.at(s, &genus_coverage);
+                assert_eq!(a.layers.len(), 1, "one genus");
+                json!({
+                    "wind_drift": a.drift.ground.to_array(),
+                    "wind_shear_drift": a.drift.per_metre.to_array(),
+                    "coverage": a.layers[0].coverage,
+                })
+            })
+            .collect();
+        want.push(at);
+    }
+    let cases: Vec<Value> = TIMELINES
+        .iter()
+        .map(|t| json!({ "wind": t.js_wind, "weather": t.js_weather }))
+        .collect();
+    let runner = tmp.path().join("run.mjs");
+    std::fs::write(
+        &runner,
+        format!(
+            "import {{ NimbusTimeline }} from {module};\n\
+             const cases = {cases};\n\
+             const times = {times};\n\
+             console.log(JSON.stringify(cases.map((c) => {{\n\
+               const t = new NimbusTimeline({coverage});\n\
+               t.setWind(...c.wind);\n\
+               for (const [coverage, at, over] of c.weather) t.setWeather(coverage, {{ at, over }});\n\
+               return times.map((s) => t.at(s));\n\
+             }})));\n",
+            module = json!(format!("file://{}", pkg.join("nimbus-timeline.js").display())),
+            cases = Value::Array(cases),
+            times = json!(TIMES),
+        ),
+    )
+    .expect("write runner");
+    let o = Command::new("node").arg(&runner).output().expect("node");
+    assert!(o.status.success(), "node: {}", text(&o.stderr));
+    let got: Vec<Vec<Value>> = serde_json::from_slice(&o.stdout).expect("node's JSON");
+    let floats = |v: &Value| -> Vec<f64> {
+        v.as_array()
+            .map(|a| a.iter().filter_map(Value::as_f64).collect())
+            .unwrap_or_default()
+    };
+    // Relative to the drift's size (at least 1 m, or 1e-4 per metre): the JavaScript twin
+    // computes the velocity in double precision, the CPU twin in single.
+    let (mut drift_err, mut shear_err, mut coverage_err) = (0.0f64, 0.0f64, 0.0f64);
+    let mut largest = 0.0f64;
+    for (i, (w, g)) in want.iter().zip(&got).enumerate() {
+        for (j, (w, g)) in w.iter().zip(g).enumerate() {
+            let at = format!("timeline {i} at {} s", TIMES[j]);
+            for (key, floor, err) in [
+                ("wind_drift", 1.0, &mut drift_err),
+                ("wind_shear_drift", 1e-4, &mut shear_err),
+            ] {
+                let (w, g) = (floats(&w[key]), floats(&g[key]));
+                assert_eq!(g.len(), 2, "{at}: {key} {g:?}");
+                let size = w[0].hypot(w[1]);
+                if key == "wind_drift" {
+                    largest = largest.max(size);
+                }
+                let e = (w[0] - g[0]).hypot(w[1] - g[1]) / size.max(floor);
+                *err = err.max(e);
+                assert!(e < 1e-5, "{at}: {key} {g:?}, Nimbus {w:?}");
+            }
+            let (wc, gc) = (
+                w["coverage"].as_f64().expect("coverage"),
+                g["coverage"].as_f64().expect("coverage"),
+            );
+            coverage_err = coverage_err.max((wc - gc).abs());
+            assert!((wc - gc).abs() < 1e-6, "{at}: coverage {gc}, Nimbus {wc}");
+        }
+    }
+    println!(
+        "{} timelines × {} times: drift {drift_err:.1e} (relative; up to {largest:.0} m), shear \
+         drift {shear_err:.1e}, coverage {coverage_err:.1e} from Nimbus's timeline",
+        TIMELINES.len(),
+        TIMES.len()
     );
 }

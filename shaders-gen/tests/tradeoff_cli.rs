@@ -13,11 +13,9 @@ fn tradeoff_writes_a_table_a_plot_and_the_references() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let views = tmp.path().join("views");
     std::fs::create_dir(&views).expect("views");
-    std::fs::copy(
-        examples("views/below-deck-noon.toml"),
-        views.join("below-deck-noon.toml"),
-    )
-    .expect("copy view");
+    for view in ["below-deck-noon.toml", "cirrus-afternoon.toml"] {
+        std::fs::copy(examples(&format!("views/{view}")), views.join(view)).expect("copy view");
+    }
     let out = tmp.path().join("out");
     let o = nimbus(&[
         "tradeoff",
@@ -49,6 +47,19 @@ fn tradeoff_writes_a_table_a_plot_and_the_references() {
     ] {
         assert!(md.contains(want), "report lacks `{want}`:\n{md}");
     }
+    // The flat high layer is measured where the analysis chooses it (the cirrus view only),
+    // beside the march of `high` on the same view.
+    let section = md
+        .split("## Approximations the analysis chooses")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no approximations section:\n{md}"));
+    assert!(
+        section.contains("| cirrus-afternoon | high, flat high layer |")
+            && section.contains("| cirrus-afternoon | high |")
+            && section.contains("faster than the march")
+            && !section.contains("below-deck-noon"),
+        "{section}"
+    );
     // Low is the fastest row, so nothing can beat it: it is on the front.
     assert!(md.contains("- **low** is on the front"), "{md}");
     let svg = std::fs::read_to_string(out.join("tradeoff.svg")).expect("plot");

@@ -208,6 +208,75 @@ pub fn ground_bounce(c: &SceneContent) -> Verdict {
     }
 }
 
+/// Lowest base of a layer the flat 2D layer may stand for (m): cirrus and cirrostratus.
+pub const FLAT_LAYER_MIN_ALTITUDE: f32 = 6000.0;
+/// Thickest layer it may stand for (m): a sheet no pixel resolves the depth of from below.
+pub const FLAT_LAYER_MAX_THICKNESS: f32 = 1200.0;
+/// How far below the layer the camera must be (m): from near or inside it the layer has depth.
+pub const FLAT_LAYER_CAMERA_BELOW: f32 = 2000.0;
+
+/// The flat high layer (an approximation the analysis chooses, not an effect): every layer
+/// with density is thin (≤ [`FLAT_LAYER_MAX_THICKNESS`]) and high (base ≥
+/// [`FLAT_LAYER_MIN_ALTITUDE`]), and the camera is at least [`FLAT_LAYER_CAMERA_BELOW`] below
+/// them. A judgement: the accuracy study measures what it costs in error.
+pub fn flat_high_layer(c: &SceneContent) -> Verdict {
+    let clouds = clouds_present(c);
+    if !clouds.visible {
+        return verdict(false, format!("{}: nothing to draw", clouds.reason));
+    }
+    let layers: Vec<_> = c
+        .genus
+        .layers
+        .iter()
+        .filter(|l| l.is_enabled() && l.density_scale > 0.0)
+        .collect();
+    if let Some(l) = layers.iter().find(|l| l.altitude < FLAT_LAYER_MIN_ALTITUDE) {
+        return verdict(
+            false,
+            format!(
+                "a layer at {} m is not a high layer (below {FLAT_LAYER_MIN_ALTITUDE} m): the \
+                 volume is marched",
+                l.altitude
+            ),
+        );
+    }
+    if let Some(l) = layers.iter().find(|l| l.height > FLAT_LAYER_MAX_THICKNESS) {
+        return verdict(
+            false,
+            format!(
+                "a layer {} m thick has depth to show (over {FLAT_LAYER_MAX_THICKNESS} m): the \
+                 volume is marched",
+                l.height
+            ),
+        );
+    }
+    let base = layers
+        .iter()
+        .map(|l| l.altitude)
+        .fold(f32::INFINITY, f32::min);
+    if c.camera_altitude > base - FLAT_LAYER_CAMERA_BELOW {
+        return verdict(
+            false,
+            format!(
+                "camera at {} m is near the layer (base {base} m; flat needs {FLAT_LAYER_CAMERA_BELOW} \
+                 m below it): the volume is marched",
+                c.camera_altitude
+            ),
+        );
+    }
+    let thickest = layers.iter().map(|l| l.height).fold(0.0f32, f32::max);
+    verdict(
+        true,
+        format!(
+            "{} thin high layer(s) (base ≥ {base} m, ≤ {thickest} m thick) seen from {} m: drawn \
+             as a 2D layer, {} density reads per pixel instead of a march",
+            layers.len(),
+            c.camera_altitude,
+            crate::model::flat_layer::FLAT_SAMPLES
+        ),
+    )
+}
+
 /// The rule of a toggle, or `None` when only the quality preset decides it (the effect
 /// table's `rule` column).
 pub fn rule(t: Toggle) -> Option<fn(&SceneContent) -> Verdict> {
@@ -242,6 +311,10 @@ pub fn analyse(scene: &ScenePreset, genus: &Genus) -> Analysis {
         let forced = scene.features.get(t);
         let (included, reason) = match (forced, t.get(&preset), rule(t)) {
             (Some(on), _, _) => (on, format!("forced {} by the scene", on_off(on))),
+            (None, false, Some(r)) if t.chosen_in(scene.quality) => {
+                let v = r(&content);
+                (v.visible, v.reason)
+            }
             (None, false, _) => (
                 false,
                 format!("off in the `{}` preset", scene.quality.name()),

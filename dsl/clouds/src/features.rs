@@ -136,6 +136,12 @@ effects! {
     /// Approximate Mie (Jendersie & d'Eon 2023) instead of the genus' phase function.
     AccuratePhaseFunction, accurate_phase_function, "accurate-phase-function", tag "mie",
         presets [], rule None;
+    /// Thin high layers drawn as a textured 2D layer (a few density reads per pixel, no march).
+    /// An approximation, not an effect: in no preset, but the scene analysis chooses it in the
+    /// real-time presets ([`Toggle::chosen_in`]) where a thin high layer seen from far below is
+    /// all the sky holds (`analysis::flat_high_layer`).
+    FlatHighLayer, flat_high_layer, "flat-high-layer", tag "flat",
+        presets [], rule Some(analysis::flat_high_layer);
 }
 
 fn first_line(doc: &[&'static str]) -> &'static str {
@@ -143,6 +149,15 @@ fn first_line(doc: &[&'static str]) -> &'static str {
 }
 
 impl Toggle {
+    /// Whether the scene analysis may switch this approximation on at quality `q` when its rule
+    /// allows it (the real-time presets; `ultra` and `reference` always march the volume).
+    pub fn chosen_in(self, q: Quality) -> bool {
+        match self {
+            Toggle::FlatHighLayer => matches!(q, Quality::Low | Quality::Medium | Quality::High),
+            _ => false,
+        }
+    }
+
     /// A toggle by name (`shape-detail`, also `shape_detail`, any case).
     pub fn parse(s: &str) -> Option<Toggle> {
         let s = s.trim().to_ascii_lowercase().replace('_', "-");

@@ -10,6 +10,7 @@ pub mod catalog;
 pub mod clock;
 mod error;
 mod features;
+pub mod formation;
 pub mod functions;
 mod genus;
 pub mod key;

@@ -320,3 +320,31 @@ pub const TIME: Limit = Limit {
     flag: "--time",
     ..WEATHER_AT
 };
+
+pub const FORMATION_PROBABILITY: Limit = Limit {
+    field: "formation.humidity, activation, extinction",
+    flag: "--formation",
+    min: 0.0,
+    max: 1.0,
+    unit: "",
+    hint: "a probability per step of the formation automaton",
+};
+
+pub const FORMATION_STEP: Limit = Limit {
+    field: "formation.step_seconds",
+    flag: "--formation",
+    min: 1.0,
+    max: 3600.0,
+    unit: " s",
+    hint: "seconds per step of the formation automaton: with the time limit, at most 100,000 \
+           steps to compute",
+};
+
+pub const FORMATION_CELLS: Limit = Limit {
+    field: "formation.cells",
+    flag: "--formation",
+    min: 8.0,
+    max: 1024.0,
+    unit: "",
+    hint: "cells per side of the formation grid over one 100 km weather tile, a multiple of 8",
+};

@@ -9,6 +9,7 @@ use crate::limits::{self, Limit, Origin};
 
 use super::clock::Clock;
 use super::features::FeatureOverrides;
+use super::formation::Formation;
 use super::quality::Quality;
 use super::timeline::WeatherState;
 use super::wind::Wind;
@@ -65,6 +66,10 @@ pub struct ScenePreset {
     /// Weather states over time, in time order (`[[weather]]` tables).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub weather: Vec<WeatherState>,
+    /// Clouds forming and dissolving over the timeline (`[formation]`): where the automaton
+    /// has cloud, the weather lets the genus' clouds through.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub formation: Option<Formation>,
 }
 
 /// A pair of numbers, refusing a list of any other length (serde's fixed arrays accept and drop
@@ -151,6 +156,27 @@ impl ScenePreset {
             }
             if let Some(v) = w.top_direction_deg {
                 check(&limits::WIND_TOP_DIRECTION, v)?;
+            }
+        }
+        if let Some(f) = &self.formation {
+            let p = &limits::FORMATION_PROBABILITY;
+            for (field, v) in [
+                ("formation.humidity", f.humidity),
+                ("formation.activation", f.activation),
+                ("formation.extinction", f.extinction),
+            ] {
+                Limit { field, ..*p }.check(f64::from(v), origin(&Limit { field, ..*p }))?;
+            }
+            check(&limits::FORMATION_STEP, f.step_seconds)?;
+            let cells = &limits::FORMATION_CELLS;
+            cells.check(f64::from(f.cells), origin(cells))?;
+            if !f.cells.is_multiple_of(8) {
+                return Err(DataError::OutOfRange {
+                    origin: origin(cells),
+                    value: f.cells.to_string(),
+                    allowed: "a multiple of 8".into(),
+                    hint: cells.hint,
+                });
             }
         }
         let mut previous = 0.0f64;

@@ -8,11 +8,13 @@
 //! Two states at the same time are a cut: the second takes over at once, as a scene that wants
 //! one asks.
 
+use nimbus_dsl::prelude::*;
+use nimbus_dsl::{DslError, ModuleBuilder, loc};
 use serde::{Deserialize, Serialize};
 
 use crate::clock::SunPosition;
 use crate::scene::ScenePreset;
-use crate::wind::Drift;
+use crate::wind::{Drift, wind_velocity, wind_velocity_at};
 
 /// One weather state: by `at` seconds the weather has become this. What it does not name it
 /// keeps from the state before it (the scene itself before the first).
@@ -46,10 +48,51 @@ pub struct SceneAt {
     pub layers: Vec<Layer>,
 }
 
-/// `smoothstep(0, 1, x)`: the ramp transitions follow, so they start and end without a kink.
-fn ramp(x: f64) -> f64 {
-    let x = x.clamp(0.0, 1.0);
-    x * x * (3.0 - 2.0 * x)
+/// `smoothstep(0, 1, progress)`: the ramp transitions follow, so they start and end without a
+/// kink (`progress` is the fraction of the transition's interval gone by, clamped to 0..1).
+#[shader_fn]
+pub fn weather_ramp(progress: f32) -> f32 {
+    smoothstep(0.0, 1.0, progress)
+}
+
+/// The coverage `progress` of the way through a transition from `from` to `to` within one
+/// genus: what `media.coverage` holds while the weather changes.
+#[shader_fn]
+pub fn weather_coverage(from: f32, to: f32, progress: f32) -> f32 {
+    from + (to - from) * weather_ramp(progress)
+}
+
+/// A module holding what a host computes as the scene runs — the wind's velocity
+/// ([`wind_velocity`], [`wind_velocity_at`] and its [`TOP_ALTITUDE`](crate::wind::TOP_ALTITUDE))
+/// and the weather's ramp ([`weather_coverage`]) — for printing their JavaScript twins
+/// (`nimbus-wind.js` in engine packages with a JavaScript host). A fragment shader that uses
+/// them is the root that keeps them recorded.
+pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
+    ModuleBuilder::build(
+        "host",
+        "Host functions: the wind's velocity, the weather's ramp, and the altitude the \
+         reprojection moves with the wind.",
+        loc!(),
+        |m| {
+            m.fragment(
+                "fs_host",
+                "The wind at an altitude and a coverage.",
+                loc!(),
+                |frag_coord| {
+                    let ground = wind_velocity::shader(frag_coord.x, frag_coord.y);
+                    let top = wind_velocity::shader(frag_coord.z, frag_coord.w);
+                    let v = wind_velocity_at::shader(ground, top, frag_coord.x);
+                    let c = weather_coverage::shader(frag_coord.y, frag_coord.z, frag_coord.w);
+                    let a = crate::model::resolve::facing_altitude::shader(
+                        frag_coord.x,
+                        frag_coord.y,
+                        frag_coord.z,
+                    );
+                    v.extend(c).extend(a)
+                },
+            );
+        },
+    )
 }
 
 impl ScenePreset {
@@ -112,8 +155,9 @@ impl ScenePreset {
             ),
         };
         let span = to_at - from_at;
-        let s = if span > 0.0 {
-            ramp((seconds - from_at) / span)
+        // The fraction of the interval gone by, in f64 (a day of seconds), then rounded once.
+        let progress = if span > 0.0 {
+            ((seconds - from_at) / span) as f32
         } else {
             1.0
         };
@@ -121,17 +165,18 @@ impl ScenePreset {
             // One genus: interpolate the coverage; the picture's one pipeline stays.
             return vec![Layer {
                 genus: from.genus,
-                coverage: from.coverage + (to_layer.coverage - from.coverage) * s as f32,
+                coverage: weather_coverage(from.coverage, to_layer.coverage, progress),
                 weight: 1.0,
             }];
         }
+        let s = weather_ramp(progress);
         vec![
             Layer {
-                weight: (1.0 - s) as f32,
+                weight: 1.0 - s,
                 ..from
             },
             Layer {
-                weight: s as f32,
+                weight: s,
                 ..to_layer
             },
         ]

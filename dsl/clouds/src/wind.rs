@@ -4,8 +4,14 @@
 //! linearly with altitude, so each layer moves with the wind at its own height and a tall
 //! cloud leans downwind. The clouds' noise positions are displaced by the wind's drift, the
 //! same in the weather, shape and detail textures, so a cloud moves as a whole.
+//!
+//! The wind's velocity is a `#[shader_fn]` ([`wind_velocity`], [`wind_velocity_at`]): the
+//! timeline computes the drift with its CPU twin, and a JavaScript host (`nimbus-wind.js` in a
+//! three.js package, printed by [`nimbus_codegen::print_js`] from
+//! [`crate::timeline::host_module`]) with its JavaScript twin, so the formula exists once.
 
 use glam::Vec2;
+use nimbus_dsl::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Altitude (m) of a scene's `top_speed` and `top_direction_deg`.
@@ -25,11 +31,20 @@ pub struct Wind {
     pub top_direction_deg: Option<f32>,
 }
 
-/// Velocity (m/s, local x east, z south) of a wind of `speed` from `direction_deg`.
-pub fn velocity(speed: f32, direction_deg: f32) -> Vec2 {
+/// Velocity (m/s, local x east, z south) of a wind of `speed` (m/s) from `direction_deg`
+/// (degrees clockwise from north, where it blows from).
+#[shader_fn]
+pub fn wind_velocity(speed: f32, direction_deg: f32) -> Vec2 {
     let from = direction_deg.to_radians();
     // It blows towards the opposite azimuth: −(sin, −cos) of where it comes from.
     Vec2::new(-from.sin(), from.cos()) * speed
+}
+
+/// The velocity at `altitude` (m) of a wind whose velocity is `ground` near the ground and
+/// `top` at [`TOP_ALTITUDE`]: linear in altitude, continued above.
+#[shader_fn]
+pub fn wind_velocity_at(ground: Vec2, top: Vec2, altitude: f32) -> Vec2 {
+    ground + (top - ground) * (altitude / TOP_ALTITUDE)
 }
 
 /// How far the clouds have drifted after `seconds`: the displacement at the ground (m) and its
@@ -45,16 +60,17 @@ impl Wind {
     /// The velocity at `altitude` (m): linear in altitude through the ground's and
     /// [`TOP_ALTITUDE`]'s, continued above (the shader's drift is the same line).
     pub fn velocity_at(&self, altitude: f32) -> Vec2 {
-        let low = velocity(self.speed, self.direction_deg);
-        let high = velocity(
+        let low = wind_velocity(self.speed, self.direction_deg);
+        let high = wind_velocity(
             self.top_speed.unwrap_or(self.speed),
             self.top_direction_deg.unwrap_or(self.direction_deg),
         );
-        low + (high - low) * (altitude / TOP_ALTITUDE)
+        wind_velocity_at(low, high, altitude)
     }
 
     /// The drift after `seconds` (in f64, then rounded once: an f32 time would step by a
-    /// second after a few days of timeline).
+    /// second after a few days of timeline). A JavaScript host computes the same from the
+    /// JavaScript twins of [`wind_velocity`] (`NimbusTimeline` in a three.js package).
     pub fn drift(&self, seconds: f64) -> Drift {
         let low = self.velocity_at(0.0).as_dvec2();
         let high = self.velocity_at(TOP_ALTITUDE).as_dvec2();

@@ -10,10 +10,25 @@
 //   clouds.setSun(elevation, azimuth);   // degrees; lighting and shadows follow
 //   clouds.render(renderer);             // to the canvas, or clouds.render(renderer, target)
 //
-// In an EffectComposer, use `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
+// Clouds that change, as a scene's `[wind]` and `[[weather]]` and `nimbus render --time` do
+// (only uniforms change: no new shader, no pipeline switch):
+//
+//   clouds.setWind(6, 260, 20, 280);     // m/s and where it blows from (degrees clockwise from
+//                                        // north), near the ground and at 10 km (default: same)
+//   clouds.setWeather(0.35, { at: 7200 });  // coverage reached by second 7200, a smoothstep ramp
+//                                        // from the state before; { over: 600 } ramps over the
+//                                        // last 600 s (from now when `at` is left out)
+//   clouds.setTime(9000);                // seconds since the timeline's start: the clouds drift
+//                                        // with the wind and the coverage follows its states
+//
+// The wind's velocity and the weather's ramp are the JavaScript twins of Nimbus's own shader
+// functions (nimbus-wind.js, used through nimbus-timeline.js). In an EffectComposer, use
+// `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
 
 import * as THREE from 'three';
 import { sun_direction, sun_light } from './nimbus-sun.js';
+import { NimbusTimeline } from './nimbus-timeline.js';
+import { facing_altitude } from './nimbus-wind.js';
 
 /** The bytes of a hex string. */
 function fromHex(hex) {
@@ -180,6 +195,10 @@ export class NimbusClouds {
     this.height = 0;
     this.shadowDirty = true;
     this.shaderErrors = [];
+    // Seconds since the timeline's start, and its wind and weather states (none: still air, the
+    // package's coverage).
+    this.time = 0;
+    this.timeline = new NimbusTimeline(blocks.pair.float('media.coverage'));
     this.scene = new THREE.Scene();
     this.camera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
     const geometry = new THREE.BufferGeometry();
@@ -322,6 +341,57 @@ export class NimbusClouds {
     this.shadowDirty = true;
   }
 
+  /**
+   * The wind, as a scene's `[wind]` gives it: `speed` in m/s near the ground and `directionDeg`,
+   * where it blows from, in degrees clockwise from north (270: a westerly, blowing east);
+   * `topSpeed` and `topDirectionDeg` at 10 km (the ground's by default), linear in altitude
+   * between. The clouds drift with it as `setTime` moves the clock (the drift is redone at the
+   * current time now).
+   */
+  setWind(speed, directionDeg, topSpeed = speed, topDirectionDeg = directionDeg) {
+    this.timeline.setWind(speed, directionDeg, topSpeed, topDirectionDeg);
+    this.setTime(this.time);
+  }
+
+  /**
+   * A weather state, as a scene's `[[weather]]` within this pair's genus: by `at` seconds (on
+   * `setTime`'s clock) the coverage has become `coverage` (0..1), ramping smoothly (smoothstep,
+   * as Nimbus's timeline) from the state before it — from that state's time (second 0 and the
+   * package's coverage for the first), or over the last `over` seconds before `at` when `over`
+   * is given. Without `at` the state is reached `over` seconds after the current time (at once
+   * without `over`). Only `media.coverage` changes; the shadow atlas is redrawn.
+   */
+  setWeather(coverage, { at, over } = {}) {
+    this.timeline.setWeather(coverage, { at, over, now: this.time });
+    this.setTime(this.time);
+  }
+
+  /** Forgets every weather state: the package's coverage holds again. */
+  clearWeather() {
+    this.timeline.clearWeather();
+    this.setTime(this.time);
+  }
+
+  /**
+   * Moves the clock to `seconds` since the timeline's start (as `nimbus render --time`): sets
+   * `media.wind_drift` and `media.wind_shear_drift` from the wind and `media.coverage` from the
+   * weather states. The shadow atlas is redrawn on the next frame when any of them changed.
+   */
+  setTime(seconds) {
+    if (!Number.isFinite(seconds)) throw new Error(`setTime: seconds must be a finite number, got ${seconds}`);
+    this.time = seconds;
+    const at = this.timeline.at(seconds);
+    const u = this.blocks.pair;
+    const members = [['media.wind_drift', 2], ['media.wind_shear_drift', 2], ['media.coverage', 1]];
+    const words = () => members.flatMap(([m, n]) => Array.from(u.floats.subarray(u.word(m), u.word(m) + n)));
+    const before = words();
+    u.setFloats('media.wind_drift', at.wind_drift);
+    u.setFloats('media.wind_shear_drift', at.wind_shear_drift);
+    u.setFloats('media.coverage', [at.coverage]);
+    // The shadow atlas holds the clouds where they were: redraw it when they moved or changed.
+    if (words().some((v, i) => !Object.is(v, before[i]))) this.shadowDirty = true;
+  }
+
   /** Linear radiance is scaled by this before the tone curve (8 in `nimbus render`). */
   set exposure(value) {
     this.blocks.display.setFloats('exposure', [value]);
@@ -369,7 +439,22 @@ export class NimbusClouds {
       const r = this.blocks.resolve;
       const prev = this.previousViewProjection ?? this.viewProjection;
       const inverse = this.viewProjection.clone().invert();
-      r.setFloats('reprojection', new THREE.Matrix4().multiplyMatrices(prev, inverse).elements);
+      r.setFloats('inverse_view_projection', inverse.elements);
+      r.setFloats('previous_view_projection', prev.elements);
+      // The wind's move of the clouds where the view rays meet them (the slab's face towards
+      // the camera) since the history's frame: the history is read where those clouds were
+      // (drifting clouds do not smear).
+      const u = this.blocks.pair;
+      const altitude = facing_altitude(
+        u.float('camera_altitude'), u.float('march.min_height'), u.float('march.max_height'));
+      const drift = ['x', 'z'].map((_, i) =>
+        u.floats[u.word('media.wind_drift') + i] + u.floats[u.word('media.wind_shear_drift') + i] * altitude);
+      const before = index === 0 || !this.previousDrift ? drift : this.previousDrift;
+      r.setFloats('cloud_shift', [drift[0] - before[0], 0, drift[1] - before[1]]);
+      r.setFloats('cloud_altitude', [altitude]);
+      r.setFloats('camera_altitude', [u.float('camera_altitude')]);
+      r.setFloats('planet_radius', [u.float('march.radius')]);
+      this.previousDrift = drift;
       r.setFloats('pixel_offset', offset);
       r.setFloats('current_weight', [1 / (visit + 1)]);
       r.setFloats('history_valid', [index === 0 ? 0 : 1]);

@@ -54,6 +54,7 @@ pub const SHADOWS: Toggle = Toggle::Shadows;
 pub const GROUND_BOUNCE: Toggle = Toggle::GroundBounce;
 pub const POWDER: Toggle = Toggle::Powder;
 pub const SUN_SKY_LIGHT: Toggle = Toggle::AccurateSunSkyLight;
+pub const FLAT_HIGH_LAYER: Toggle = Toggle::FlatHighLayer;
 
 pub const HENYEY_GREENSTEIN: PhaseKind = PhaseKind::HenyeyGreenstein;
 pub const DUAL_LOBE: PhaseKind = PhaseKind::DualLobe;

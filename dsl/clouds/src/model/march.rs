@@ -13,10 +13,11 @@ use nimbus_dsl::prelude::*;
 
 use super::bindings::CLOUDS;
 use super::choices::{
-    APPROXIMATE_MIE, DUAL_LOBE, GROUND_BOUNCE, GROUPS, HAZE, HENYEY_GREENSTEIN, LIGHT_SHAFTS,
-    OCTAVES, POWDER, SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
+    APPROXIMATE_MIE, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE, HENYEY_GREENSTEIN,
+    LIGHT_SHAFTS, OCTAVES, POWDER, SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
 };
 use super::density::{MediaParams, eroded_density, layer_density, weather_density};
+use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
 use super::phase::{approximate_mie, henyey_greenstein, isotropic_phase};
@@ -723,7 +724,11 @@ pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     // same whatever the sub-pixel offset.
     let jitter =
         (interleaved_gradient_noise(cell + Vec2::splat(0.5), u.frame) + u.jitter).fract_gl();
-    let clouds = march_clouds(direction, jitter, pixel_angle, key);
+    let clouds = if gate(key, FLAT_HIGH_LAYER) {
+        flat_layer(direction, jitter, pixel_angle, key)
+    } else {
+        march_clouds(direction, jitter, pixel_angle, key)
+    };
     if key.writes(PixelOutput::Clouds) {
         return clouds.radiance.extend(clouds.transmittance);
     }

@@ -6,6 +6,8 @@ pub mod choices;
 pub mod clouds;
 pub mod density;
 pub mod display;
+pub mod flat_layer;
+pub mod formation;
 pub mod genus_fns;
 pub mod layers;
 pub mod march;

@@ -161,6 +161,9 @@ pub fn detail_noise(uvw: Vec3, cells: i32) -> f32 {
 /// Contrast of the weather signals about their mean.
 const WEATHER_CONTRAST: f32 = 3.0;
 
+/// Lattice cells per side of the weather texture's tile (its base frequency).
+pub const WEATHER_CELLS: i32 = 8;
+
 /// Local weather at `uv` ∈ [0, 1)²: coverage signals for low (r), mid (g), high (b) and extra
 /// (a) clouds, each a tileable Perlin fbm at its own scale.
 #[shader_fn]

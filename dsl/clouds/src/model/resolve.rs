@@ -6,21 +6,35 @@
 //! stale colours cannot linger. At full resolution every pixel is current and the history is
 //! an accumulation of jittered frames.
 //!
-//! Reprojection treats what a pixel sees as distant (the previous view-projection of the
-//! ray's direction): exact for a turning camera, and off by the parallax of kilometres-away
-//! clouds for a moving one, which the clipping absorbs.
+//! Reprojection finds where what a pixel sees was a frame ago. The camera's turn moves every
+//! direction; the wind moves the clouds: a pixel's ray meets the clouds at their
+//! slab's face towards the camera (the bases seen from below: [`facing_altitude`]), and the cloud
+//! there was `cloud_shift` upwind a frame ago, so the history is read where that point was seen. Rays that miss the slab (the ground, the sky beyond) are reprojected as
+//! distant directions. The parallax of a moving camera, and the depth of the clouds about their
+//! middle, are left to the clipping.
 
-use glam::{Mat4, Vec2, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{CURRENT, HISTORY, LINEAR_CLAMP, NEAREST_CLAMP, RESOLVE};
+use super::shell::ray_shell;
 
 /// Uniforms of the resolve pass.
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
 pub struct ResolveParams {
-    /// Current clip-space position to the previous frame's clip space (directions only).
-    pub reprojection: Mat4,
+    /// This frame's clip space to a local-frame direction, and the previous frame's
+    /// view-projection (both without translation).
+    pub inverse_view_projection: Mat4,
+    pub previous_view_projection: Mat4,
+    /// How far the wind carried the clouds since the previous frame (m, local frame, at
+    /// `cloud_altitude`); zero for still clouds.
+    pub cloud_shift: Vec3,
+    /// Altitude where a pixel's ray meets the clouds ([`facing_altitude`]), the camera's, and
+    /// the planet's radius.
+    pub cloud_altitude: f32,
+    pub camera_altitude: f32,
+    pub planet_radius: f32,
     /// Full output size, and the size of the cloud pass's target.
     pub resolution: Vec2,
     pub low_resolution: Vec2,
@@ -90,7 +104,16 @@ pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {
         (pixel.x + 0.5) / r.resolution.x * 2.0 - 1.0,
         1.0 - (pixel.y + 0.5) / r.resolution.y * 2.0,
     );
-    let previous = r.reprojection * vec4(ndc.x, ndc.y, 1.0, 1.0);
+    let far = r.inverse_view_projection * vec4(ndc.x, ndc.y, 1.0, 1.0);
+    let direction = (far.xyz() / far.w).normalize();
+    let point = previous_point(
+        direction,
+        r.cloud_shift,
+        r.cloud_altitude,
+        r.camera_altitude,
+        r.planet_radius,
+    );
+    let previous = r.previous_view_projection * point.extend(1.0);
     let previous_ndc = vec2(previous.x, previous.y) / previous.w;
     let uv = vec2(previous_ndc.x * 0.5 + 0.5, 0.5 - previous_ndc.y * 0.5);
     let on_screen = previous.w > 0.0 && uv.x >= 0.0 && uv.x <= 1.0 && uv.y >= 0.0 && uv.y <= 1.0;
@@ -111,8 +134,32 @@ pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {
     clipped
 }
 
-/// Reprojection matrix from the current frame's inverse view-projection to the previous
-/// frame's view-projection, both without translation.
-pub fn reprojection(previous_view_projection: Mat4, inverse_view_projection: Mat4) -> Mat4 {
-    previous_view_projection * inverse_view_projection
+/// The altitude where a view ray first meets a cloud slab from `bottom` to `top` (m): its base
+/// for a camera below (what the bases show), its top for one above, its middle from inside. The
+/// reprojection moves what is seen there with the wind; measured against the middle, the base
+/// left a seventh of the ghost pixels under a cumulus field (`tests/temporal.rs`).
+#[shader_fn]
+pub fn facing_altitude(camera_altitude: f32, bottom: f32, top: f32) -> f32 {
+    select(
+        select(0.5 * (bottom + top), top, camera_altitude >= top),
+        bottom,
+        camera_altitude <= bottom,
+    )
+}
+
+/// Where the clouds a pixel's ray (`direction`) meets at `cloud_altitude` were before the wind
+/// moved them by `shift`, camera-relative (m); the direction itself where the ray misses that
+/// altitude or nothing moved (a point at any distance along it projects the same).
+#[shader_fn]
+pub fn previous_point(
+    direction: Vec3,
+    shift: Vec3,
+    cloud_altitude: f32,
+    camera_altitude: f32,
+    radius: f32,
+) -> Vec3 {
+    let roots = ray_shell(camera_altitude, direction.y, cloud_altitude, radius);
+    let distance = select(roots.y, roots.x, roots.x > 0.0);
+    let moved = shift.dot(shift) > 0.0 && distance > 0.0;
+    select(direction, direction * distance - shift, moved)
 }
