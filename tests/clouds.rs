@@ -241,8 +241,8 @@ fn cloud_variant_manifest_is_pinned() {
 #[test]
 fn representative_cloud_keys_are_pinned_per_target() {
     let lib = library();
-    // Three distinct cloud keys (low, high, and a Henyey–Greenstein genus at medium) and the
-    // shadow pass of high; stratus at high runs the same shader as cumulus at high (the genus
+    // Three distinct cloud keys (low, high, and a Henyey–Greenstein genus at medium), the
+    // shadow pass of high, and the flat high layer the analysis chooses for high cirrus; stratus at high runs the same shader as cumulus at high (the genus
     // is uniform values). Cirrus names its own weather function (`streak_weather`).
     let mut keys = Vec::new();
     for (genus, q) in [
@@ -260,6 +260,17 @@ fn representative_cloud_keys_are_pinned_per_target() {
     );
     assert_eq!(keys[1], ShaderKey::Clouds(high.key));
     keys.extend(high.key.shadow_key().map(ShaderKey::Shadow));
+    // The flat high layer, as the analysis derives it for the high-cirrus scene.
+    let scene = &lib.scenes["high-cirrus"].1;
+    let cirrus = lib.genus("cirrus").expect("genus");
+    let derived = nimbus_clouds::analyse(scene, cirrus).features;
+    assert!(
+        derived.flat_high_layer,
+        "high-cirrus no longer derives the flat layer"
+    );
+    keys.push(ShaderKey::Clouds(
+        CloudVariant::new(cirrus, Quality::High, derived).key,
+    ));
     for key in keys {
         let g = generate_variant(&key, &Target::ALL).expect("generate");
         insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);

@@ -420,6 +420,17 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     };
     check_file(&a.out, signature, overwrite)?;
     let user = user_textures(a)?;
+    // Clouds forming and dissolving: the scene's automaton, run to `--time`, gates the weather.
+    // Checked before any GPU work, as the textures are.
+    let formation = load_scene(&scene_file(data, a)?)?.formation;
+    if formation.is_some() && a.weather_texture.is_some() {
+        return Err(CliError::Unknown {
+            kind: "--weather-texture with this scene",
+            given: "a scene with [formation], whose automaton gates the procedural weather".into(),
+            known: "one of them: drop --weather-texture, or the scene's [formation] table".into(),
+        }
+        .into());
+    }
     let gpu = Gpu::new()?;
     println!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
@@ -430,8 +441,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
         })?;
         renderer.set_texture(*kind, TextureSource::User(t));
     }
-    // Clouds forming and dissolving: the scene's automaton, run to `--time`, gates the weather.
-    if let Some(f) = load_scene(&scene_file(data, a)?)?.formation {
+    if let Some(f) = formation {
         let mut sim = FormationSim::new(&gpu, f, TextureSizes::default().weather)?;
         sim.apply(&mut renderer, a.time.unwrap_or(0.0))?;
         println!(

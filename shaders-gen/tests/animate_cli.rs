@@ -111,3 +111,95 @@ fn bad_times_are_refused_naming_the_flag() {
     assert!(!o.status.success() && err.contains("--time"), "{err}");
     assert!(!png.exists());
 }
+
+/// Pixels (of 255 per channel) where two PNGs differ by more than 30 in some channel, as a
+/// share of all.
+fn changed_share(a: &std::path::Path, b: &std::path::Path) -> f64 {
+    let a = image::open(a).expect("png").to_rgb8();
+    let b = image::open(b).expect("png").to_rgb8();
+    let changed = a
+        .pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 30))
+        .count();
+    changed as f64 / f64::from(a.width() * a.height())
+}
+
+#[test]
+fn render_time_grows_clouds_where_the_scene_forms_them() {
+    if !have_gpu() {
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let scene = examples("scenes/clouds-forming.toml");
+    // The same scene without its [formation] table: the control that the automaton gates.
+    let text_of = std::fs::read_to_string(&scene).expect("scene");
+    let plain = tmp.path().join("plain.toml");
+    let cut = text_of.find("[formation]").expect("a [formation] table");
+    std::fs::write(
+        &plain,
+        text_of[..cut].replace("name = \"clouds-forming\"", "name = \"plain\""),
+    )
+    .expect("write");
+    let render = |scene: &str, time: &str, name: &str| {
+        let out = tmp.path().join(name);
+        let o = nimbus(&[
+            "render",
+            scene,
+            "--time",
+            time,
+            "-r",
+            "96x54",
+            "-f",
+            "1",
+            "-o",
+            out.to_str().expect("utf8"),
+        ]);
+        assert!(
+            o.status.success(),
+            "{}\n{}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
+        (out, text(&o.stdout))
+    };
+    let (clear, said) = render(&scene, "0", "t0.png");
+    assert!(said.contains("formation: step 0"), "{said}");
+    let (formed, said) = render(&scene, "1500", "t1500.png");
+    assert!(said.contains("formation: step 75"), "{said}");
+    let (ungated, _) = render(plain.to_str().expect("utf8"), "0", "plain.png");
+    let (grown, gated) = (
+        changed_share(&clear, &formed),
+        changed_share(&clear, &ungated),
+    );
+    println!(
+        "pixels changed: second 0 → 1500 {:.1} %; second 0 with and without formation {:.1} %",
+        grown * 100.0,
+        gated * 100.0
+    );
+    assert!(grown > 0.01, "no cloud formed by second 1500: {grown}");
+    assert!(
+        gated > 0.01,
+        "the automaton did not gate the weather: {gated}"
+    );
+    // The automaton gates the procedural weather: a user's weather texture is refused with it.
+    let weather = tmp.path().join("w.png");
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([128, 128, 128, 255]))
+        .save(&weather)
+        .expect("png");
+    let out = tmp.path().join("refused.png");
+    let o = nimbus(&[
+        "render",
+        &scene,
+        "--weather-texture",
+        weather.to_str().expect("utf8"),
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    let err = text(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("--weather-texture") && err.contains("[formation]"),
+        "{err}"
+    );
+    assert!(!out.exists(), "a refused render wrote {}", out.display());
+}

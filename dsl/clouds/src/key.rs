@@ -198,8 +198,9 @@ impl CloudKey {
     }
 
     /// Every canonical key of the built-in genus functions: each combination of the toggles
-    /// (light shafts only with haze; the Mie toggle is a phase kind), 1–12 octaves, the four
-    /// phase kinds and one or two lane groups. 192 × 12 × 4 × 2 = 18,432 keys. A genus' own
+    /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer with
+    /// any of them), 1–12 octaves, the four phase kinds and one or two lane groups.
+    /// 384 × 12 × 4 × 2 = 36,864 keys. A genus' own
     /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL
