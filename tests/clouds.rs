@@ -89,7 +89,7 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
         Toggle::Powder => &["powder_exponent)"],
         Toggle::AccurateSunSkyLight => &["sun_attenuation"],
         Toggle::AccuratePhaseFunction => &["approximate_mie"],
-        Toggle::FlatHighLayer => &["flat_vertical_depth"],
+        Toggle::FlatHighLayer => &["flat_path_depth"],
     }
 }
 

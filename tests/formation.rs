@@ -188,3 +188,34 @@ fn turnover(grid: &mut FormationGrid, s: &Formation) -> (usize, usize) {
     let came_and_went = (0..n).filter(|i| high[*i] && low[*i]).count();
     (came_and_went, high.iter().filter(|h| **h).count())
 }
+
+#[test]
+fn bad_formation_values_name_the_file_the_field_and_the_value() {
+    let base = "name = \"f\"\ndescription = \"\"\ngenus = \"cumulus\"\n[formation]\n";
+    for (line, field, value) in [
+        ("extinction = 1.5", "formation.extinction", "1.5"),
+        ("humidity = -0.1", "formation.humidity", "-0.1"),
+        ("step_seconds = 0.0", "formation.step_seconds", "0"),
+        ("cells = 12", "formation.cells", "12"),
+        ("cells = 4096", "formation.cells", "4096"),
+    ] {
+        let text = format!("{base}{line}\n");
+        let e = nimbus_clouds::parse_scene(std::path::Path::new("scenes/f.toml"), &text)
+            .err()
+            .unwrap_or_else(|| panic!("`{line}` was accepted"));
+        let message = e.to_string();
+        assert!(
+            message.contains("scenes/f.toml") && message.contains(field) && message.contains(value),
+            "`{line}`: {message}"
+        );
+    }
+    // And an unknown key is refused by name.
+    let e = nimbus_clouds::parse_scene(
+        std::path::Path::new("scenes/f.toml"),
+        &format!("{base}extintion = 0.1\n"),
+    )
+    .err()
+    .map(|e| e.to_string())
+    .unwrap_or_default();
+    assert!(e.contains("extintion"), "{e}");
+}

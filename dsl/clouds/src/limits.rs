@@ -323,7 +323,7 @@ pub const TIME: Limit = Limit {
 
 pub const FORMATION_PROBABILITY: Limit = Limit {
     field: "formation.humidity, activation, extinction",
-    flag: "--formation",
+    flag: "(scene files only)",
     min: 0.0,
     max: 1.0,
     unit: "",
@@ -332,7 +332,7 @@ pub const FORMATION_PROBABILITY: Limit = Limit {
 
 pub const FORMATION_STEP: Limit = Limit {
     field: "formation.step_seconds",
-    flag: "--formation",
+    flag: "(scene files only)",
     min: 1.0,
     max: 3600.0,
     unit: " s",
@@ -342,7 +342,7 @@ pub const FORMATION_STEP: Limit = Limit {
 
 pub const FORMATION_CELLS: Limit = Limit {
     field: "formation.cells",
-    flag: "--formation",
+    flag: "(scene files only)",
     min: 8.0,
     max: 1024.0,
     unit: "",

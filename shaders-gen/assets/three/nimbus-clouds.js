@@ -447,8 +447,9 @@ export class NimbusClouds {
       const u = this.blocks.pair;
       const altitude = facing_altitude(
         u.float('camera_altitude'), u.float('march.min_height'), u.float('march.max_height'));
-      const drift = ['x', 'z'].map((_, i) =>
-        u.floats[u.word('media.wind_drift') + i] + u.floats[u.word('media.wind_shear_drift') + i] * altitude);
+      const ground = u.word('media.wind_drift');
+      const shear = u.word('media.wind_shear_drift');
+      const drift = [0, 1].map((i) => u.floats[ground + i] + u.floats[shear + i] * altitude);
       const before = index === 0 || !this.previousDrift ? drift : this.previousDrift;
       r.setFloats('cloud_shift', [drift[0] - before[0], 0, drift[1] - before[1]]);
       r.setFloats('cloud_altitude', [altitude]);
