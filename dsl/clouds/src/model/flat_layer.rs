@@ -124,5 +124,5 @@ pub fn flat_layer(
 const INV_FOUR_PI: f32 = 0.079_577_47;
 /// Depth fractions of the two-point Gauss–Legendre rule on [0, 1]: (1 ∓ 1/√3) / 2.
 const GAUSS_NEAR: f32 = 0.211_324_87;
-const GAUSS_FAR: f32 = 0.788_675_13;
+const GAUSS_FAR: f32 = 0.788_675_1;
 const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
