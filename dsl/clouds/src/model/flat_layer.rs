@@ -16,7 +16,10 @@ use nimbus_dsl::prelude::*;
 
 use super::bindings::CLOUDS;
 use super::choices::{GROUND_BOUNCE, POWDER, gate};
-use super::march::{MarchResult, altitude_along, cloud_range, multiple_scattering, total_density};
+use super::march::{
+    MarchResult, altitude_along, cloud_range, ground_bounce_light, multiple_scattering,
+    total_density,
+};
 use super::shell::ray_shell;
 use crate::key::CloudKey;
 
@@ -97,14 +100,7 @@ pub fn flat_layer(
     let mut light = l.sun_irradiance * (scattered * sun_up);
     if gate(key, GROUND_BOUNCE) {
         // The ground's light, through the lower half of the layer, as the march adds it.
-        let ground_irradiance = l.sky_irradiance
-            + l.sun_irradiance * ((1.0 - u.media.coverage) * l.sun_direction.y.max(0.0));
-        let bounce = l.ground_albedo
-            * INV_PI
-            * (-0.5 * tau_vertical).exp()
-            * INV_FOUR_PI
-            * l.ground_bounce_scale;
-        light += ground_irradiance * bounce;
+        light += ground_bounce_light(0.5 * tau_vertical);
     }
     // The sky's light, as the march gives it at a layer's middle.
     light += l.sky_irradiance * (INV_FOUR_PI * 0.75 * l.sky_light_scale);
@@ -125,4 +121,3 @@ const INV_FOUR_PI: f32 = 0.079_577_47;
 /// Depth fractions of the two-point Gauss–Legendre rule on [0, 1]: (1 ∓ 1/√3) / 2.
 const GAUSS_NEAR: f32 = 0.211_324_87;
 const GAUSS_FAR: f32 = 0.788_675_1;
-const INV_PI: f32 = core::f32::consts::FRAC_1_PI;

@@ -230,6 +230,20 @@ pub const WORKGROUP: u32 = 64;
 /// Cells per side of a grid: at least 4 (the neighbourhood reaches 2 cells), at most 1024.
 pub const CELLS: std::ops::RangeInclusive<u32> = 4..=1024;
 
+/// A compute entry point with one item per invocation: `body` runs for the items below `count`
+/// (the dispatch rounds up to whole workgroups of [`WORKGROUP`]).
+fn per_item(m: &mut ModuleBuilder, entry: &str, doc: &str, count: u32, body: impl FnOnce(U32)) {
+    m.compute(entry, doc, loc!(), [WORKGROUP, 1, 1], |gid| {
+        let index = nimbus_dsl::control::bind("index", loc!(), gid.x);
+        nimbus_dsl::control::branch(
+            loc!(),
+            nimbus_dsl::ops::lt(index, count),
+            || body(index),
+            || {},
+        );
+    });
+}
+
 /// The step kernel for a `cells`-wide grid: one cell per invocation, reading step k's states and
 /// densities and writing step k + 1's.
 pub fn formation_step_module(cells: u32) -> Result<Module, DslError> {
@@ -246,47 +260,38 @@ pub fn formation_step_module(cells: u32) -> Result<Module, DslError> {
             let density_out =
                 m.storage::<F32>("density_out", 0, slots::DENSITY_OUT, true, "Step k + 1.");
             let supply = m.storage::<U32>("supply", 0, slots::SUPPLY, false, "Vapour supply.");
-            m.compute(
+            per_item(
+                m,
                 "cs_formation_step",
                 "One cell per invocation; the grid wraps.",
-                loc!(),
-                [WORKGROUP, 1, 1],
-                |gid| {
-                    let index = nimbus_dsl::control::bind("index", loc!(), gid.x);
-                    nimbus_dsl::control::branch(
-                        loc!(),
-                        nimbus_dsl::ops::lt(index, cells * cells),
-                        || {
-                            let x = index % cells;
-                            let y = index / cells;
-                            let states = states_in.array();
-                            let at = |offset: (i32, i32)| {
-                                // (x + cells + dx) % cells, the offset folded in at generation time.
-                                let nx = (x + (cells as i32 + offset.0) as u32) % cells;
-                                let ny = (y + (cells as i32 + offset.1) as u32) % cells;
-                                nx + ny * cells
-                            };
-                            let neighbours = NEIGHBOURS
-                                .iter()
-                                .fold(U32::lit(0), |acc, o| acc | states.get(at(*o)));
-                            let cloudy = SMOOTHING.iter().fold(U32::lit(0), |acc, o| {
-                                acc + has::shader(states.get(at(*o)), CLD)
-                            });
-                            let p = params.get();
-                            let next = formation_cell::shader(
-                                states.get(index),
-                                neighbours,
-                                index,
-                                supply.array().get(index),
-                                p,
-                            );
-                            states_out.array().set(index, next);
-                            let d =
-                                formation_density::shader(density_in.array().get(index), cloudy, p);
-                            density_out.array().set(index, d);
-                        },
-                        || {},
+                cells * cells,
+                |index| {
+                    let x = index % cells;
+                    let y = index / cells;
+                    let states = states_in.array();
+                    let at = |offset: (i32, i32)| {
+                        // (x + cells + dx) % cells, the offset folded in at generation time.
+                        let nx = (x + (cells as i32 + offset.0) as u32) % cells;
+                        let ny = (y + (cells as i32 + offset.1) as u32) % cells;
+                        nx + ny * cells
+                    };
+                    let neighbours = NEIGHBOURS
+                        .iter()
+                        .fold(U32::lit(0), |acc, o| acc | states.get(at(*o)));
+                    let cloudy = SMOOTHING.iter().fold(U32::lit(0), |acc, o| {
+                        acc + has::shader(states.get(at(*o)), CLD)
+                    });
+                    let p = params.get();
+                    let next = formation_cell::shader(
+                        states.get(index),
+                        neighbours,
+                        index,
+                        supply.array().get(index),
+                        p,
                     );
+                    states_out.array().set(index, next);
+                    let d = formation_density::shader(density_in.array().get(index), cloudy, p);
+                    density_out.array().set(index, d);
                 },
             );
         },
@@ -307,53 +312,39 @@ pub fn formation_weather_module(cells: u32, size: u32, row: u32) -> Result<Modul
             let next = m.storage::<F32>("next", 0, slots::NEXT, false, "At step k + 1.");
             let base = m.storage::<U32>("base", 0, slots::BASE, false, "Weather texels.");
             let texels = m.storage::<U32>("texels", 0, slots::TEXELS, true, "Gated texels.");
-            m.compute(
+            per_item(
+                m,
                 "cs_formation_weather",
                 "One texel per invocation.",
-                loc!(),
-                [WORKGROUP, 1, 1],
-                |gid| {
-                    let index = nimbus_dsl::control::bind("index", loc!(), gid.x);
-                    nimbus_dsl::control::branch(
-                        loc!(),
-                        nimbus_dsl::ops::lt(index, size * size),
-                        || {
-                            let tx = index % size;
-                            let ty = index / size;
-                            // Cell centres sit at (i + 0.5) / cells of the tile, as texel centres do.
-                            let scale = cells as f32 / size as f32;
-                            let gx = (nimbus_dsl::ops::cast::<F32, _>(tx) + 0.5) * scale
-                                + (cells as f32 - 0.5);
-                            let gy = (nimbus_dsl::ops::cast::<F32, _>(ty) + 0.5) * scale
-                                + (cells as f32 - 0.5);
-                            // Shifted by a whole grid so the floor is of a positive number.
-                            let cx = nimbus_dsl::ops::cast::<U32, _>(gx.floor());
-                            let cy = nimbus_dsl::ops::cast::<U32, _>(gy.floor());
-                            let f = shader::vec2(gx.fract(), gy.fract());
-                            let cell = |dx: u32, dy: u32| {
-                                ((cx + dx) % cells) + ((cy + dy) % cells) * cells
-                            };
-                            let corners = |a: nimbus_dsl::value::StorageArray<F32>| {
-                                shader::vec4(
-                                    a.get(cell(0, 0)),
-                                    a.get(cell(1, 0)),
-                                    a.get(cell(0, 1)),
-                                    a.get(cell(1, 1)),
-                                )
-                            };
-                            let p = params.get();
-                            let d = formation_sample::shader(
-                                corners(now.array()),
-                                corners(next.array()),
-                                f,
-                                p,
-                            );
-                            let target = tx + ty * row;
-                            let gated = formation_weather::shader(base.array().get(target), d, p);
-                            texels.array().set(target, gated);
-                        },
-                        || {},
-                    );
+                size * size,
+                |index| {
+                    let tx = index % size;
+                    let ty = index / size;
+                    // Cell centres sit at (i + 0.5) / cells of the tile, as texel centres do.
+                    let scale = cells as f32 / size as f32;
+                    let gx =
+                        (nimbus_dsl::ops::cast::<F32, _>(tx) + 0.5) * scale + (cells as f32 - 0.5);
+                    let gy =
+                        (nimbus_dsl::ops::cast::<F32, _>(ty) + 0.5) * scale + (cells as f32 - 0.5);
+                    // Shifted by a whole grid so the floor is of a positive number.
+                    let cx = nimbus_dsl::ops::cast::<U32, _>(gx.floor());
+                    let cy = nimbus_dsl::ops::cast::<U32, _>(gy.floor());
+                    let f = shader::vec2(gx.fract(), gy.fract());
+                    let cell = |dx: u32, dy: u32| ((cx + dx) % cells) + ((cy + dy) % cells) * cells;
+                    let corners = |a: nimbus_dsl::value::StorageArray<F32>| {
+                        shader::vec4(
+                            a.get(cell(0, 0)),
+                            a.get(cell(1, 0)),
+                            a.get(cell(0, 1)),
+                            a.get(cell(1, 1)),
+                        )
+                    };
+                    let p = params.get();
+                    let d =
+                        formation_sample::shader(corners(now.array()), corners(next.array()), f, p);
+                    let target = tx + ty * row;
+                    let gated = formation_weather::shader(base.array().get(target), d, p);
+                    texels.array().set(target, gated);
                 },
             );
         },

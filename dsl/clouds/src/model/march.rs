@@ -527,6 +527,20 @@ pub fn empty_step(t: f32, step: f32) -> f32 {
     mix(step, march.max_step.max(step), far)
 }
 
+/// Light bounced from the ground that reaches a sample through `tau_ground` of cloud below it:
+/// the ground lit by the sky and by the sun where the coverage leaves it in the open, a
+/// Lambertian reflector, scattered isotropically.
+#[shader_fn]
+pub fn ground_bounce_light(tau_ground: f32) -> Vec3 {
+    let u = CLOUDS.get();
+    let l = u.light;
+    let ground_irradiance = l.sky_irradiance
+        + l.sun_irradiance * ((1.0 - u.media.coverage) * l.sun_direction.y.max(0.0));
+    let bounce =
+        l.ground_albedo * INV_PI * (-tau_ground).exp() * INV_FOUR_PI * l.ground_bounce_scale;
+    ground_irradiance * bounce
+}
+
 /// Marches one view ray (unit `direction`, local frame) through the clouds; `pixel_angle` is
 /// the angle (rad) its pixel subtends, so a sample at distance `t` stands for `t·pixel_angle`
 /// metres across (0: every sample a point).
@@ -650,14 +664,7 @@ pub fn march_clouds(
                     footprint,
                     key,
                 );
-                let ground_irradiance = l.sky_irradiance
-                    + l.sun_irradiance * ((1.0 - u.media.coverage) * l.sun_direction.y.max(0.0));
-                let bounce = l.ground_albedo
-                    * INV_PI
-                    * (-tau_ground).exp()
-                    * INV_FOUR_PI
-                    * l.ground_bounce_scale;
-                light += ground_irradiance * bounce;
+                light += ground_bounce_light(tau_ground);
             }
             // Crude sky gradient: half the sky light at a layer's base, all of it at the top.
             let height_fraction =
