@@ -113,13 +113,10 @@ const ANGLES: [(f32, f32); 4] = [(35.0, 150.0), (8.0, 230.0), (-3.0, 90.0), (89.
 
 #[test]
 fn the_javascript_twin_of_sun_light_matches_the_cpu_twin() {
-    if Command::new("node").arg("--version").output().is_err() {
-        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
-        println!("skipping: node is not installed");
-        assert!(
-            !required,
-            "NIMBUS_REQUIRE_BROWSER=1 but node is not installed"
-        );
+    if !nimbus_testkit::skip::browser_tools_present(
+        "the JavaScript twin test",
+        nimbus_testkit::skip::node_missing(),
+    ) {
         return;
     }
     let module = host_module().expect("records");

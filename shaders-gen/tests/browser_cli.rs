@@ -12,6 +12,8 @@
 
 mod common;
 
+use nimbus_testkit::skip::browser_tools_present;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -191,10 +193,7 @@ const CASES: [Case; 6] = [
 
 #[test]
 fn the_three_package_renders_in_chromium_what_nimbus_renders() {
-    if let Some(why) = missing() {
-        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
-        println!("skipping the browser test: {why}");
-        assert!(!required, "NIMBUS_REQUIRE_BROWSER=1 but {why}");
+    if !browser_tools_present("the browser test", missing()) {
         return;
     }
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-test");
@@ -343,10 +342,7 @@ fn timeline_scene(dir: &Path, name: &str, wind: bool, weather: bool) -> PathBuf 
 /// drift alone), must each fail the comparison.
 #[test]
 fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
-    if let Some(why) = missing() {
-        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
-        println!("skipping the browser timeline test: {why}");
-        assert!(!required, "NIMBUS_REQUIRE_BROWSER=1 but {why}");
+    if !browser_tools_present("the browser timeline test", missing()) {
         return;
     }
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-timeline");
@@ -456,10 +452,7 @@ fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
 /// no message is logged, the clouds are drawn, and they change as the sun moves.
 #[test]
 fn the_three_package_example_page_runs_and_its_sun_moves() {
-    if let Some(why) = missing() {
-        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
-        println!("skipping the example-page test: {why}");
-        assert!(!required, "NIMBUS_REQUIRE_BROWSER=1 but {why}");
+    if !browser_tools_present("the example-page test", missing()) {
         return;
     }
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-example");

@@ -340,13 +340,10 @@ const TIMES: [f64; 9] = [
 /// nine times up to a day.
 #[test]
 fn the_three_package_timeline_drifts_and_changes_as_nimbus_does() {
-    if Command::new("node").arg("--version").output().is_err() {
-        let required = std::env::var("NIMBUS_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
-        println!("skipping: node is not installed");
-        assert!(
-            !required,
-            "NIMBUS_REQUIRE_BROWSER=1 but node is not installed"
-        );
+    if !nimbus_testkit::skip::browser_tools_present(
+        "the package timeline test",
+        nimbus_testkit::skip::node_missing(),
+    ) {
         return;
     }
     let tmp = tempfile::tempdir().expect("tempdir");

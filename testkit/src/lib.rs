@@ -12,5 +12,6 @@
 pub mod fuzz;
 pub mod metrics;
 pub mod parity;
+pub mod skip;
 pub mod stability;
 pub mod tradeoff;
