@@ -1127,10 +1127,11 @@ impl<'g> Renderer<'g> {
                     pixel_offset: u.pixel_offset,
                     pixel_scale: scale as f32,
                     current_weight: 1.0 / (visits as f32 + 1.0),
-                    // A still camera at full resolution accumulates the exact mean.
+                    // A still camera over still clouds at full resolution accumulates the
+                    // exact mean; anything that moved is clipped to the neighbourhood.
                     variance_gamma: if frame.upscale {
                         2.0
-                    } else if h.view_projection == view_projection {
+                    } else if h.view_projection == view_projection && h.wind == frame.wind {
                         0.0
                     } else {
                         4.0
