@@ -16,8 +16,9 @@ use crate::gpu::Gpu;
 use crate::render::{Renderer, TextureSource};
 use crate::textures::{GpuTexture, NoiseKind, padded_row};
 
-/// The most steps one `weather_at` may have to compute (the time limit over the shortest step).
-pub const MAX_STEPS: u32 = 100_000;
+/// The most steps one `weather_at` may have to compute: the time limit over the shortest step,
+/// and the step after it (the weather between two steps reads both).
+pub const MAX_STEPS: u32 = 100_001;
 
 /// A compute kernel and its bind group layout.
 struct Kernel {

@@ -64,7 +64,8 @@ pub fn weather_coverage(from: f32, to: f32, progress: f32) -> f32 {
 
 /// A module holding what a host computes as the scene runs — the wind's velocity
 /// ([`wind_velocity`], [`wind_velocity_at`] and its [`TOP_ALTITUDE`](crate::wind::TOP_ALTITUDE))
-/// and the weather's ramp ([`weather_coverage`]) — for printing their JavaScript twins
+/// the weather's ramp ([`weather_coverage`]) and the altitude the temporal resolve moves with
+/// the wind ([`crate::model::resolve::facing_altitude`]) — for printing their JavaScript twins
 /// (`nimbus-wind.js` in engine packages with a JavaScript host). A fragment shader that uses
 /// them is the root that keeps them recorded.
 pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
@@ -76,7 +77,7 @@ pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
         |m| {
             m.fragment(
                 "fs_host",
-                "The wind at an altitude and a coverage.",
+                "The wind at an altitude, a coverage and the resolve's cloud altitude.",
                 loc!(),
                 |frag_coord| {
                     let ground = wind_velocity::shader(frag_coord.x, frag_coord.y);
