@@ -20,7 +20,7 @@ use super::density::{MediaParams, eroded_density, layer_density, weather_density
 use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
-use super::phase::{approximate_mie, henyey_greenstein, isotropic_phase};
+use super::phase::{approximate_mie, dual_lobe_hg, henyey_greenstein, isotropic_phase};
 use super::shadow::{ShadowParams, shadow_texel};
 use super::shell::{ground_hit, ray_shell};
 use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
@@ -200,9 +200,10 @@ pub fn cloud_phase(cos_theta: f32, g_scale: f32, #[spec] key: CloudKey) -> f32 {
         return henyey_greenstein(cos_theta, light.g1 * g_scale);
     }
     if phase_is(key, DUAL_LOBE) {
-        return mix(
-            henyey_greenstein(cos_theta, light.g1 * g_scale),
-            henyey_greenstein(cos_theta, light.g2 * g_scale),
+        return dual_lobe_hg(
+            cos_theta,
+            light.g1 * g_scale,
+            light.g2 * g_scale,
             light.lobe_weight,
         );
     }
@@ -626,13 +627,18 @@ pub fn march_clouds(
                 (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
                 m.secondary_full_path > 0u32,
             );
+            // Above every shadow-casting layer (cirrus, and any layer that casts no shadow) no
+            // map takes over beyond the short march: its steps then span the whole way out of
+            // the slab. Cut at 150 m, the sun march of a cirrus deck 1.4 km deep along a 35°
+            // sun read 11-19 % bright against the reference (the accuracy study).
+            let sun_full_path = m.secondary_full_path > 0u32 || h > m.shadow_top_height;
             let mut tau_sun = secondary_optical_depth(
                 p,
                 h,
                 l.sun_direction,
                 m.sun_steps,
                 offset,
-                m.secondary_full_path > 0u32,
+                sun_full_path,
                 footprint,
                 key,
             );
@@ -643,7 +649,7 @@ pub fn march_clouds(
                 let reach = select(
                     secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale),
                     to_top,
-                    m.secondary_full_path > 0u32,
+                    sun_full_path,
                 );
                 tau_sun += shadow_optical_depth(texel, to_top, reach);
             }
