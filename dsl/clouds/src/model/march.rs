@@ -320,6 +320,48 @@ pub fn secondary_optical_depth(
     tau
 }
 
+/// Optical depth from `p` (altitude `h`) towards the sun: the secondary march, and beyond its
+/// reach the beer shadow map where the variant has one.
+///
+/// Above every shadow-casting layer (cirrus, and any layer that casts no shadow) no map takes
+/// over beyond the short march, so its steps span the whole way out of the slab instead. Cut at
+/// 150 m, the sun march of a cirrus deck 1.4 km deep under a 35° sun had read 11-19 % bright
+/// against the reference in the accuracy study.
+#[shader_fn]
+pub fn sun_optical_depth(
+    p: Vec3,
+    h: f32,
+    offset: f32,
+    footprint: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let m = CLOUDS.get().march;
+    let l = CLOUDS.get().light;
+    let full_path = m.secondary_full_path > 0u32 || h > m.shadow_top_height;
+    let mut tau = secondary_optical_depth(
+        p,
+        h,
+        l.sun_direction,
+        m.sun_steps,
+        offset,
+        full_path,
+        footprint,
+        key,
+    );
+    if gate(key, SHADOWS) {
+        let texel = shadow_texel(p);
+        let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
+        // A full-path march has covered the whole way: nothing left for the map.
+        let reach = select(
+            secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale),
+            to_top,
+            full_path,
+        );
+        tau += shadow_optical_depth(texel, to_top, reach);
+    }
+    tau
+}
+
 /// Optical depth towards the sun from a beer shadow map texel (Hillaire 2020):
 /// R = front depth, G = mean extinction, B = max optical depth, A = tail; `distance` is the
 /// sample's distance below the top of the shadow-casting layers along the sun, `offset` the
@@ -627,32 +669,7 @@ pub fn march_clouds(
                 (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
                 m.secondary_full_path > 0u32,
             );
-            // Above every shadow-casting layer (cirrus, and any layer that casts no shadow) no
-            // map takes over beyond the short march: its steps then span the whole way out of
-            // the slab. Cut at 150 m, the sun march of a cirrus deck 1.4 km deep along a 35°
-            // sun read 11-19 % bright against the reference (the accuracy study).
-            let sun_full_path = m.secondary_full_path > 0u32 || h > m.shadow_top_height;
-            let mut tau_sun = secondary_optical_depth(
-                p,
-                h,
-                l.sun_direction,
-                m.sun_steps,
-                offset,
-                sun_full_path,
-                footprint,
-                key,
-            );
-            if gate(key, SHADOWS) {
-                let texel = shadow_texel(p);
-                let to_top = (m.shadow_top_height - h).max(0.0) / l.sun_direction.y.max(0.01);
-                // A full-path march has covered the whole way: nothing left for the map.
-                let reach = select(
-                    secondary_reach(m.sun_steps, m.min_secondary_step, m.secondary_step_scale),
-                    to_top,
-                    sun_full_path,
-                );
-                tau_sun += shadow_optical_depth(texel, to_top, reach);
-            }
+            let tau_sun = sun_optical_depth(p, h, offset, footprint, key);
             let mut sun = l.sun_irradiance;
             if gate(key, SUN_SKY_LIGHT) {
                 sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
