@@ -323,10 +323,10 @@ pub fn secondary_optical_depth(
 /// Optical depth from `p` (altitude `h`) towards the sun: the secondary march, and beyond its
 /// reach the beer shadow map where the variant has one.
 ///
-/// Above every shadow-casting layer (cirrus, and any layer that casts no shadow) no map takes
-/// over beyond the short march, so its steps span the whole way out of the slab instead. Cut at
-/// 150 m, the sun march of a cirrus deck 1.4 km deep under a 35° sun had read 11-19 % bright
-/// against the reference in the accuracy study.
+/// Above the top of every shadow-casting layer, where cirrus and the other layers that cast no
+/// shadow lie, no map takes over beyond the short march, so its steps span the whole way out
+/// of the slab instead. Cut at 150 m, the sun march of a cirrus deck 1.4 km deep under a 35°
+/// sun had read 11-19 % bright against the reference in the accuracy study.
 #[shader_fn]
 pub fn sun_optical_depth(
     p: Vec3,
