@@ -32,6 +32,8 @@ async function run(result) {
   // Nimbus's camera: pitch up from the horizon, yaw clockwise from -z (north), vertical fov.
   const camera = new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
   camera.rotation.order = 'YXZ';
+  // Its position is the viewpoint: y the altitude above the ground (metres).
+  camera.position.set(0, number('altitude', 2), 0);
   camera.rotation.set(number('pitch', 12) * degrees, -number('yaw', 0) * degrees, 0);
   clouds.setCamera(camera);
   if (q.has('sun')) {

@@ -24,6 +24,7 @@ pub mod builtins;
 pub mod constant;
 pub mod control;
 pub mod cpu;
+mod host;
 pub mod ir;
 pub mod layout;
 mod module;
@@ -34,6 +35,7 @@ pub mod value;
 mod variant;
 
 pub use binding::{Binding, BoundGuard, CpuBindings, ShaderBinding};
+pub use host::HostFn;
 pub use module::{DslError, GlobalRef, ModuleBuilder};
 pub use nimbus_macros::{ShaderStruct, shader_fn};
 pub use value::{Lift, ShaderType, SpecValue, Value, lift};

@@ -17,11 +17,12 @@ use glam::{Mat4, Vec2, Vec3};
 use half::f16;
 use nimbus_clouds::CloudKey;
 use nimbus_clouds::catalog::ShaderKey;
+use nimbus_clouds::frame_sequence::{cloud_frame, resolve_frame};
 use nimbus_clouds::limits::{self, Limit, Origin};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, CloudVariant, ResolveBinding};
-use nimbus_clouds::model::march::{CloudUniforms, CompositeParams, subpixel_offset};
-use nimbus_clouds::model::resolve::{BAYER_OFFSETS, ResolveParams};
+use nimbus_clouds::model::march::{CloudUniforms, CompositeParams};
+use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::sun::sun_direction;
 use nimbus_clouds::wind::Drift;
 use nimbus_clouds::{Features, Genus, PixelOutput, Quality, ScenePreset, analyse};
@@ -285,6 +286,14 @@ pub struct RenderStats {
     pub passes: Vec<&'static str>,
 }
 
+/// The uniform bytes one frame of a `render` call wrote: the cloud block and, when the frame
+/// was resolved, the resolve block (see [`Renderer::set_uniform_log`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WrittenFrame {
+    pub clouds: Vec<u8>,
+    pub resolve: Option<Vec<u8>>,
+}
+
 /// Where a cloud texture comes from.
 pub enum TextureSource {
     /// Generated on the GPU by the noise kernels.
@@ -399,6 +408,9 @@ pub struct Renderer<'g> {
     /// The uber-shader's key uniforms, and the stand-in shadow map it binds when the frame
     /// has no shadow pass.
     uber_resources: Option<(wgpu::Buffer, Target)>,
+    /// Every frame's uniform bytes, while logging (tests that hold engine hosts to the
+    /// runtime's frame sequence).
+    uniform_log: Option<Vec<WrittenFrame>>,
 }
 
 /// The cloud bindings a pipeline keeps (typed, by slot).
@@ -506,6 +518,7 @@ impl<'g> Renderer<'g> {
             gpu_time_ms: None,
             uber: false,
             uber_resources: None,
+            uniform_log: None,
         }
     }
 
@@ -524,6 +537,17 @@ impl<'g> Renderer<'g> {
     pub fn set_flat_uniforms(&mut self, on: bool) {
         self.pipelines.set_flat_uniforms(on);
         self.epoch += 1;
+    }
+
+    /// Keeps (or stops keeping, and forgets) the bytes of every cloud and resolve block the
+    /// frames write, in order: what an engine host must write for the same frames.
+    pub fn set_uniform_log(&mut self, on: bool) {
+        self.uniform_log = on.then(Vec::new);
+    }
+
+    /// The blocks written since logging began.
+    pub fn uniform_log(&self) -> &[WrittenFrame] {
+        self.uniform_log.as_deref().unwrap_or(&[])
     }
 
     /// Uses a user texture for `kind` instead of the procedural one.
@@ -1064,24 +1088,20 @@ impl<'g> Renderer<'g> {
         for f in 0..frames {
             let previous_frames = self.history.as_ref().map_or(0, |h| h.frames);
             let index = previous_frames + f;
-            let offset = if frame.upscale {
-                BAYER_OFFSETS[(index % 16) as usize]
-            } else {
-                [0, 0]
-            };
-            u.frame = frame.seed.wrapping_mul(7919).wrapping_add(index);
-            // Golden-ratio sequence: successive frames spread their first samples evenly.
-            u.jitter = (index as f32 * 0.618_034 + frame.seed as f32 * 0.754_877_7).fract();
-            u.pixel_scale = scale as f32;
-            u.pixel_offset = Vec2::new(offset[0] as f32, offset[1] as f32);
-            // The how-many-th sample this frame gives each pixel it shades; the first is at the
-            // centre, so a single frame is the same picture as before sub-pixel offsets.
-            let visit = if frame.upscale { index / 16 } else { index };
-            u.subpixel = subpixel_offset(visit);
+            // The host's share of the frame, from the same functions engine hosts run
+            // (`nimbus-frame.js`).
+            let step = cloud_frame(index, frame.seed, u32::from(frame.upscale));
+            u.frame = step.frame;
+            u.jitter = step.jitter;
+            u.pixel_offset = step.pixel_offset;
+            u.pixel_scale = step.pixel_scale;
+            u.subpixel = step.subpixel;
             let clouds = self.clouds.as_ref().ok_or_else(missing)?;
+            let cloud_bytes = u.to_uniform_bytes();
             self.gpu
                 .queue()
-                .write_buffer(&clouds.uniform, 0, &u.to_uniform_bytes());
+                .write_buffer(&clouds.uniform, 0, &cloud_bytes);
+            let mut resolve_bytes = None;
             let mut encoder = self
                 .gpu
                 .device()
@@ -1098,50 +1118,47 @@ impl<'g> Renderer<'g> {
             );
             self.passes.push("clouds");
             if let (Some(h), Some(pass)) = (&self.history, &self.resolve) {
-                // Upscaled, a pixel is refreshed once per 16 frames: average those visits.
-                let visits = if frame.upscale { index / 16 } else { index };
                 // Where a ray first meets the clouds (the slab's face towards the camera: the
-                // bases seen from below, the tops from above), and how far the wind moved the
-                // clouds there since the history's frame (zero within one call: its frames
-                // share one drift).
+                // bases seen from below, the tops from above), which the history follows with
+                // the wind (no move within one call: its frames share one drift).
                 let cloud_altitude = nimbus_clouds::model::resolve::facing_altitude(
                     u.camera_altitude,
                     u.march.min_height,
                     u.march.max_height,
                 );
-                let at = |d: &Drift| d.ground + d.per_metre * cloud_altitude;
-                let shift = if frame.reproject_wind {
-                    at(&frame.wind) - at(&h.wind)
-                } else {
-                    Vec2::ZERO
-                };
+                let packed = |d: &Drift| d.ground.extend(d.per_metre.x).extend(d.per_metre.y);
+                let step = resolve_frame(
+                    index,
+                    u32::from(frame.upscale),
+                    u32::from(h.view_projection != view_projection),
+                    packed(&frame.wind),
+                    packed(&h.wind),
+                    cloud_altitude,
+                    u.resolution,
+                );
                 let params = ResolveParams {
                     inverse_view_projection: view_projection.inverse(),
                     previous_view_projection: h.view_projection,
-                    cloud_shift: Vec3::new(shift.x, 0.0, shift.y),
+                    cloud_shift: if frame.reproject_wind {
+                        step.cloud_shift
+                    } else {
+                        Vec3::ZERO
+                    },
                     cloud_altitude,
                     camera_altitude: u.camera_altitude,
                     planet_radius: u.march.radius,
                     resolution: u.resolution,
-                    low_resolution: Vec2::new(lw as f32, lh as f32),
-                    pixel_offset: u.pixel_offset,
-                    pixel_scale: scale as f32,
-                    current_weight: 1.0 / (visits as f32 + 1.0),
-                    // A still camera over still clouds at full resolution accumulates the
-                    // exact mean; anything that moved is clipped to the neighbourhood.
-                    variance_gamma: if frame.upscale {
-                        2.0
-                    } else if h.view_projection == view_projection && h.wind == frame.wind {
-                        0.0
-                    } else {
-                        4.0
-                    },
-                    history_valid: if index == 0 { 0.0 } else { 1.0 },
+                    low_resolution: step.low_resolution,
+                    pixel_offset: step.pixel_offset,
+                    pixel_scale: step.pixel_scale,
+                    current_weight: step.current_weight,
+                    variance_gamma: step.variance_gamma,
+                    history_valid: step.history_valid,
                 };
                 let (read, write) = (h.latest, 1 - h.latest);
-                self.gpu
-                    .queue()
-                    .write_buffer(&pass.uniform, 0, &params.to_uniform_bytes());
+                let bytes = params.to_uniform_bytes();
+                self.gpu.queue().write_buffer(&pass.uniform, 0, &bytes);
+                resolve_bytes = Some(bytes);
                 let pipeline = self.pipelines.get(&ShaderKey::Resolve)?;
                 let group = pass.groups[read].as_ref().ok_or_else(missing)?;
                 draw(
@@ -1155,6 +1172,12 @@ impl<'g> Renderer<'g> {
                 self.passes.push("resolve");
             }
             self.gpu.queue().submit([encoder.finish()]);
+            if let Some(log) = &mut self.uniform_log {
+                log.push(WrittenFrame {
+                    clouds: cloud_bytes,
+                    resolve: resolve_bytes,
+                });
+            }
             if let Some(h) = &mut self.history {
                 h.latest = 1 - h.latest;
                 h.view_projection = view_projection;

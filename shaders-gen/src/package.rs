@@ -45,6 +45,14 @@ const SUN_MODULE: &str = "nimbus-sun.js";
 /// JavaScript host.
 const WIND_MODULE: &str = "nimbus-wind.js";
 
+/// The JavaScript twins of the frame sequence (`frame_sequence::host_module`): what a host
+/// writes into the cloud and resolve blocks each frame, in packages for engines with a
+/// JavaScript host.
+const FRAME_MODULE: &str = "nimbus-frame.js";
+
+/// What `FRAME_MODULE` exports.
+const FRAME_EXPORTS: [&str; 3] = ["cloud_frame", "resolve_frame", "drift_at"];
+
 /// What `WIND_MODULE` exports: the functions and the altitude of a scene's top wind.
 const WIND_EXPORTS: [&str; 5] = [
     "wind_velocity",
@@ -320,12 +328,14 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         "bindings": engine.binding_note(),
         "frame": frame_order(engine),
         "temporal": {
-            "bayer_offsets": nimbus_clouds::model::resolve::BAYER_OFFSETS,
-            "sequence": "frame i (from 0): pixel_offset = bayer_offsets[i % 16] when upscaling \
-                         (else 0); frame = seed × 7919 + i; jitter = fract(i × 0.618034 + seed \
-                         × 0.7548777); subpixel = fract(0.5 + v × (0.7548777, 0.5698403)) \
-                         with v = floor(i / 16) upscaled, i otherwise; resolve.current_weight = 1 / (visits + 1) with visits = \
-                         floor(i / 16) upscaled, i otherwise; resolve.history_valid = 0 at i = 0",
+            "sequence": "each frame's cloud-block members (frame, jitter, pixel_offset, \
+                         pixel_scale, subpixel) are cloud_frame(index, seed, upscale) and the \
+                         resolve block's (low_resolution, pixel_offset, pixel_scale, \
+                         current_weight, variance_gamma, history_valid, cloud_shift) \
+                         resolve_frame(...), each result field written to the member of the \
+                         same name; index counts frames since the history started (0 for a \
+                         frame nothing resolves). nimbus-frame.js in JavaScript packages; the \
+                         Rust source is nimbus_clouds::frame_sequence",
         },
         "targets": targets_json(),
         "textures": textures,
@@ -344,6 +354,10 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         let host = nimbus_clouds::timeline::host_module()?;
         let js = print_js(&host, &WIND_EXPORTS)?;
         files.push((WIND_MODULE.to_string(), js.into_bytes()));
+        // The frame sequence, as the runtime's render loop computes it.
+        let host = nimbus_clouds::frame_sequence::host_module()?;
+        let js = print_js(&host, &FRAME_EXPORTS)?;
+        files.push((FRAME_MODULE.to_string(), js.into_bytes()));
     }
     if engine == Engine::Three {
         // The ES modules that draw the package with three.js alone.

@@ -11,6 +11,7 @@ pub mod clock;
 mod error;
 mod features;
 pub mod formation;
+pub mod frame_sequence;
 pub mod functions;
 mod genus;
 pub mod key;

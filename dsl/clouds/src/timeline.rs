@@ -66,32 +66,20 @@ pub fn weather_coverage(from: f32, to: f32, progress: f32) -> f32 {
 /// ([`wind_velocity`], [`wind_velocity_at`] and its [`TOP_ALTITUDE`](crate::wind::TOP_ALTITUDE))
 /// the weather's ramp ([`weather_coverage`]) and the altitude the temporal resolve moves with
 /// the wind ([`crate::model::resolve::facing_altitude`]) — for printing their JavaScript twins
-/// (`nimbus-wind.js` in engine packages with a JavaScript host). A fragment shader that uses
-/// them is the root that keeps them recorded.
+/// (`nimbus-wind.js` in engine packages with a JavaScript host).
 pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
+    use crate::model::resolve::facing_altitude;
+    use nimbus_dsl::host_fn;
     ModuleBuilder::build(
         "host",
         "Host functions: the wind's velocity, the weather's ramp, and the altitude the \
          reprojection moves with the wind.",
         loc!(),
         |m| {
-            m.fragment(
-                "fs_host",
-                "The wind at an altitude, a coverage and the resolve's cloud altitude.",
-                loc!(),
-                |frag_coord| {
-                    let ground = wind_velocity::shader(frag_coord.x, frag_coord.y);
-                    let top = wind_velocity::shader(frag_coord.z, frag_coord.w);
-                    let v = wind_velocity_at::shader(ground, top, frag_coord.x);
-                    let c = weather_coverage::shader(frag_coord.y, frag_coord.z, frag_coord.w);
-                    let a = crate::model::resolve::facing_altitude::shader(
-                        frag_coord.x,
-                        frag_coord.y,
-                        frag_coord.z,
-                    );
-                    v.extend(c).extend(a)
-                },
-            );
+            m.host(host_fn!(wind_velocity), loc!());
+            m.host(host_fn!(wind_velocity_at), loc!());
+            m.host(host_fn!(weather_coverage), loc!());
+            m.host(host_fn!(facing_altitude), loc!());
         },
     )
 }

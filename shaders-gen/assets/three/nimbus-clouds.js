@@ -26,6 +26,7 @@
 // `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
 
 import * as THREE from 'three';
+import { cloud_frame, resolve_frame } from './nimbus-frame.js';
 import { sun_direction, sun_light } from './nimbus-sun.js';
 import { NimbusTimeline } from './nimbus-timeline.js';
 import { facing_altitude } from './nimbus-wind.js';
@@ -46,6 +47,22 @@ class Block {
     this.ints = new Int32Array(this.bytes.buffer);
     this.members = json.members;
     this.offsets = new Map(json.members.map((m) => [m.member, m.offset / 4]));
+    this.types = new Map(json.members.map((m) => [m.member, m.type]));
+  }
+
+  /**
+   * Writes each field of `values` (a result of a generated host function, whose fields are
+   * named after the block's members) into the member of that name: numbers and arrays, as
+   * the member's type stores them.
+   */
+  assign(values) {
+    for (const [member, value] of Object.entries(values)) {
+      const at = this.word(member);
+      const words = [value].flat(2);
+      const type = this.types.get(member);
+      const view = /u32/.test(type) ? this.uints : /i32/.test(type) ? this.ints : this.floats;
+      view.set(words, at);
+    }
   }
 
   /**
@@ -298,29 +315,47 @@ export class NimbusClouds {
   setSize(width, height) {
     this.width = width;
     this.height = height;
-    const scale = this.upscale ? 4 : 1;
-    this.lowWidth = Math.ceil(width / scale);
-    this.lowHeight = Math.ceil(height / scale);
-    this.cloudTarget.setSize(this.lowWidth, this.lowHeight);
-    for (const h of this.history) h.setSize(width, height);
     for (const block of [this.blocks.pair, this.blocks.display, this.blocks.resolve]) {
       block.setFloats('resolution', [width, height]);
     }
-    this.blocks.resolve.setFloats('low_resolution', [this.lowWidth, this.lowHeight]);
-    this.blocks.pair.setFloats('pixel_scale', [scale]);
-    this.blocks.resolve.setFloats('pixel_scale', [scale]);
-    this.blocks.resolve.setFloats('variance_gamma', [this.upscale ? 2 : 4]);
+    // The cloud pass's target: the size the resolve reads it at (one pixel per 4×4 block
+    // upscaled), as the frame sequence gives it.
+    const [lowWidth, lowHeight] = resolve_frame(0, this.upscale ? 1 : 0, 0, [0, 0, 0, 0], [0, 0, 0, 0], 0, [width, height]).low_resolution;
+    this.lowWidth = lowWidth;
+    this.lowHeight = lowHeight;
+    this.cloudTarget.setSize(lowWidth, lowHeight);
+    for (const h of this.history) h.setSize(width, height);
     this.frame = 0;
   }
 
-  /** Where the clouds are seen from: a perspective camera, y up, in metres above the ground. */
+  /**
+   * Where the clouds are seen from: the engine's own camera (y up, metres; x east, -z north),
+   * nothing re-derived by hand. Its world position is the viewpoint: `y` its altitude above
+   * the ground (flying up into a cloud layer works like any other altitude), `x` and `z` where
+   * it stands over the clouds. Its rotation and projection (field of view, aspect) give each
+   * pixel's ray. Moving the altitude relights the sky at the new height; moving the camera
+   * over the clouds redraws the shadow atlas around it.
+   */
   setCamera(camera) {
     camera.updateMatrixWorld();
     // The cloud shader takes directions: the view without its translation.
     const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();
     this.viewProjection.multiplyMatrices(camera.projectionMatrix, view);
     const inverse = this.viewProjection.clone().invert();
-    this.blocks.pair.setFloats('inverse_view_projection', inverse.elements);
+    const u = this.blocks.pair;
+    u.setFloats('inverse_view_projection', inverse.elements);
+    const position = new THREE.Vector3().setFromMatrixPosition(camera.matrixWorld);
+    const altitude = Math.max(position.y, 0);
+    const offset = [position.x, 0, position.z];
+    const at = u.word('camera_offset');
+    const moved = !Object.is(Math.fround(altitude), u.float('camera_altitude'))
+      || offset.some((v, i) => !Object.is(Math.fround(v), u.floats[at + i]));
+    if (moved) {
+      u.setFloats('camera_altitude', [altitude]);
+      u.setFloats('camera_offset', offset);
+      // The sun's and sky's light at the camera and the cascades around it follow.
+      this.relight();
+    }
   }
 
   /**
@@ -330,8 +365,14 @@ export class NimbusClouds {
    * redrawn on the next frame.
    */
   setSun(elevation, azimuth) {
-    const direction = sun_direction(elevation, azimuth);
+    this.blocks.pair.setFloats('light.sun_direction', sun_direction(elevation, azimuth));
+    this.relight();
+  }
+
+  /** Recomputes what the sun decides for the block as it stands (sun, camera altitude). */
+  relight() {
     const u = this.blocks.pair;
+    const direction = Array.from(u.floats.subarray(u.word('light.sun_direction'), u.word('light.sun_direction') + 3));
     const light = sun_light(u.toObject(), direction);
     u.setFloats('light.sun_direction', light.sun_direction);
     u.setFloats('light.sun_irradiance', light.sun_irradiance);
@@ -412,20 +453,14 @@ export class NimbusClouds {
   /** Draws one frame into `target` (a WebGLRenderTarget), or the canvas when it is null. */
   render(renderer, target = null) {
     if (!this.width) throw new Error('call setSize before render');
-    const index = this.frame;
     const temporal = this.upscale || this.accumulate;
-    const bayer = this.package.temporal.bayer_offsets;
-    const offset = this.upscale ? bayer[index % 16] : [0, 0];
-    // The runtime's sequence: successive frames spread their first samples evenly.
+    // Frames counted since the history started; a frame nothing resolves is always frame 0
+    // (the same picture for the same inputs, as `nimbus render` draws it).
+    const index = temporal ? this.frame : 0;
+    const upscale = this.upscale ? 1 : 0;
     const u = this.blocks.pair;
-    u.setUint('frame', (Math.imul(this.seed, 7919) + index) >>> 0);
-    u.setFloats('jitter', [(index * 0.618034 + this.seed * 0.7548777) % 1]);
-    u.setFloats('pixel_offset', offset);
-    // The how-many-th sample each shaded pixel gets: the R2 sequence moves it over the pixel
-    // (centre first), so accumulated frames average the pixel's area, not one point of it.
-    // Without a resolve nothing averages the visits: the ray stays at the pixel's centre.
-    const visit = this.upscale ? Math.floor(index / 16) : temporal ? index : 0;
-    u.setFloats('subpixel', [(0.5 + visit * 0.7548776662) % 1, (0.5 + visit * 0.5698402910) % 1]);
+    // What the frame sequence writes into the cloud block: the twin of the runtime's own.
+    u.assign(cloud_frame(index, this.seed, upscale));
     const previous = renderer.getRenderTarget();
     if (this.passes.shadow && this.shadowDirty) {
       this.draw(renderer, this.passes.shadow, this.shadowTarget);
@@ -433,32 +468,26 @@ export class NimbusClouds {
     }
     this.draw(renderer, this.passes.clouds, this.cloudTarget);
     let shown = this.cloudTarget;
+    const drift = [...u.floats.subarray(u.word('media.wind_drift'), u.word('media.wind_drift') + 2),
+      ...u.floats.subarray(u.word('media.wind_shear_drift'), u.word('media.wind_shear_drift') + 2)];
     if (temporal) {
       const read = this.latest;
       const write = 1 - read;
       const r = this.blocks.resolve;
-      const prev = this.previousViewProjection ?? this.viewProjection;
+      const before = index === 0 ? this.viewProjection : this.previousViewProjection;
       const inverse = this.viewProjection.clone().invert();
       r.setFloats('inverse_view_projection', inverse.elements);
-      r.setFloats('previous_view_projection', prev.elements);
-      // The wind's move of the clouds where the view rays meet them (the slab's face towards
-      // the camera) since the history's frame: the history is read where those clouds were
-      // (drifting clouds do not smear).
-      const u = this.blocks.pair;
+      r.setFloats('previous_view_projection', before.elements);
+      // The history is read where the wind had the clouds it shows (the slab's face towards
+      // the camera), so drifting clouds do not smear.
       const altitude = facing_altitude(
         u.float('camera_altitude'), u.float('march.min_height'), u.float('march.max_height'));
-      const ground = u.word('media.wind_drift');
-      const shear = u.word('media.wind_shear_drift');
-      const drift = [0, 1].map((i) => u.floats[ground + i] + u.floats[shear + i] * altitude);
-      const before = index === 0 || !this.previousDrift ? drift : this.previousDrift;
-      r.setFloats('cloud_shift', [drift[0] - before[0], 0, drift[1] - before[1]]);
+      const moved = before.equals(this.viewProjection) ? 0 : 1;
+      const previousDrift = index === 0 ? drift : this.previousDrift;
+      r.assign(resolve_frame(index, upscale, moved, drift, previousDrift, altitude, [this.width, this.height]));
       r.setFloats('cloud_altitude', [altitude]);
       r.setFloats('camera_altitude', [u.float('camera_altitude')]);
       r.setFloats('planet_radius', [u.float('march.radius')]);
-      this.previousDrift = drift;
-      r.setFloats('pixel_offset', offset);
-      r.setFloats('current_weight', [1 / (visit + 1)]);
-      r.setFloats('history_valid', [index === 0 ? 0 : 1]);
       for (const d of this.dynamic) {
         if (d.pass === 'resolve') d.uniform.value = this.history[read].texture;
       }
@@ -470,6 +499,7 @@ export class NimbusClouds {
     this.draw(renderer, this.passes.display, target);
     renderer.setRenderTarget(previous);
     this.previousViewProjection = this.viewProjection.clone();
+    this.previousDrift = drift;
     this.frame += 1;
   }
 

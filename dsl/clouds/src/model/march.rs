@@ -148,23 +148,13 @@ pub struct CloudUniforms {
     pub pixel_offset: Vec2,
     pub pixel_scale: f32,
     /// Where in its pixel the ray passes ((0.5, 0.5): the centre). Accumulated frames move it
-    /// over the pixel ([`subpixel_offset`]), so their mean is the pixel's area average: the
+    /// over the pixel ([`crate::frame_sequence::subpixel_offset`]), so their mean is the pixel's area average: the
     /// detail that a single sample per pixel aliased into a mosaic averages out.
     pub subpixel: Vec2,
     /// Frame index, which varies the per-pixel jitter of the first sample.
     pub frame: u32,
     /// Per-frame jitter phase in [0, 1), added to the per-pixel jitter.
     pub jitter: f32,
-}
-
-/// Sub-pixel position of the `visit`-th sample a pixel gets (0: its centre): the R2 sequence
-/// (Roberts 2018), whose successive points cover the square evenly for any count.
-pub fn subpixel_offset(visit: u32) -> Vec2 {
-    let v = visit as f64;
-    Vec2::new(
-        (0.5 + v * 0.754_877_666_246_692_8).fract() as f32,
-        (0.5 + v * 0.569_840_290_998_053_3).fract() as f32,
-    )
 }
 
 /// Result of a march.

@@ -51,27 +51,6 @@ pub struct ResolveParams {
     pub history_valid: f32,
 }
 
-/// The 4×4 Bayer order: frame `i`'s pixel within each block, so that consecutive frames are
-/// spread over the block.
-pub const BAYER_OFFSETS: [[u32; 2]; 16] = [
-    [0, 0],
-    [2, 2],
-    [2, 0],
-    [0, 2],
-    [1, 1],
-    [3, 3],
-    [3, 1],
-    [1, 3],
-    [1, 0],
-    [3, 2],
-    [3, 0],
-    [1, 2],
-    [0, 1],
-    [2, 3],
-    [2, 1],
-    [0, 3],
-];
-
 /// One pixel of the resolved image.
 #[shader_fn]
 pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {

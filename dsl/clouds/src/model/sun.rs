@@ -83,19 +83,16 @@ impl CloudUniforms {
     }
 }
 
-/// A module holding [`sun_light`] and what it calls, for printing its host twin (a fragment
-/// shader that shows the sun's irradiance is the root that keeps them recorded).
+/// A module holding [`sun_light`], [`sun_direction`] and what they call, for printing their host
+/// twins (`nimbus-sun.js`).
 pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
     ModuleBuilder::build(
         "host",
         "Host functions: what the sun's position decides.",
         loc!(),
         |m| {
-            m.fragment("fs_host", "The sun's irradiance.", loc!(), |frag_coord| {
-                let u = CLOUDS.read();
-                let direction = sun_direction::shader(frag_coord.x, frag_coord.y);
-                sun_light::shader(u, direction).sun_irradiance.extend(1.0)
-            });
+            m.host(nimbus_dsl::host_fn!(sun_direction), loc!());
+            m.host(nimbus_dsl::host_fn!(sun_light), loc!());
         },
     )
 }
