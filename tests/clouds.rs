@@ -90,6 +90,11 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
         Toggle::AccurateSunSkyLight => &["sun_attenuation"],
         Toggle::AccuratePhaseFunction => &["approximate_mie"],
         Toggle::FlatHighLayer => &["flat_path_depth"],
+        Toggle::SceneDepth => &[
+            "scene_distance",
+            "scene_depth_texture",
+            "composite_over_scene",
+        ],
     }
 }
 
@@ -159,6 +164,7 @@ fn each_toggle_off_removes_its_code_and_bindings_from_every_target() {
         Toggle::LightShafts,
         Toggle::ShapeDetail,
         Toggle::Turbulence,
+        Toggle::SceneDepth,
     ] {
         t.set(&mut none, false);
     }

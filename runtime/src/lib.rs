@@ -15,6 +15,7 @@ pub mod mitsuba_scene;
 pub mod pipelines;
 mod png;
 pub mod render;
+pub mod scene_depth;
 pub mod scene_time;
 pub mod textures;
 pub mod user_textures;

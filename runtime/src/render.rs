@@ -34,6 +34,7 @@ use nimbus_dsl::layout::{UniformBytes, align_size};
 use crate::error::RuntimeError;
 use crate::gpu::Gpu;
 use crate::pipelines::{CachedPipeline, HDR_FORMAT, PipelineCache};
+use crate::scene_depth::SceneDepth;
 use crate::textures::{GpuTexture, NoiseKind};
 
 /// Texel counts per side of the procedural textures.
@@ -117,6 +118,10 @@ pub struct Frame {
     /// What the composite adds around the clouds (sky, sun disc, ground, aerial perspective),
     /// each switchable; verification mode switches them all off.
     pub composite: CompositeParams,
+    /// The opaque scene the clouds stand in, from an engine's depth buffer: its surfaces stop
+    /// the march and the image becomes premultiplied over the engine's picture (the
+    /// `scene-depth` key). `None`: Nimbus's sky and ground are the whole background.
+    pub scene_depth: Option<SceneDepth>,
 }
 
 impl Frame {
@@ -147,6 +152,7 @@ impl Frame {
             output: PixelOutput::Composite,
             verification: false,
             composite: CompositeParams::ALL,
+            scene_depth: None,
         }
     }
 
@@ -199,6 +205,9 @@ impl Frame {
             check(&limits::WEATHER_OFFSET, f64::from(v))?;
         }
         check(&limits::OCTAVES, f64::from(self.features.octaves))?;
+        if let Some(d) = &self.scene_depth {
+            d.validate(self.width, self.height)?;
+        }
         self.genus
             .validate()
             .map_err(|(field, reason)| RuntimeError::Genus {
@@ -219,11 +228,14 @@ impl Frame {
     /// The features rendered: the frame's, less every effect beyond the sun's scattering in
     /// verification mode.
     pub fn effective_features(&self) -> Features {
-        if self.verification {
+        let mut f = if self.verification {
             self.features.sun_scattering_only()
         } else {
             self.features
-        }
+        };
+        // The key reads the engine's depth exactly when the frame has a scene.
+        f.scene_depth = self.scene_depth.is_some();
+        f
     }
 
     fn sun_direction(&self) -> Vec3 {
@@ -411,6 +423,8 @@ pub struct Renderer<'g> {
     /// Every frame's uniform bytes, while logging (tests that hold engine hosts to the
     /// runtime's frame sequence).
     uniform_log: Option<Vec<WrittenFrame>>,
+    /// The engine's depth and its encoding for `scene-depth` keys, replaced with each frame's.
+    scene: Option<(wgpu::Buffer, GpuTexture)>,
 }
 
 /// The cloud bindings a pipeline keeps (typed, by slot).
@@ -519,6 +533,7 @@ impl<'g> Renderer<'g> {
             uber: false,
             uber_resources: None,
             uniform_log: None,
+            scene: None,
         }
     }
 
@@ -669,6 +684,11 @@ impl<'g> Renderer<'g> {
                     .as_ref()
                     .map(|(b, _)| b.as_entire_binding()),
                 CloudBinding::Sampler => self.sampler(b),
+                CloudBinding::SceneDepth => self
+                    .scene
+                    .as_ref()
+                    .map(|(_, t)| wgpu::BindingResource::TextureView(&t.view)),
+                CloudBinding::Scene => self.scene.as_ref().map(|(b, _)| b.as_entire_binding()),
                 CloudBinding::Weather
                 | CloudBinding::Shape
                 | CloudBinding::Detail
@@ -898,6 +918,22 @@ impl<'g> Renderer<'g> {
         }
         if let Some(k) = shadow_key {
             self.prepare(k)?;
+        }
+        // The engine's depth: a new texture each frame (its bind group follows), the camera's
+        // encoding in a block of its own.
+        if let Some(depth) = &frame.scene_depth {
+            let (forward, _) = frame.camera_basis();
+            let params = depth.params_for(frame.view_projection(), forward);
+            let bytes = params.to_uniform_bytes();
+            let buffer = match self.scene.take() {
+                Some((b, _)) => b,
+                None => uniform_buffer(self.gpu, "scene depth uniforms", bytes.len()),
+            };
+            self.gpu.queue().write_buffer(&buffer, 0, &bytes);
+            self.scene = Some((buffer, self.gpu.scene_depth_texture(depth)));
+            self.epoch += 1;
+        } else if self.scene.take().is_some() {
+            self.epoch += 1;
         }
         let resolve = frame.upscale || frames > 1;
         if resolve {

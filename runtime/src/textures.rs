@@ -36,7 +36,9 @@ impl NoiseKind {
             CloudBinding::Uniforms
             | CloudBinding::ShadowMap
             | CloudBinding::Sampler
-            | CloudBinding::Key => None,
+            | CloudBinding::Key
+            | CloudBinding::SceneDepth
+            | CloudBinding::Scene => None,
         }
     }
 

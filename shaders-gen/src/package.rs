@@ -15,6 +15,7 @@ use nimbus_clouds::model::bindings::{
 use nimbus_clouds::model::display::DisplayParams;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
+use nimbus_clouds::model::scene_depth::SceneDepthParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{
     BindingInfo, EmitExtras, Generated, MARKER_FILE, emit, flatten_uniform_blocks, generate,
@@ -310,6 +311,25 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     ] {
         files.push((name.to_string(), pretty(&block)));
     }
+    if table.iter().any(|a| a.clouds.features.scene_depth) {
+        // The engine's depth encoding: an OpenGL-style perspective buffer until the host says
+        // otherwise.
+        let scene = SceneDepthParams::perspective_gl(
+            glam::Mat4::perspective_rh_gl(1.0, 16.0 / 9.0, 1.0, 1e6),
+            glam::Mat4::IDENTITY,
+            -glam::Vec3::Z,
+            640,
+            360,
+        );
+        files.push((
+            "uniforms/scene.json".to_string(),
+            pretty(&block_json(
+                SceneDepthParams::shader_type(),
+                &scene.to_uniform_bytes(),
+                SCENE_NOTES,
+            )),
+        ));
+    }
     let textures: Vec<Value> = texels.files.iter().map(|t| t.descriptor.clone()).collect();
     let texture_count = texels.files.len();
     for t in texels.files {
@@ -432,6 +452,18 @@ fn resource(pass: Pass, b: &BindingInfo) -> Value {
             Some(CloudBinding::Turbulence) => ("texture", "turbulence", "textures: turbulence"),
             Some(CloudBinding::ShadowMap) => ("target", "shadow_atlas", "the shadow pass's target"),
             Some(CloudBinding::Sampler) => ("sampler", "linear_repeat", "linear, repeat"),
+            Some(CloudBinding::SceneDepth) => (
+                "engine depth",
+                "scene_depth",
+                "the engine's own depth buffer (its depth texture, read as float, one texel per \
+                 output pixel), given with each frame",
+            ),
+            Some(CloudBinding::Scene) => (
+                "uniform block",
+                "scene",
+                "uniforms/scene.json: the engine camera's view-projection, forward direction and \
+                 depth encoding, set with the camera",
+            ),
             Some(CloudBinding::Key) | None => ("unknown", "unknown", "?"),
         },
         Pass::Resolve => match ResolveBinding::at(group, binding) {
@@ -770,6 +802,41 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
     (
         "media.detail_moments",
         "when the detail texture changes: the means of its red channel r and of r⁶ (0..1)",
+    ),
+];
+
+const SCENE_NOTES: &[(&str, &str)] = &[
+    (
+        "view_projection",
+        "with the camera: the engine camera's projection × view without translation",
+    ),
+    (
+        "forward",
+        "with the camera: its forward direction (x east, y up, z south)",
+    ),
+    (
+        "encoding",
+        "0 for a projection's depth (perspective, reversed-Z), 1 for a logarithmic buffer \
+         (three.js logarithmicDepthBuffer)",
+    ),
+    (
+        "projection_zw",
+        "with the camera: its projection's (P22, P32, P23, P33), column-major indices",
+    ),
+    (
+        "depth_scale",
+        "NDC z = depth × depth_scale + depth_offset: 2 and -1 in OpenGL and WebGL, 1 and 0 \
+         elsewhere",
+    ),
+    ("log_range", "log2(far + 1) for a logarithmic buffer"),
+    (
+        "clear_depth",
+        "what the buffer holds where the engine drew nothing (1; 0 reversed-Z)",
+    ),
+    ("resolution", "the depth texture's size in pixels"),
+    (
+        "flip_y",
+        "1 where the depth texture's first row is the bottom one (OpenGL, WebGL)",
     ),
 ];
 

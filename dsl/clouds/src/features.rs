@@ -142,6 +142,11 @@ effects! {
     /// all the sky holds (`analysis::flat_high_layer`).
     FlatHighLayer, flat_high_layer, "flat-high-layer", tag "flat",
         presets [], rule Some(analysis::flat_high_layer);
+    /// The engine's opaque scene, read from its depth buffer, stops the march; the output is
+    /// premultiplied over the engine's picture. An engine integration, not an effect: in no
+    /// preset, chosen by the host that has a scene (`--enable scene-depth`).
+    SceneDepth, scene_depth, "scene-depth", tag "depth",
+        presets [], rule None;
 }
 
 fn first_line(doc: &[&'static str]) -> &'static str {

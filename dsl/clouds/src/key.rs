@@ -185,7 +185,10 @@ impl CloudKey {
             ..Features::default()
         };
         for &t in Toggle::ALL {
-            t.set(&mut features, t != Toggle::AccuratePhaseFunction);
+            t.set(
+                &mut features,
+                !matches!(t, Toggle::AccuratePhaseFunction | Toggle::SceneDepth),
+            );
         }
         CloudKey {
             features,
@@ -199,8 +202,8 @@ impl CloudKey {
 
     /// Every canonical key of the built-in genus functions: each combination of the toggles
     /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer with
-    /// any of them), 1–12 octaves, the four phase kinds and one or two lane groups.
-    /// 384 × 12 × 4 × 2 = 36,864 keys. A genus' own
+    /// any of them, the engine's scene depth with any of them), 1–12 octaves, the four phase kinds and one or two lane groups.
+    /// 768 × 12 × 4 × 2 = 73,728 keys. A genus' own
     /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL

@@ -14,6 +14,7 @@ use super::choices::KeyUniforms;
 use super::display::DisplayParams;
 use super::march::CloudUniforms;
 use super::resolve::ResolveParams;
+use super::scene_depth::SceneDepthParams;
 
 /// Layers, media, march, shadow map, light, sky and camera.
 pub static CLOUDS: Binding<CloudUniforms> = Binding::uniform(
@@ -72,6 +73,21 @@ pub static KEY: Binding<KeyUniforms> = Binding::uniform(
     0,
     7,
     "The uber-shader's generation-time choices, read at run time.",
+);
+
+/// The engine's depth buffer (`scene-depth` keys only).
+pub static SCENE_DEPTH: Binding<Texture2d> = Binding::texture(
+    "scene_depth_texture",
+    0,
+    8,
+    "The engine's depth buffer: where its opaque scene stops the march.",
+);
+/// How the engine's depth buffer encodes distance (`scene-depth` keys only).
+pub static SCENE: Binding<SceneDepthParams> = Binding::uniform(
+    "scene",
+    0,
+    9,
+    "The engine camera and its depth buffer's encoding.",
 );
 
 /// Offsets, weights, reprojection.
@@ -135,11 +151,15 @@ pub enum CloudBinding {
     Sampler,
     /// The uber-shader's key uniforms ([`KEY`]).
     Key,
+    /// The engine's depth buffer ([`SCENE_DEPTH`]).
+    SceneDepth,
+    /// Its encoding and camera ([`SCENE`]).
+    Scene,
 }
 
 impl CloudBinding {
     pub const GROUP: u32 = 0;
-    pub const ALL: [CloudBinding; 8] = [
+    pub const ALL: [CloudBinding; 10] = [
         CloudBinding::Uniforms,
         CloudBinding::Weather,
         CloudBinding::Shape,
@@ -148,6 +168,8 @@ impl CloudBinding {
         CloudBinding::ShadowMap,
         CloudBinding::Sampler,
         CloudBinding::Key,
+        CloudBinding::SceneDepth,
+        CloudBinding::Scene,
     ];
 
     /// `(group, binding)`, from the binding's one declaration.
@@ -161,6 +183,8 @@ impl CloudBinding {
             CloudBinding::ShadowMap => SHADOW_MAP.slot(),
             CloudBinding::Sampler => LINEAR_REPEAT.slot(),
             CloudBinding::Key => KEY.slot(),
+            CloudBinding::SceneDepth => SCENE_DEPTH.slot(),
+            CloudBinding::Scene => SCENE.slot(),
         }
     }
 

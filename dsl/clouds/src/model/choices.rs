@@ -55,6 +55,7 @@ pub const GROUND_BOUNCE: Toggle = Toggle::GroundBounce;
 pub const POWDER: Toggle = Toggle::Powder;
 pub const SUN_SKY_LIGHT: Toggle = Toggle::AccurateSunSkyLight;
 pub const FLAT_HIGH_LAYER: Toggle = Toggle::FlatHighLayer;
+pub const SCENE_DEPTH: Toggle = Toggle::SceneDepth;
 
 pub const HENYEY_GREENSTEIN: PhaseKind = PhaseKind::HenyeyGreenstein;
 pub const DUAL_LOBE: PhaseKind = PhaseKind::DualLobe;
@@ -99,7 +100,9 @@ pub mod gate {
     use super::*;
 
     pub fn shader(key: CloudKey, toggle: Toggle) -> Switch {
-        if !key.uber {
+        // The engine's depth is a binding the host has or has not, not a run-time choice: the
+        // uber-shader has none.
+        if !key.uber || toggle == Toggle::SceneDepth {
             return Switch::Fixed(super::gate(key, toggle));
         }
         let bit = Toggle::ALL.iter().position(|t| *t == toggle).unwrap_or(0) as u32;

@@ -14,13 +14,14 @@ use nimbus_dsl::prelude::*;
 use super::bindings::CLOUDS;
 use super::choices::{
     APPROXIMATE_MIE, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE, HENYEY_GREENSTEIN,
-    LIGHT_SHAFTS, OCTAVES, POWDER, SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
+    LIGHT_SHAFTS, OCTAVES, POWDER, SCENE_DEPTH, SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
 };
 use super::density::{MediaParams, eroded_density, layer_density, weather_density};
 use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
 use super::phase::{approximate_mie, dual_lobe_hg, henyey_greenstein, isotropic_phase};
+use super::scene_depth::{composite_over_scene, scene_distance};
 use super::shadow::{ShadowParams, shadow_texel};
 use super::shell::{ground_hit, ray_shell};
 use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
@@ -588,7 +589,13 @@ pub fn march_clouds(
     let m = u.march;
     let l = u.light;
     let mu = direction.y;
-    let range = cloud_range(mu);
+    // The engine's opaque scene ends the ray where it stands.
+    let range = if gate(key, SCENE_DEPTH) {
+        let open = cloud_range(mu);
+        vec2(open.x, open.y.min(scene_distance(direction)))
+    } else {
+        cloud_range(mu)
+    };
     let cos_theta = direction.dot(l.sun_direction);
     let sigma_ratio = l.scattering_coefficient + l.absorption_coefficient;
     let mut radiance = Vec3::ZERO;
@@ -757,7 +764,11 @@ pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
         let km = select(-1.0, clouds.front_depth * 1e-3, clouds.front_depth > 0.0);
         return vec4(km, clouds.transmittance, clouds.samples, 1.0);
     }
-    let color = composite(direction, jitter, clouds, key);
+    let color = if gate(key, SCENE_DEPTH) {
+        composite_over_scene(direction, jitter, clouds, key)
+    } else {
+        composite(direction, jitter, clouds, key)
+    };
     if key.writes(PixelOutput::Samples) {
         return color.xyz().extend(clouds.samples);
     }
@@ -863,17 +874,25 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
         let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
         let opacity = haze_opacity(direction.y, distance);
-        let mut sunlit = 1.0f32;
-        if gate(key, LIGHT_SHAFTS) {
-            sunlit =
-                1.0 - (shadow_length(direction, distance, jitter) / distance.max(1.0)).saturate();
-        }
-        let albedo = u.haze.scattering_coefficient
-            / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
-        let haze_light = (u.light.sun_irradiance * (cloud_phase(cos_theta, 1.0, key) * sunlit)
-            + haze_ambient(u.light, u.sky, sun.y, u.media.coverage))
-            * albedo;
-        color = color + (haze_light - color) * opacity;
+        color = color + (haze_light(direction, distance, jitter, key) - color) * opacity;
     }
     color.extend(1.0 - clouds.transmittance)
+}
+
+/// The light the haze scatters towards the camera along `direction` over its first
+/// `distance` metres: the sun's, where the light-shaft march finds no cloud shadow, and the
+/// sky's.
+#[shader_fn]
+pub fn haze_light(direction: Vec3, distance: f32, jitter: f32, #[spec] key: CloudKey) -> Vec3 {
+    let u = CLOUDS.get();
+    let sun = u.light.sun_direction;
+    let mut sunlit = 1.0f32;
+    if gate(key, LIGHT_SHAFTS) {
+        sunlit = 1.0 - (shadow_length(direction, distance, jitter) / distance.max(1.0)).saturate();
+    }
+    let albedo = u.haze.scattering_coefficient
+        / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
+    (u.light.sun_irradiance * (cloud_phase(direction.dot(sun), 1.0, key) * sunlit)
+        + haze_ambient(u.light, u.sky, sun.y, u.media.coverage))
+        * albedo
 }

@@ -16,6 +16,7 @@ pub mod phase;
 pub mod preview;
 pub mod profile;
 pub mod resolve;
+pub mod scene_depth;
 pub mod shadow;
 pub mod shell;
 pub mod sky;
