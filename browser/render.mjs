@@ -2,7 +2,8 @@
 // and writes the frame as PNG, with every console message and shader log beside it.
 //
 //   node render.mjs PACKAGE_DIR OUT.png [key=value ...]   (width, height, pitch, yaw, fov, pair,
-//                                                          sun, wind, weather, time, frames, upscale)
+//                                                          sun, wind, weather, time, frames, upscale,
+//                                                          altitude; page=scene: tower, log, depth)
 //
 // Files are served on 127.0.0.1 only: the package under /pkg/, three.js under /three/, the
 // page under /page/. Exits non-zero, saying why, when the page fails or anything was logged.
@@ -23,7 +24,10 @@ const roots = {
   '/page/': join(here, 'page'),
 };
 const status = await withPage(roots, {}, {}, async (page, origin, logs) => {
-  await page.goto(`${origin}/page/index.html?${query}`);
+  // `page=scene`: the clouds inside a three.js scene (page/scene.html); the package alone
+  // otherwise.
+  const name = query.get('page') ?? 'index';
+  await page.goto(`${origin}/page/${name}.html?${query}`);
   return report(page, logs, outPng);
 });
 process.exit(status);

@@ -20,7 +20,7 @@ pub(crate) fn run(
 ) -> Result<(), Box<dyn std::error::Error>> {
     check_folder(out, MARKER_FILE, overwrite)?;
     let resolved = match scene {
-        Some(file) => crate::explain::resolved(data, file)?,
+        Some(file) => crate::explain::resolved(data, file, sel)?,
         None => resolve(sel, &load(data)?)?,
     };
     let Resolved { entries, table, .. } = &resolved;

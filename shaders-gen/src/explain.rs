@@ -27,9 +27,12 @@ pub(crate) fn derive(
 }
 
 /// The shaders of the scene's derived key, for `emit --scene`.
+/// The pair a scene derives, with `--enable`/`--disable` applied over the analysis (an engine
+/// integration such as `scene-depth` is the host's choice, not the scene's).
 pub(crate) fn resolved(
     data: Option<&Path>,
     scene_file: &Path,
+    sel: &crate::data::Selection<'_>,
 ) -> Result<crate::data::Resolved, Box<dyn std::error::Error>> {
     let lib: CloudLibrary = library_for(data, Some(scene_file))?;
     let scene = load_scene(scene_file)?;
@@ -37,7 +40,13 @@ pub(crate) fn resolved(
     if let Some(c) = scene.coverage {
         genus.coverage = c;
     }
-    let features = analyse(&scene, &genus).features;
+    let mut features = analyse(&scene, &genus).features;
+    for t in sel.enable {
+        t.set(&mut features, true);
+    }
+    for t in sel.disable {
+        t.set(&mut features, false);
+    }
     let table: Vec<Assignment> = vec![assign(&genus, scene.quality, features)];
     Ok(crate::data::Resolved {
         entries: distinct(&table),

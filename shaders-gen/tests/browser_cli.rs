@@ -17,7 +17,7 @@ use nimbus_testkit::skip::browser_tools_present;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{nimbus, text};
+use common::{browser_dir, mean_difference, missing_browser as missing, nimbus, rgb, text};
 use image_compare::rgb_hybrid_compare;
 
 /// Perceptual similarity (SSIM on luma, RMS on chroma; 1 = identical) a browser frame must
@@ -26,33 +26,6 @@ use image_compare::rgb_hybrid_compare;
 /// arithmetic differ from lavapipe's at cloud edges: measured 0.46/255 mean here.
 const MIN_SCORE: f64 = 0.95;
 const MAX_MEAN: f64 = 2.0;
-
-fn browser_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../browser")
-}
-
-fn chromium() -> PathBuf {
-    std::env::var_os("CHROMIUM").map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from)
-}
-
-/// Why the browser test cannot run here, if it cannot.
-fn missing() -> Option<String> {
-    if Command::new("node").arg("--version").output().is_err() {
-        return Some("node is not installed".into());
-    }
-    if !browser_dir().join("node_modules/playwright-core").is_dir()
-        || !browser_dir().join("node_modules/three").is_dir()
-    {
-        return Some("browser/node_modules is missing: run `npm ci` in browser/".into());
-    }
-    if !chromium().is_file() {
-        return Some(format!(
-            "{} is missing: apt-get install chromium",
-            chromium().display()
-        ));
-    }
-    None
-}
 
 struct View {
     name: &'static str,
@@ -108,22 +81,6 @@ fn scene(dir: &Path, v: &View) -> PathBuf {
     );
     std::fs::write(&file, toml).expect("write scene");
     file
-}
-
-fn rgb(path: &Path) -> image::RgbImage {
-    image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb8()
-}
-
-fn mean_difference(a: &image::RgbImage, b: &image::RgbImage) -> f64 {
-    let sum: u64 = a
-        .as_raw()
-        .iter()
-        .zip(b.as_raw())
-        .map(|(x, y)| u64::from(x.abs_diff(*y)))
-        .sum();
-    sum as f64 / a.as_raw().len() as f64
 }
 
 /// One browser frame: the package of scene `package`, seen as scene `view` is (its camera,

@@ -11,7 +11,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use glam::{Mat4, Vec4};
@@ -27,7 +27,7 @@ use nimbus_runtime::render::{Frame, Renderer, TextureSizes, WrittenFrame};
 use nimbus_testkit::skip::{browser_tools_present, node_missing};
 use serde_json::{Value, json};
 
-use common::{have_gpu, nimbus, text};
+use common::{browser_dir, have_gpu, nimbus, text};
 
 const WIDTH: u32 = 24;
 const HEIGHT: u32 = 14;
@@ -151,10 +151,6 @@ fn sequences() -> Vec<Sequence> {
             steps: moving(2, 32),
         },
     ]
-}
-
-fn browser_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../browser")
 }
 
 /// What the runtime writes for `seq`.

@@ -189,6 +189,10 @@ export class NimbusClouds {
       resolve: new Block(await get('uniforms/resolve.json', 'json')),
       display: new Block(await get('uniforms/display.json', 'json')),
     };
+    // A pair built with `--enable scene-depth` reads the engine's depth buffer and its
+    // encoding (the camera's projection).
+    const readsDepth = pair.passes.some((p) => p.bindings.some((b) => b.holds.id === 'scene'));
+    if (readsDepth) blocks.scene = new Block(await get('uniforms/scene.json', 'json'));
     const textures = {};
     for (const t of pkg.textures) textures[t.name] = await loadTexture(url(t.file), t);
     const sources = {};
@@ -234,10 +238,35 @@ export class NimbusClouds {
     this.seed = 0;
     this.viewProjection = new THREE.Matrix4();
     this.previousViewProjection = null;
-    // Texture uniforms that change from frame to frame (the history targets), by what they hold.
+    // Texture uniforms that change from frame to frame (the history targets, the engine's
+    // depth), by what they hold.
     this.dynamic = [];
+    // Over the engine's own scene: the clouds stop at its depth and are drawn over its picture
+    // (premultiplied: the display pass keeps alpha, blended over what is there).
+    this.readsDepth = Boolean(blocks.scene);
+    this.cameraFar = 1e6;
+    this.reversedDepth = false;
     this.passes = {};
     for (const pass of pair.passes) this.passes[pass.pass] = this.makePass(pass, sources[pass.pass]);
+    if (this.readsDepth) {
+      // Premultiplied over the engine's picture: Nimbus's colour plus what its alpha leaves of
+      // the pixel already there.
+      blocks.display.setFloats('keep_alpha', [1]);
+      const m = this.passes.display.material;
+      m.blending = THREE.CustomBlending;
+      m.blendSrc = THREE.OneFactor;
+      m.blendDst = THREE.OneMinusSrcAlphaFactor;
+      m.blendSrcAlpha = THREE.ZeroFactor;
+      m.blendDstAlpha = THREE.OneFactor;
+      // The engine's picture, drawn by three.js itself (its own tone mapping and output colour
+      // space) before the clouds go over it.
+      this.sceneCopy = new THREE.Mesh(
+        new THREE.PlaneGeometry(2, 2),
+        new THREE.MeshBasicMaterial({ depthTest: false, depthWrite: false }),
+      );
+      this.sceneCopy.position.z = -0.5;
+      this.sceneCopy.frustumCulled = false;
+    }
     // The display pass's source: the cloud target, or the history target resolve wrote.
     const display = pair.passes.find((p) => p.pass === 'display');
     this.displaySource = display.bindings
@@ -261,6 +290,10 @@ export class NimbusClouds {
         return this.cloudTarget.texture;
       case 'history_read':
         return this.history[0].texture;
+      case 'scene':
+        return this.blocks.scene;
+      case 'scene_depth':
+        return null; // the engine's depth texture, given with each frame
       default:
         return this.textures[id] ?? null;
     }
@@ -283,7 +316,9 @@ export class NimbusClouds {
         } else if (named.combined_sampler) {
           const uniform = { value: resource };
           uniforms[named.combined_sampler] = uniform;
-          if (b.holds.id === 'history_read') this.dynamic.push({ pass: pass.pass, uniform });
+          if (b.holds.id === 'history_read' || b.holds.id === 'scene_depth') {
+            this.dynamic.push({ pass: pass.pass, uniform, holds: b.holds.id });
+          }
         }
       }
     }
@@ -344,6 +379,16 @@ export class NimbusClouds {
     const inverse = this.viewProjection.clone().invert();
     const u = this.blocks.pair;
     u.setFloats('inverse_view_projection', inverse.elements);
+    if (this.blocks.scene) {
+      // The engine camera's depth encoding: its projection's z and w rows, its forward axis.
+      const sc = this.blocks.scene;
+      const e = camera.projectionMatrix.elements;
+      sc.setFloats('view_projection', this.viewProjection.elements);
+      sc.setFloats('forward', camera.getWorldDirection(new THREE.Vector3()).toArray());
+      sc.setFloats('projection_zw', [e[10], e[14], e[11], e[15]]);
+      this.cameraFar = camera.far;
+      this.reversedDepth = Boolean(camera.reversedDepth);
+    }
     const position = new THREE.Vector3().setFromMatrixPosition(camera.matrixWorld);
     const altitude = Math.max(position.y, 0);
     const offset = [position.x, 0, position.z];
@@ -450,9 +495,38 @@ export class NimbusClouds {
     renderer.render(this.scene, this.camera);
   }
 
-  /** Draws one frame into `target` (a WebGLRenderTarget), or the canvas when it is null. */
-  render(renderer, target = null) {
+  /**
+   * Draws one frame into `target` (a WebGLRenderTarget), or the canvas when it is null.
+   *
+   * A package built with `--enable scene-depth` draws the clouds into the engine's own scene:
+   * `options.scene` is the render target the scene was drawn into (with a `depthTexture`):
+   * its picture is drawn first, then the clouds over it, stopped by its depth. Or give
+   * `options.depth` (a DepthTexture) alone and the clouds are drawn over what `target` holds.
+   */
+  render(renderer, target = null, options = {}) {
     if (!this.width) throw new Error('call setSize before render');
+    const depth = options.depth ?? options.scene?.depthTexture ?? null;
+    if (this.readsDepth) {
+      if (!depth) {
+        throw new Error(
+          `render: the pair ${this.pair.pair} reads the engine's depth (built with --enable scene-depth): ` +
+            'pass { scene: aRenderTargetWithADepthTexture } or { depth: aDepthTexture }',
+        );
+      }
+      const sc = this.blocks.scene;
+      const logarithmic = Boolean(renderer.capabilities?.logarithmicDepthBuffer);
+      sc.setUint('encoding', logarithmic ? 1 : 0);
+      sc.setFloats('log_range', [Math.log2(this.cameraFar + 1)]);
+      // WebGL's depth range: NDC z in [-1, 1], unless reversed (glClipControl, [0, 1]).
+      sc.setFloats('depth_scale', [this.reversedDepth ? 1 : 2]);
+      sc.setFloats('depth_offset', [this.reversedDepth ? 0 : -1]);
+      sc.setFloats('clear_depth', [this.reversedDepth ? 0 : 1]);
+      sc.setFloats('resolution', [depth.image.width, depth.image.height]);
+      sc.setFloats('flip_y', [1]);
+      for (const d of this.dynamic) if (d.holds === 'scene_depth') d.uniform.value = depth;
+    } else if (depth) {
+      throw new Error(`render: the pair ${this.pair.pair} was built without --enable scene-depth; it cannot read a depth buffer`);
+    }
     const temporal = this.upscale || this.accumulate;
     // Frames counted since the history started; a frame nothing resolves is always frame 0
     // (the same picture for the same inputs, as `nimbus render` draws it).
@@ -489,14 +563,29 @@ export class NimbusClouds {
       r.setFloats('camera_altitude', [u.float('camera_altitude')]);
       r.setFloats('planet_radius', [u.float('march.radius')]);
       for (const d of this.dynamic) {
-        if (d.pass === 'resolve') d.uniform.value = this.history[read].texture;
+        if (d.holds === 'history_read') d.uniform.value = this.history[read].texture;
       }
       this.draw(renderer, this.passes.resolve, this.history[write]);
       this.latest = write;
       shown = this.history[write];
     }
     this.passes.display.mesh.material.uniforms[this.displaySource].value = shown.texture;
+    if (options.scene && this.sceneCopy) {
+      const material = this.sceneCopy.material;
+      if (material.map !== options.scene.texture) {
+        material.map = options.scene.texture;
+        material.needsUpdate = true;
+      }
+      this.scene.children.length = 0;
+      this.scene.add(this.sceneCopy);
+      renderer.setRenderTarget(target);
+      renderer.render(this.scene, this.camera);
+    }
+    // Over the engine's picture, the clouds are blended onto it: nothing is cleared.
+    const autoClear = renderer.autoClear;
+    if (this.readsDepth) renderer.autoClear = false;
     this.draw(renderer, this.passes.display, target);
+    renderer.autoClear = autoClear;
     renderer.setRenderTarget(previous);
     this.previousViewProjection = this.viewProjection.clone();
     this.previousDrift = drift;
@@ -505,6 +594,10 @@ export class NimbusClouds {
 
   dispose() {
     this.geometry.dispose();
+    if (this.sceneCopy) {
+      this.sceneCopy.geometry.dispose();
+      this.sceneCopy.material.dispose();
+    }
     this.cloudTarget.dispose();
     for (const h of this.history) h.dispose();
     if (this.shadowTarget) this.shadowTarget.dispose();

@@ -2,7 +2,7 @@
 //! example data, and decide whether GPU work can run here.
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Runs `nimbus` with `args` and extra environment variables.
@@ -95,4 +95,50 @@ pub fn have_python(check: &str, what: &str) -> bool {
         eprintln!("SKIPPED: python3 with {what} is missing");
     }
     ok
+}
+
+/// The browser tests' folder (page, driver scripts, node_modules).
+pub fn browser_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../browser")
+}
+
+fn chromium() -> PathBuf {
+    std::env::var_os("CHROMIUM").map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from)
+}
+
+/// Why the browser tests cannot run here, if they cannot.
+pub fn missing_browser() -> Option<String> {
+    if Command::new("node").arg("--version").output().is_err() {
+        return Some("node is not installed".into());
+    }
+    if !browser_dir().join("node_modules/playwright-core").is_dir()
+        || !browser_dir().join("node_modules/three").is_dir()
+    {
+        return Some("browser/node_modules is missing: run `npm ci` in browser/".into());
+    }
+    if !chromium().is_file() {
+        return Some(format!(
+            "{} is missing: apt-get install chromium",
+            chromium().display()
+        ));
+    }
+    None
+}
+
+/// An image file as 8-bit RGB.
+pub fn rgb(path: &Path) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8()
+}
+
+/// Mean absolute difference of two images' channels (of 255).
+pub fn mean_difference(a: &image::RgbImage, b: &image::RgbImage) -> f64 {
+    let sum: u64 = a
+        .as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .map(|(x, y)| u64::from(x.abs_diff(*y)))
+        .sum();
+    sum as f64 / a.as_raw().len() as f64
 }

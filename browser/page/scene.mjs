@@ -1,0 +1,66 @@
+// Nimbus clouds inside a three.js scene: a black tower (`tower=x,z,width,height`, metres) stands
+// in the cloud layer; the scene is drawn into a render target with a depth texture, and the
+// package (built with --enable scene-depth) draws the clouds over it, stopped by its depth.
+// `log=1` uses three's logarithmic depth buffer; `frames=N` accumulates N frames; `depth=0` draws the clouds the old way, over
+// everything (the control). Publishes the frame like main.mjs.
+import * as THREE from 'three';
+import { publish } from './publish.mjs';
+
+const q = new URLSearchParams(location.search);
+const number = (name, fallback) => (q.has(name) ? Number(q.get(name)) : fallback);
+const width = number('width', 160);
+const height = number('height', 90);
+const degrees = Math.PI / 180;
+
+async function run(result) {
+  const { messages } = result;
+  const base = new URL(q.get('pkg') ?? '/pkg/', location.href);
+  const { NimbusClouds } = await import(new URL('nimbus-clouds.js', base).href);
+  const canvas = document.createElement('canvas');
+  document.body.appendChild(canvas);
+  const renderer = new THREE.WebGLRenderer({
+    canvas,
+    antialias: false,
+    preserveDrawingBuffer: true,
+    logarithmicDepthBuffer: q.get('log') === '1',
+  });
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height, false);
+  renderer.debug.checkShaderErrors = true;
+  renderer.debug.onShaderError = (gl, program, vs, fs) => {
+    messages.push(`shader error: ${gl.getProgramInfoLog(program)} ${gl.getShaderInfoLog(vs)} ${gl.getShaderInfoLog(fs)}`);
+  };
+
+  // The user's scene: a tower, and the camera that sees it.
+  const scene = new THREE.Scene();
+  const [x, z, side, tall] = (q.get('tower') ?? '0,-8000,1500,4000').split(',').map(Number);
+  const tower = new THREE.Mesh(new THREE.BoxGeometry(side, tall, side), new THREE.MeshBasicMaterial({ color: 0x000000 }));
+  tower.position.set(x, tall / 2, z);
+  scene.add(tower);
+  const camera = new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
+  camera.rotation.order = 'YXZ';
+  camera.rotation.set(number('pitch', 10) * degrees, -number('yaw', 0) * degrees, 0);
+  camera.position.set(0, number('altitude', 2), 0);
+  const target = new THREE.WebGLRenderTarget(width, height, {
+    type: THREE.HalfFloatType,
+    depthTexture: new THREE.DepthTexture(width, height, THREE.FloatType),
+  });
+
+  const clouds = await NimbusClouds.load(base);
+  const frames = number('frames', 1);
+  clouds.accumulate = frames > 1;
+  clouds.setSize(width, height);
+  clouds.exposure = number('exposure', 8);
+  if (q.has('sun')) clouds.setSun(...q.get('sun').split(',').map(Number));
+  renderer.setRenderTarget(target);
+  renderer.render(scene, camera);
+  renderer.setRenderTarget(null);
+  clouds.setCamera(camera);
+  for (let i = 0; i < frames; i++) {
+    if (q.get('depth') === '0') clouds.render(renderer);
+    else clouds.render(renderer, null, { scene: target });
+  }
+  return { gl: renderer.getContext(), canvas };
+}
+
+publish(run);

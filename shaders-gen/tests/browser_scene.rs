@@ -1,0 +1,348 @@
+//! Clouds in the user's own three.js scene, in a real browser: a black tower 4 km tall and 8 km
+//! away pierces the cumulus layer; three.js draws it into a render target with a depth texture
+//! and the package (built with `--enable scene-depth`, at `medium`, sun 8° high at azimuth
+//! 230°) draws the clouds over it, stopped by its depth. Each frame is compared with Nimbus's
+//! own render of the same scene given the tower's depth (computed here, ray by ray), pixel
+//! class by pixel class: the tower below the clouds, in them and above them, and the sky. With
+//! a perspective depth buffer, three's logarithmic one, and a camera climbing through the layer.
+//! The control: the same page with a package that cannot read depth draws the clouds over the
+//! tower, and fails the comparison.
+//!
+//! Needs node, `browser/node_modules`, Chromium and a GPU adapter (lavapipe in CI).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use glam::{Mat4, Vec3, Vec4};
+use image::RgbImage;
+use nimbus_clouds::model::scene_depth::SceneDepthParams;
+use nimbus_clouds::{CloudLibrary, Quality};
+use nimbus_runtime::Gpu;
+use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+use nimbus_runtime::scene_depth::SceneDepth;
+use nimbus_testkit::skip::browser_tools_present;
+
+use common::{browser_dir, have_gpu, mean_difference, missing_browser, nimbus, rgb, text};
+
+const W: u32 = 160;
+const H: u32 = 90;
+const PITCH: f32 = 10.0;
+const FOV: f32 = 60.0;
+const SUN: (f32, f32) = (8.0, 230.0);
+const COVERAGE: f32 = 0.6;
+/// The tower: centre x and z, side and height (m), as the page's `tower=` takes them.
+const TOWER: [f32; 4] = [0.0, -8000.0, 1500.0, 4000.0];
+const NEAR: f32 = 1.0;
+const FAR: f32 = 1e6;
+/// A class of pixels must stay under this mean difference (of 255) from Nimbus's render. Inside
+/// the layer SwiftShader's and lavapipe's arithmetic part by up to 2.4/255 over a region of
+/// the march (measured without any scene too: the plain package at 2,200 m against `nimbus
+/// render`), 0.2/255 elsewhere.
+const MAX_MEAN: f64 = 2.5;
+/// Frames accumulated on both sides, so that the march's noise is not what is compared.
+const FRAMES: u32 = 4;
+
+/// What a pixel of the frame shows of the tower.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Class {
+    Sky,
+    /// The tower where it stands below the cloud layer's base, in it, and above its top.
+    TowerBelow,
+    TowerInside,
+    TowerAbove,
+    /// A pixel beside a tower edge: rasterisation and a ray through its centre may disagree.
+    Edge,
+}
+
+fn frame(altitude: f32) -> Frame {
+    let lib = CloudLibrary::load(Path::new(&common::examples(""))).expect("library");
+    let mut genus = lib.genus("cumulus").expect("cumulus").clone();
+    genus.coverage = COVERAGE;
+    let mut f = Frame::new(genus, Quality::Medium, W, H);
+    f.sun_elevation_deg = SUN.0;
+    f.sun_azimuth_deg = SUN.1;
+    f.camera_altitude = altitude;
+    f.camera_pitch_deg = PITCH;
+    f.fov_deg = FOV;
+    f
+}
+
+/// Distance along `dir` from `origin` to the tower's box, if the ray meets it.
+fn hit_tower(origin: Vec3, dir: Vec3) -> Option<f32> {
+    let [x, z, side, tall] = TOWER;
+    let lo = Vec3::new(x - side / 2.0, 0.0, z - side / 2.0);
+    let hi = Vec3::new(x + side / 2.0, tall, z + side / 2.0);
+    let inv = dir.recip();
+    let (a, b) = ((lo - origin) * inv, (hi - origin) * inv);
+    let near = a.min(b).max_element();
+    let far = a.max(b).min_element();
+    (far >= near.max(0.0)).then_some(near.max(0.0))
+}
+
+/// The tower's depth buffer as three.js writes it for the page's camera (OpenGL perspective,
+/// near 1 m, far 1,000 km), and each pixel's class.
+fn tower_depth(f: &Frame) -> (SceneDepth, Vec<Class>) {
+    let (forward, up) = f.camera_basis();
+    let right = forward.cross(up);
+    let aspect = W as f32 / H as f32;
+    let half = (FOV.to_radians() * 0.5).tan();
+    let projection = Mat4::perspective_rh_gl(FOV.to_radians(), aspect, NEAR, FAR);
+    let origin = Vec3::new(0.0, f.camera_altitude, 0.0);
+    let (base, top) = (1500.0, 3000.0);
+    let mut texels = Vec::new();
+    let mut hits = Vec::new();
+    for y in 0..H {
+        for x in 0..W {
+            let nx = (x as f32 + 0.5) / W as f32 * 2.0 - 1.0;
+            let ny = 1.0 - (y as f32 + 0.5) / H as f32 * 2.0;
+            let dir = (forward + right * (nx * half * aspect) + up * (ny * half)).normalize();
+            match hit_tower(origin, dir) {
+                Some(t) => {
+                    let z = t * dir.dot(forward);
+                    let clip = projection * Vec4::new(0.0, 0.0, -z, 1.0);
+                    texels.push(clip.z / clip.w * 0.5 + 0.5);
+                    let h = origin.y + dir.y * t;
+                    hits.push(Some(h));
+                }
+                None => {
+                    texels.push(1.0);
+                    hits.push(None);
+                }
+            }
+        }
+    }
+    let at = |x: i32, y: i32| -> Option<Option<f32>> {
+        (x >= 0 && y >= 0 && x < W as i32 && y < H as i32)
+            .then(|| hits[(y as u32 * W + x as u32) as usize])
+    };
+    let mut classes = Vec::new();
+    for y in 0..H as i32 {
+        for x in 0..W as i32 {
+            let me = at(x, y).flatten();
+            let mixed = (-1..=1).any(|dy| {
+                (-1..=1).any(|dx| at(x + dx, y + dy).is_some_and(|n| n.is_some() != me.is_some()))
+            });
+            classes.push(match me {
+                _ if mixed => Class::Edge,
+                None => Class::Sky,
+                Some(h) if h < base => Class::TowerBelow,
+                Some(h) if h <= top => Class::TowerInside,
+                Some(_) => Class::TowerAbove,
+            });
+        }
+    }
+    let params = SceneDepthParams::perspective_gl(projection, Mat4::IDENTITY, Vec3::Z, W, H);
+    (
+        SceneDepth {
+            width: W,
+            height: H,
+            texels,
+            params,
+        },
+        classes,
+    )
+}
+
+/// Nimbus's own render of the scene with the tower's depth, as the display pass shows it over
+/// a black tower.
+fn reference(gpu: &Gpu, altitude: f32) -> (RgbImage, Vec<Class>) {
+    let mut f = frame(altitude);
+    let (depth, classes) = tower_depth(&f);
+    f.scene_depth = Some(depth);
+    f.frames = FRAMES;
+    let mut r = Renderer::new(gpu, TextureSizes::default());
+    let img = r.render(&f).expect("renders");
+    let rgba = img.to_rgba8(8.0);
+    let rgb = RgbImage::from_fn(W, H, |x, y| {
+        let p = rgba.get_pixel(x, y);
+        image::Rgb([p[0], p[1], p[2]])
+    });
+    (rgb, classes)
+}
+
+/// The scene as a scene file (for `nimbus emit --scene`).
+fn scene_file(dir: &Path) -> PathBuf {
+    let file = dir.join("tower-scene.toml");
+    let toml = format!(
+        "name = \"tower-scene\"\n\
+         description = \"The browser scene test: cumulus around a tower.\"\n\
+         genus = \"cumulus\"\n\
+         quality = \"medium\"\n\
+         coverage = {COVERAGE}\n\
+         sun_elevation_deg = {}\n\
+         sun_azimuth_deg = {}\n\
+         camera_altitude = 2.0\n\
+         camera_pitch_deg = {PITCH}\n",
+        SUN.0, SUN.1
+    );
+    std::fs::write(&file, toml).expect("writes the scene");
+    file
+}
+
+fn emit(dir: &Path, name: &str, depth: bool) -> PathBuf {
+    let package = dir.join(name);
+    let scene = scene_file(dir);
+    let mut args = vec![
+        "emit",
+        "--engine",
+        "three",
+        "--scene",
+        scene.to_str().expect("utf-8"),
+        "-o",
+        package.to_str().expect("utf-8"),
+    ];
+    if depth {
+        args.extend(["--enable", "scene-depth"]);
+    }
+    let o = nimbus(&args);
+    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    package
+}
+
+fn browser(package: &Path, png: &Path, extra: &[String]) -> RgbImage {
+    let mut args = vec![
+        "page=scene".to_string(),
+        format!("width={W}"),
+        format!("height={H}"),
+        format!("pitch={PITCH}"),
+        format!("fov={FOV}"),
+        format!("tower={},{},{},{}", TOWER[0], TOWER[1], TOWER[2], TOWER[3]),
+        format!("frames={FRAMES}"),
+    ];
+    args.extend(extra.iter().cloned());
+    let o = Command::new("node")
+        .current_dir(browser_dir())
+        .arg("render.mjs")
+        .arg(package)
+        .arg(png)
+        .args(&args)
+        .output()
+        .expect("runs node");
+    let log = std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
+    assert!(
+        o.status.success(),
+        "{}: the page failed or logged: {}{}\n{log}",
+        png.display(),
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    rgb(png)
+}
+
+/// Mean difference (of 255) per pixel class, and the classes' pixel counts.
+fn by_class(a: &RgbImage, b: &RgbImage, classes: &[Class]) -> Vec<(Class, usize, f64)> {
+    let mut out = Vec::new();
+    for class in [
+        Class::Sky,
+        Class::TowerBelow,
+        Class::TowerInside,
+        Class::TowerAbove,
+    ] {
+        let idx: Vec<usize> = (0..classes.len())
+            .filter(|&i| classes[i] == class)
+            .collect();
+        let sum: u64 = idx
+            .iter()
+            .flat_map(|&i| {
+                let (x, y) = (i as u32 % W, i as u32 / W);
+                let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+                (0..3).map(move |c| u64::from(p[c].abs_diff(q[c])))
+            })
+            .sum();
+        let mean = if idx.is_empty() {
+            0.0
+        } else {
+            sum as f64 / (idx.len() * 3) as f64
+        };
+        out.push((class, idx.len(), mean));
+    }
+    out
+}
+
+#[test]
+fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
+    if !browser_tools_present("the browser scene test", missing_browser()) || !have_gpu() {
+        return;
+    }
+    let gpu = Gpu::new().expect("adapter");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-scene");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).expect("screenshot folder");
+    let with_depth = emit(&out, "package-depth", true);
+    let sun = format!("sun={},{}", SUN.0, SUN.1);
+
+    // (name, camera altitude, logarithmic depth): on the ground, then climbing into and
+    // through the layer (base 1.5 km, top 3 km).
+    let cases = [
+        ("perspective", 2.0, false),
+        ("logarithmic", 2.0, true),
+        ("climbing-2200m", 2200.0, false),
+        ("climbing-3600m", 3600.0, false),
+    ];
+    let mut references = Vec::new();
+    let mut failures = Vec::new();
+    for (name, altitude, log) in cases {
+        let (want, classes) = reference(&gpu, altitude);
+        want.save(out.join(format!("{name}-nimbus.png")))
+            .expect("saves");
+        let got = browser(
+            &with_depth,
+            &out.join(format!("{name}-chromium.png")),
+            &[
+                format!("altitude={altitude}"),
+                format!("log={}", u8::from(log)),
+                sun.clone(),
+            ],
+        );
+        let classes_seen = by_class(&want, &got, &classes);
+        println!(
+            "{name}: mean difference {:.2}/255; by class {classes_seen:?}",
+            mean_difference(&want, &got)
+        );
+        for (class, count, mean) in &classes_seen {
+            if *count > 0 && *mean > MAX_MEAN {
+                failures.push(format!(
+                    "{name}: {class:?} ({count} pixels) differs by {mean:.2}/255 from Nimbus's render"
+                ));
+            }
+        }
+        references.push((want, classes, got));
+    }
+    assert!(
+        failures.is_empty(),
+        "{}; see {}",
+        failures.join("; "),
+        out.display()
+    );
+    // On the ground the tower shows below, inside and above the layer.
+    let ground = by_class(&references[0].0, &references[0].2, &references[0].1);
+    for (class, count, _) in &ground[1..] {
+        assert!(*count >= 20, "{class:?}: only {count} pixels");
+    }
+    // Control 1: the clouds drawn over everything (a package that cannot read depth) hide the
+    // tower where clouds are in front of it and also where they are behind it.
+    let without = emit(&out, "package-no-depth", false);
+    let erased = browser(
+        &without,
+        &out.join("no-depth-chromium.png"),
+        &["altitude=2".to_string(), "depth=0".to_string(), sun.clone()],
+    );
+    let control = by_class(&references[0].0, &erased, &references[0].1);
+    println!("control (no scene depth): {control:?}");
+    assert!(
+        control[1..]
+            .iter()
+            .any(|(_, _, mean)| *mean > MAX_MEAN * 4.0),
+        "the comparison cannot tell a tower from clouds drawn over it: {control:?}"
+    );
+    // Control 2: the climb changes the picture: the frame at 2,200 m is not the ground's.
+    let moved = mean_difference(&references[0].0, &references[2].2);
+    println!("control (ground vs 2,200 m): mean {moved:.2}/255");
+    assert!(
+        moved > MAX_MEAN * 4.0,
+        "the altitude changes nothing: {moved:.2}"
+    );
+    println!("screenshots: {}", out.display());
+}
