@@ -81,6 +81,9 @@ pub fn shadow_texel(p: Vec3) -> Vec4 {
     vec4(texel.x, texel.y * fade, texel.z * fade, texel.w * fade)
 }
 
+/// The largest front depth (m) the shadow atlas stores: half floats end at 65,504.
+pub const SHADOW_DEPTH_LIMIT: f32 = 65_000.0;
+
 /// One texel of the shadow atlas: march along the sun's rays, down from the top of the
 /// shadow-casting layers, and store front depth (transmittance-weighted mean distance, m),
 /// mean extinction, maximum optical depth and the tail beyond an early termination.
@@ -132,14 +135,19 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
         }
         t += step_size;
     }
+    // Depths stay within what the half-float atlas holds: the march's reach (100–200 km) was
+    // +∞ there, and filtering between such a texel and a cloudy one is undefined (SwiftShader
+    // and lavapipe disagreed by a whole shadow along a texel's edge near the camera).
+    let far = length.min(SHADOW_DEPTH_LIMIT);
     if samples < 0.5 {
-        // No medium on this sun ray: nothing shadows, whatever the depth.
-        return vec4(m.max_ray_distance, 0.0, 0.0, 0.0);
+        // No medium on this sun ray: nothing shadows, whatever the depth; the end of the ray
+        // through the slab, so that filtering towards a cloudy texel fades its shadow out.
+        return vec4(far, 0.0, 0.0, 0.0);
     }
     let mean_extinction = extinction_sum / samples;
     let tail = mean_extinction * (length - end).max(0.0) * s.tail_scale;
     vec4(
-        depth_sum / weight_sum.max(1e-20),
+        (depth_sum / weight_sum.max(1e-20)).min(far),
         mean_extinction,
         optical_depth,
         tail,
