@@ -2,14 +2,17 @@
 // folder's node_modules in place of the CDN the page names, and writes two screenshots taken a
 // moment apart (the sun moves between them) and the page's messages.
 //
-//   node example.mjs PACKAGE_DIR OUT_PREFIX
+//   node example.mjs PACKAGE_DIR OUT_PREFIX [PAGE]
+//
+// PAGE is example.html by default; tower.html (packages built with --enable scene-depth) is
+// waited for until it has drawn two frames.
 import { readFile, writeFile } from 'node:fs/promises';
 import { join, resolve, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { expected, withPage } from './serve.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
-const [pkgDir, prefix] = process.argv.slice(2);
+const [pkgDir, prefix, pageName = 'example.html'] = process.argv.slice(2);
 if (!pkgDir || !prefix) {
   console.error('usage: node example.mjs PACKAGE_DIR OUT_PREFIX');
   process.exit(2);
@@ -26,16 +29,17 @@ const status = await withPage({ '/': resolve(pkgDir) }, {}, viewport, async (pag
       await route.fulfill({ status: 404 });
     }
   });
-  await page.goto(`${origin}/example.html`);
-  await page.waitForSelector('#pair:not(:empty)', { timeout: 120000 });
+  await page.goto(`${origin}/${pageName}`);
+  await page.waitForSelector('#pair:not(:empty), body[data-frames]', { timeout: 120000 });
   await page.waitForTimeout(1500);
   await page.locator('canvas').screenshot({ path: `${prefix}-1.png` });
   await page.waitForTimeout(3000);
   await page.locator('canvas').screenshot({ path: `${prefix}-2.png` });
-  const azimuth = await page.inputValue('#azimuth');
+  const azimuth = (await page.$('#azimuth')) ? await page.inputValue('#azimuth') : null;
+  const frames = await page.evaluate(() => document.body.dataset.frames ?? null);
   const problems = logs.filter((l) => /^(error|warning|pageerror|http)/.test(l) && !expected(l));
-  await writeFile(`${prefix}.log.json`, JSON.stringify({ problems, azimuth }, null, 2));
-  console.log(`azimuth after the run: ${azimuth}`);
+  await writeFile(`${prefix}.log.json`, JSON.stringify({ problems, azimuth, frames }, null, 2));
+  console.log(`azimuth after the run: ${azimuth}; frames drawn: ${frames}`);
   if (problems.length > 0) {
     console.error(problems.join('\n'));
     return 1;

@@ -82,6 +82,10 @@ const THREE_MODULES: [(&str, &str); 4] = [
     ("example.html", include_str!("../assets/three/example.html")),
 ];
 
+/// A page of the README: a tower of the user's scene standing in the clouds (three packages
+/// built with `--enable scene-depth`).
+const TOWER_PAGE: (&str, &str) = ("tower.html", include_str!("../assets/three/tower.html"));
+
 /// Format of every intermediate target (linear HDR radiance, alpha = cloud opacity).
 const HDR_FORMAT: &str = "rgba16float";
 
@@ -383,6 +387,11 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         // The ES modules that draw the package with three.js alone.
         for (name, text) in THREE_MODULES {
             files.push((name.to_string(), text.as_bytes().to_vec()));
+        }
+        // Clouds in a scene of the user's: the README's tower page, for the pairs that read
+        // the engine's depth.
+        if table.iter().any(|a| a.clouds.features.scene_depth) {
+            files.push((TOWER_PAGE.0.to_string(), TOWER_PAGE.1.as_bytes().to_vec()));
         }
     }
     files.push(("README.md".to_string(), readme(engine, table).into_bytes()));

@@ -346,3 +346,76 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
     );
     println!("screenshots: {}", out.display());
 }
+
+/// The README's page (`tower.html`, shipped in three packages built with `--enable scene-depth`)
+/// runs as a user opens it: three.js from its CDN (answered from node_modules), nothing logged,
+/// frames drawn, and its tower standing out of the ground beside it where the clouds do not
+/// hide it. The package's `example.html` runs on the same package (an empty scene's depth).
+#[test]
+fn the_readme_tower_page_runs_from_the_package() {
+    if !browser_tools_present("the README tower page test", missing_browser()) {
+        return;
+    }
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-tower");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).expect("screenshot folder");
+    let package = out.join("package");
+    let o = nimbus(&[
+        "emit",
+        "--engine",
+        "three",
+        "--genus",
+        "cumulus",
+        "--quality",
+        "medium",
+        "--enable",
+        "scene-depth",
+        "-o",
+        package.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    for page in ["tower", "example"] {
+        let prefix = out.join(page);
+        let o = Command::new("node")
+            .current_dir(browser_dir())
+            .arg("example.mjs")
+            .arg(&package)
+            .arg(&prefix)
+            .arg(format!("{page}.html"))
+            .output()
+            .expect("runs node");
+        assert!(
+            o.status.success(),
+            "{page}.html failed or logged: {}{}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
+        println!("{page}.html: {}", text(&o.stdout).trim());
+    }
+    let shot = rgb(&out.join("tower-2.png"));
+    let (w, h) = shot.dimensions();
+    // The tower's foot (below the clouds' base, 8 km north of a camera 300 m up, pitched 8.6°
+    // up: the middle column just above the horizon), cool grey against the warm haze either
+    // side of it: blue minus red.
+    let coolness = |x0: u32, x1: u32| -> f64 {
+        let (y0, y1) = (h * 58 / 100, h * 64 / 100);
+        let mut sum = 0.0;
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let p = shot.get_pixel(x, y);
+                sum += f64::from(p[2]) - f64::from(p[0]);
+            }
+        }
+        sum / f64::from((x1 - x0) * (y1 - y0))
+    };
+    let tower = coolness(w / 2 - 6, w / 2 + 6);
+    let beside = (coolness(w / 2 - 60, w / 2 - 40) + coolness(w / 2 + 40, w / 2 + 60)) / 2.0;
+    println!(
+        "blue minus red at the tower's foot {tower:.1}, beside it {beside:.1}; screenshots in {}",
+        out.display()
+    );
+    assert!(
+        tower - beside > 15.0,
+        "no tower where the page stands it: {tower:.1} against {beside:.1}"
+    );
+}

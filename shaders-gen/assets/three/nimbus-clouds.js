@@ -414,11 +414,16 @@ export class NimbusClouds {
     this.relight();
   }
 
+  /** The sun's direction (unit, x east, y up, z south): where a scene's own sun light goes. */
+  get sunDirection() {
+    const u = this.blocks.pair;
+    return Array.from(u.floats.subarray(u.word('light.sun_direction'), u.word('light.sun_direction') + 3));
+  }
+
   /** Recomputes what the sun decides for the block as it stands (sun, camera altitude). */
   relight() {
     const u = this.blocks.pair;
-    const direction = Array.from(u.floats.subarray(u.word('light.sun_direction'), u.word('light.sun_direction') + 3));
-    const light = sun_light(u.toObject(), direction);
+    const light = sun_light(u.toObject(), this.sunDirection);
     u.setFloats('light.sun_direction', light.sun_direction);
     u.setFloats('light.sun_irradiance', light.sun_irradiance);
     u.setFloats('light.sky_irradiance', light.sky_irradiance);
