@@ -63,17 +63,27 @@ const WIND_EXPORTS: [&str; 5] = [
     "TOP_ALTITUDE",
 ];
 
-/// The three.js files a three package ships: the renderer of the package, its timeline (wind
-/// drift and weather states, no three.js), an EffectComposer pass around it, and an example
-/// page where the sun moves (`npx serve DIR`, open `example.html`).
-const THREE_MODULES: [(&str, &str); 4] = [
+/// What every JavaScript host of a package keeps and writes into the blocks, with no graphics
+/// API (`NimbusHost`: camera, sun, timeline, frame sequence), and the timeline's weather states
+/// (`NimbusTimeline`): shipped in three and webgpu packages, used by their renderers.
+const HOST_MODULES: [(&str, &str); 2] = [
     (
-        "nimbus-clouds.js",
-        include_str!("../assets/three/nimbus-clouds.js"),
+        "nimbus-host.js",
+        include_str!("../assets/host/nimbus-host.js"),
     ),
     (
         "nimbus-timeline.js",
-        include_str!("../assets/three/nimbus-timeline.js"),
+        include_str!("../assets/host/nimbus-timeline.js"),
+    ),
+];
+
+/// The three.js files a three package ships: the renderer of the package, an EffectComposer
+/// pass around it, and an example page where the sun moves (`npx serve DIR`, open
+/// `example.html`).
+const THREE_MODULES: [(&str, &str); 3] = [
+    (
+        "nimbus-clouds.js",
+        include_str!("../assets/three/nimbus-clouds.js"),
     ),
     (
         "nimbus-clouds-pass.js",
@@ -382,6 +392,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         let host = nimbus_clouds::frame_sequence::host_module()?;
         let js = print_js(&host, &FRAME_EXPORTS)?;
         files.push((FRAME_MODULE.to_string(), js.into_bytes()));
+        for (name, text) in HOST_MODULES {
+            files.push((name.to_string(), text.as_bytes().to_vec()));
+        }
     }
     if engine == Engine::Three {
         // The ES modules that draw the package with three.js alone.
@@ -551,10 +564,20 @@ fn pass_json(pass: Pass, g: &Generated, engine: Engine) -> Value {
             })
         })
         .collect();
+    // The module's entry points by stage: what a pipeline descriptor names (a WGSL file holds
+    // them all; the other languages have a file each).
+    let mut entry_points = serde_json::Map::new();
+    for e in &g.ir.entry_points {
+        entry_points.insert(
+            format!("{:?}", e.stage).to_lowercase(),
+            Value::String(e.function.clone()),
+        );
+    }
     let mut v = json!({
         "pass": pass.name(),
         "shader": g.id(),
         "language": engine.language(),
+        "entry_points": entry_points,
         "files": files,
         "bindings": bindings,
     });
@@ -581,6 +604,18 @@ fn layout_json(g: &Generated, engine: Engine) -> Option<(&'static str, Value)> {
             })
             .collect()
     };
+    // The APIs' own stage flags: GPUShaderStage (VERTEX 1, FRAGMENT 2, COMPUTE 4) and
+    // VkShaderStageFlagBits (VERTEX 0x1, FRAGMENT 0x10, COMPUTE 0x20).
+    let flags = |b: &BindingInfo, vertex: u32, fragment: u32, compute: u32| -> u32 {
+        b.visibility
+            .iter()
+            .map(|s| match s {
+                nimbus_dsl::ir::Stage::Vertex => vertex,
+                nimbus_dsl::ir::Stage::Fragment => fragment,
+                nimbus_dsl::ir::Stage::Compute => compute,
+            })
+            .fold(0, |a, f| a | f)
+    };
     match engine {
         Engine::Webgpu | Engine::Wgpu => {
             let entries: Vec<Value> = g
@@ -604,9 +639,12 @@ fn layout_json(g: &Generated, engine: Engine) -> Option<(&'static str, Value)> {
                             "samplerDescriptor": sampler_descriptor(*desc),
                         }),
                     };
+                    // A GPUBindGroupLayoutEntry as the API takes it; `visibilityNames` says
+                    // the flags in words (the API ignores members it does not know).
                     let mut entry = json!({
                         "binding": b.binding,
-                        "visibility": stages(b).join(" | "),
+                        "visibility": flags(b, 1, 2, 4),
+                        "visibilityNames": stages(b).join(" | "),
                     });
                     if let (Value::Object(e), Value::Object(r)) = (&mut entry, resource) {
                         e.extend(r);
@@ -630,7 +668,7 @@ fn layout_json(g: &Generated, engine: Engine) -> Option<(&'static str, Value)> {
                         BindingKind::Texture { .. } => "VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE",
                         BindingKind::Sampler(_) => "VK_DESCRIPTOR_TYPE_SAMPLER",
                     };
-                    let flags: Vec<String> = stages(b)
+                    let names: Vec<String> = stages(b)
                         .iter()
                         .map(|s| format!("VK_SHADER_STAGE_{s}_BIT"))
                         .collect();
@@ -638,7 +676,8 @@ fn layout_json(g: &Generated, engine: Engine) -> Option<(&'static str, Value)> {
                         "binding": b.binding,
                         "descriptorType": ty,
                         "descriptorCount": 1,
-                        "stageFlags": flags.join(" | "),
+                        "stageFlags": flags(b, 0x1, 0x10, 0x20),
+                        "stageFlagNames": names.join(" | "),
                     });
                     if let (BindingKind::Sampler(desc), Value::Object(m)) = (&b.kind, &mut v) {
                         m.insert("sampler".into(), sampler_descriptor(*desc));

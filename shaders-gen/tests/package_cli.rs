@@ -71,11 +71,13 @@ fn every_engine_gets_a_complete_package() {
             javascript,
             "{engine}: the wind's JavaScript twin ships with JavaScript hosts only"
         );
-        assert_eq!(
-            out.join("nimbus-timeline.js").is_file(),
-            engine == "three",
-            "{engine}: the timeline module ships with three.js packages"
-        );
+        for host in ["nimbus-timeline.js", "nimbus-host.js", "nimbus-frame.js"] {
+            assert_eq!(
+                out.join(host).is_file(),
+                javascript,
+                "{engine}: {host} ships with JavaScript hosts only"
+            );
+        }
         if !javascript {
             let sun = &pair["passes"][0];
             assert_eq!(sun["dispatch"], serde_json::json!([1, 1, 1]), "{engine}");
@@ -118,6 +120,25 @@ fn every_engine_gets_a_complete_package() {
                     pass["bindings"].as_array().map(Vec::len),
                     "{engine}: {}",
                     pass["pass"]
+                );
+                // Stage flags as the APIs take them: numbers (GPUShaderStage, VkShaderStageFlags).
+                for e in entries.as_array().expect("entries") {
+                    let flags = if engine == "vulkan" {
+                        &e["stageFlags"]
+                    } else {
+                        &e["visibility"]
+                    };
+                    assert!(flags.as_u64().is_some_and(|f| f > 0), "{engine}: {e}");
+                }
+            }
+            // The pipeline's entry points, by stage.
+            let entry = &pass["entry_points"];
+            if pass["pass"] == "sun_light" {
+                assert!(entry["compute"].is_string(), "{engine}: {entry}");
+            } else {
+                assert!(
+                    entry["vertex"].is_string() && entry["fragment"].is_string(),
+                    "{engine}: {entry}"
                 );
             }
             for b in pass["bindings"].as_array().expect("bindings") {

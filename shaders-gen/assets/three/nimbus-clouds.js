@@ -26,90 +26,7 @@
 // `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
 
 import * as THREE from 'three';
-import { cloud_frame, resolve_frame } from './nimbus-frame.js';
-import { sun_direction, sun_light } from './nimbus-sun.js';
-import { NimbusTimeline } from './nimbus-timeline.js';
-import { facing_altitude } from './nimbus-wind.js';
-
-/** The bytes of a hex string. */
-function fromHex(hex) {
-  const bytes = new Uint8Array(hex.length / 2);
-  for (let i = 0; i < bytes.length; i++) bytes[i] = parseInt(hex.substr(2 * i, 2), 16);
-  return bytes;
-}
-
-/** A uniform block: its bytes, with float and uint views, and member offsets by path. */
-class Block {
-  constructor(json) {
-    this.bytes = fromHex(json.bytes_hex);
-    this.floats = new Float32Array(this.bytes.buffer);
-    this.uints = new Uint32Array(this.bytes.buffer);
-    this.ints = new Int32Array(this.bytes.buffer);
-    this.members = json.members;
-    this.offsets = new Map(json.members.map((m) => [m.member, m.offset / 4]));
-    this.types = new Map(json.members.map((m) => [m.member, m.type]));
-  }
-
-  /**
-   * Writes each field of `values` (a result of a generated host function, whose fields are
-   * named after the block's members) into the member of that name: numbers and arrays, as
-   * the member's type stores them.
-   */
-  assign(values) {
-    for (const [member, value] of Object.entries(values)) {
-      const at = this.word(member);
-      const words = [value].flat(2);
-      const type = this.types.get(member);
-      const view = /u32/.test(type) ? this.uints : /i32/.test(type) ? this.ints : this.floats;
-      view.set(words, at);
-    }
-  }
-
-  /**
-   * The block as the JavaScript twins of shader functions take it: nested objects by field
-   * name, arrays for vectors and fixed arrays, matrices as arrays of columns.
-   */
-  toObject() {
-    const root = {};
-    for (const m of this.members) {
-      const at = m.offset / 4;
-      const count = m.value.length;
-      const view = /u32/.test(m.type) ? this.uints : /i32/.test(m.type) ? this.ints : this.floats;
-      const words = Array.from(view.subarray(at, at + count));
-      let leaf;
-      if (m.type.startsWith('mat')) {
-        const n = Math.sqrt(count);
-        leaf = Array.from({ length: n }, (_, c) => words.slice(c * n, c * n + n));
-      } else {
-        leaf = m.type.startsWith('vec') ? words : words[0];
-      }
-      // `groups[1].min_height` → root.groups[1].min_height
-      const keys = m.member.split('.').flatMap((p) => p.split(/\[|\]/).filter((k) => k !== ''));
-      let node = root;
-      keys.forEach((key, i) => {
-        const last = i === keys.length - 1;
-        const nextIsIndex = !last && /^\d+$/.test(keys[i + 1]);
-        if (last) node[key] = leaf;
-        else node = node[key] ??= nextIsIndex ? [] : {};
-      });
-    }
-    return root;
-  }
-  word(path) {
-    const w = this.offsets.get(path);
-    if (w === undefined) throw new Error(`the uniform block has no member ${path}`);
-    return w;
-  }
-  setFloats(path, values) {
-    this.floats.set(values, this.word(path));
-  }
-  setUint(path, value) {
-    this.uints[this.word(path)] = value >>> 0;
-  }
-  float(path) {
-    return this.floats[this.word(path)];
-  }
-}
+import { NimbusHost, loadPackage } from './nimbus-host.js';
 
 /** GLSL as three's RawShaderMaterial takes it: three writes the #version line itself. */
 function withoutVersion(source) {
@@ -166,33 +83,13 @@ function hdrTarget(width, height, wrap) {
 }
 
 /** The three.js side of one Nimbus package pair: its passes, targets, textures and uniforms. */
-export class NimbusClouds {
+export class NimbusClouds extends NimbusHost {
   /**
    * Loads the package at `base` (a URL of its folder). `options.pair` picks a genus × preset
    * pair (`cumulus.high`); the first one otherwise.
    */
   static async load(base, options = {}) {
-    const url = (path) => new URL(path, base).href;
-    const get = async (path, as) => {
-      const r = await fetch(url(path));
-      if (!r.ok) throw new Error(`${url(path)}: ${r.status}`);
-      return as === 'json' ? r.json() : r.text();
-    };
-    const pkg = await get('nimbus-package.json', 'json');
-    if (pkg.engine !== 'three') throw new Error(`this package is for ${pkg.engine}, not three`);
-    const pair = options.pair ? pkg.pairs.find((p) => p.pair === options.pair) : pkg.pairs[0];
-    if (!pair) {
-      throw new Error(`no pair ${options.pair}; the package has ${pkg.pairs.map((p) => p.pair).join(', ')}`);
-    }
-    const blocks = {
-      pair: new Block(await get(pair.uniforms, 'json')),
-      resolve: new Block(await get('uniforms/resolve.json', 'json')),
-      display: new Block(await get('uniforms/display.json', 'json')),
-    };
-    // A pair built with `--enable scene-depth` reads the engine's depth buffer and its
-    // encoding (the camera's projection).
-    const readsDepth = pair.passes.some((p) => p.bindings.some((b) => b.holds.id === 'scene'));
-    if (readsDepth) blocks.scene = new Block(await get('uniforms/scene.json', 'json'));
+    const { pkg, pair, blocks, url, get } = await loadPackage(base, 'three', options);
     const textures = {};
     for (const t of pkg.textures) textures[t.name] = await loadTexture(url(t.file), t);
     const sources = {};
@@ -207,19 +104,8 @@ export class NimbusClouds {
   }
 
   constructor(pkg, pair, blocks, textures, sources) {
-    this.package = pkg;
-    this.pair = pair;
-    this.blocks = blocks;
+    super(pkg, pair, blocks);
     this.textures = textures;
-    this.frame = 0;
-    this.width = 0;
-    this.height = 0;
-    this.shadowDirty = true;
-    this.shaderErrors = [];
-    // Seconds since the timeline's start, and its wind and weather states (none: still air, the
-    // package's coverage).
-    this.time = 0;
-    this.timeline = new NimbusTimeline(blocks.pair.float('media.coverage'));
     this.scene = new THREE.Scene();
     this.camera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
     const geometry = new THREE.BufferGeometry();
@@ -233,24 +119,14 @@ export class NimbusClouds {
     // Temporal upscaling and accumulation: two full-size history targets, written in turn.
     this.history = [hdrTarget(1, 1, THREE.ClampToEdgeWrapping), hdrTarget(1, 1, THREE.ClampToEdgeWrapping)];
     this.latest = 0;
-    this.upscale = false;
-    this.accumulate = false;
-    this.seed = 0;
-    this.viewProjection = new THREE.Matrix4();
-    this.previousViewProjection = null;
     // Texture uniforms that change from frame to frame (the history targets, the engine's
     // depth), by what they hold.
     this.dynamic = [];
-    // Over the engine's own scene: the clouds stop at its depth and are drawn over its picture
-    // (premultiplied: the display pass keeps alpha, blended over what is there).
-    this.readsDepth = Boolean(blocks.scene);
-    this.cameraFar = 1e6;
-    this.reversedDepth = false;
     this.passes = {};
     for (const pass of pair.passes) this.passes[pass.pass] = this.makePass(pass, sources[pass.pass]);
     if (this.readsDepth) {
-      // Premultiplied over the engine's picture: Nimbus's colour plus what its alpha leaves of
-      // the pixel already there.
+      // Over the engine's own scene the clouds stop at its depth and are drawn over its
+      // picture, premultiplied: Nimbus's colour plus what its alpha leaves of the pixel there.
       blocks.display.setFloats('keep_alpha', [1]);
       const m = this.passes.display.material;
       m.blending = THREE.CustomBlending;
@@ -341,26 +217,11 @@ export class NimbusClouds {
     return { mesh, groups, material };
   }
 
-  /**
-   * The output size in pixels. With `upscale` set, the cloud pass shades one pixel in sixteen
-   * per frame and the resolve pass rebuilds the rest from the history (16 frames shade every
-   * pixel once); with `accumulate`, full-resolution frames are averaged. Both reset the
-   * history, as does a new size.
-   */
+  /** The output size in pixels (see NimbusHost.setSize); the targets follow. */
   setSize(width, height) {
-    this.width = width;
-    this.height = height;
-    for (const block of [this.blocks.pair, this.blocks.display, this.blocks.resolve]) {
-      block.setFloats('resolution', [width, height]);
-    }
-    // The cloud pass's target: the size the resolve reads it at (one pixel per 4×4 block
-    // upscaled), as the frame sequence gives it.
-    const [lowWidth, lowHeight] = resolve_frame(0, this.upscale ? 1 : 0, 0, [0, 0, 0, 0], [0, 0, 0, 0], 0, [width, height]).low_resolution;
-    this.lowWidth = lowWidth;
-    this.lowHeight = lowHeight;
-    this.cloudTarget.setSize(lowWidth, lowHeight);
+    super.setSize(width, height);
+    this.cloudTarget.setSize(this.lowWidth, this.lowHeight);
     for (const h of this.history) h.setSize(width, height);
-    this.frame = 0;
   }
 
   /**
@@ -375,121 +236,15 @@ export class NimbusClouds {
     camera.updateMatrixWorld();
     // The cloud shader takes directions: the view without its translation.
     const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();
-    this.viewProjection.multiplyMatrices(camera.projectionMatrix, view);
-    const inverse = this.viewProjection.clone().invert();
-    const u = this.blocks.pair;
-    u.setFloats('inverse_view_projection', inverse.elements);
-    if (this.blocks.scene) {
-      // The engine camera's depth encoding: its projection's z and w rows, its forward axis.
-      const sc = this.blocks.scene;
-      const e = camera.projectionMatrix.elements;
-      sc.setFloats('view_projection', this.viewProjection.elements);
-      sc.setFloats('forward', camera.getWorldDirection(new THREE.Vector3()).toArray());
-      sc.setFloats('projection_zw', [e[10], e[14], e[11], e[15]]);
-      this.cameraFar = camera.far;
-      this.reversedDepth = Boolean(camera.reversedDepth);
-    }
-    const position = new THREE.Vector3().setFromMatrixPosition(camera.matrixWorld);
-    const altitude = Math.max(position.y, 0);
-    const offset = [position.x, 0, position.z];
-    const at = u.word('camera_offset');
-    const moved = !Object.is(Math.fround(altitude), u.float('camera_altitude'))
-      || offset.some((v, i) => !Object.is(Math.fround(v), u.floats[at + i]));
-    if (moved) {
-      u.setFloats('camera_altitude', [altitude]);
-      u.setFloats('camera_offset', offset);
-      // The sun's and sky's light at the camera and the cascades around it follow.
-      this.relight();
-    }
-  }
-
-  /**
-   * Moves the sun: `elevation` above the horizon and `azimuth` clockwise from north (-z), in
-   * degrees, as Nimbus's scenes give them. The sun's and sky's irradiance and the shadow
-   * cascades follow, from the JavaScript twin of Nimbus's own `sun_light`; the shadow atlas is
-   * redrawn on the next frame.
-   */
-  setSun(elevation, azimuth) {
-    this.blocks.pair.setFloats('light.sun_direction', sun_direction(elevation, azimuth));
-    this.relight();
-  }
-
-  /** The sun's direction (unit, x east, y up, z south): where a scene's own sun light goes. */
-  get sunDirection() {
-    const u = this.blocks.pair;
-    return Array.from(u.floats.subarray(u.word('light.sun_direction'), u.word('light.sun_direction') + 3));
-  }
-
-  /** Recomputes what the sun decides for the block as it stands (sun, camera altitude). */
-  relight() {
-    const u = this.blocks.pair;
-    const light = sun_light(u.toObject(), this.sunDirection);
-    u.setFloats('light.sun_direction', light.sun_direction);
-    u.setFloats('light.sun_irradiance', light.sun_irradiance);
-    u.setFloats('light.sky_irradiance', light.sky_irradiance);
-    u.setFloats('shadow.matrix', light.shadow_matrix.flat());
-    u.setFloats('shadow.inverse_matrix', light.shadow_inverse_matrix.flat());
-    this.shadowDirty = true;
-  }
-
-  /**
-   * The wind, as a scene's `[wind]` gives it: `speed` in m/s near the ground and `directionDeg`,
-   * where it blows from, in degrees clockwise from north (270: a westerly, blowing east);
-   * `topSpeed` and `topDirectionDeg` at 10 km (the ground's by default), linear in altitude
-   * between. The clouds drift with it as `setTime` moves the clock (the drift is redone at the
-   * current time now).
-   */
-  setWind(speed, directionDeg, topSpeed = speed, topDirectionDeg = directionDeg) {
-    this.timeline.setWind(speed, directionDeg, topSpeed, topDirectionDeg);
-    this.setTime(this.time);
-  }
-
-  /**
-   * A weather state, as a scene's `[[weather]]` within this pair's genus: by `at` seconds (on
-   * `setTime`'s clock) the coverage has become `coverage` (0..1), ramping smoothly (smoothstep,
-   * as Nimbus's timeline) from the state before it — from that state's time (second 0 and the
-   * package's coverage for the first), or over the last `over` seconds before `at` when `over`
-   * is given. Without `at` the state is reached `over` seconds after the current time (at once
-   * without `over`). Only `media.coverage` changes; the shadow atlas is redrawn.
-   */
-  setWeather(coverage, { at, over } = {}) {
-    this.timeline.setWeather(coverage, { at, over, now: this.time });
-    this.setTime(this.time);
-  }
-
-  /** Forgets every weather state: the package's coverage holds again. */
-  clearWeather() {
-    this.timeline.clearWeather();
-    this.setTime(this.time);
-  }
-
-  /**
-   * Moves the clock to `seconds` since the timeline's start (as `nimbus render --time`): sets
-   * `media.wind_drift` and `media.wind_shear_drift` from the wind and `media.coverage` from the
-   * weather states. The shadow atlas is redrawn on the next frame when any of them changed.
-   */
-  setTime(seconds) {
-    if (!Number.isFinite(seconds)) throw new Error(`setTime: seconds must be a finite number, got ${seconds}`);
-    this.time = seconds;
-    const at = this.timeline.at(seconds);
-    const u = this.blocks.pair;
-    const members = [['media.wind_drift', 2], ['media.wind_shear_drift', 2], ['media.coverage', 1]];
-    const words = () => members.flatMap(([m, n]) => Array.from(u.floats.subarray(u.word(m), u.word(m) + n)));
-    const before = words();
-    u.setFloats('media.wind_drift', at.wind_drift);
-    u.setFloats('media.wind_shear_drift', at.wind_shear_drift);
-    u.setFloats('media.coverage', [at.coverage]);
-    // The shadow atlas holds the clouds where they were: redraw it when they moved or changed.
-    if (words().some((v, i) => !Object.is(v, before[i]))) this.shadowDirty = true;
-  }
-
-  /** Linear radiance is scaled by this before the tone curve (8 in `nimbus render`). */
-  set exposure(value) {
-    this.blocks.display.setFloats('exposure', [value]);
-  }
-
-  get exposure() {
-    return this.blocks.display.float('exposure');
+    const viewProjection = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, view);
+    this.setView({
+      viewProjection: viewProjection.elements,
+      position: new THREE.Vector3().setFromMatrixPosition(camera.matrixWorld).toArray(),
+      projection: camera.projectionMatrix.elements,
+      forward: camera.getWorldDirection(new THREE.Vector3()).toArray(),
+      far: camera.far,
+      reversed: Boolean(camera.reversedDepth),
+    });
   }
 
   draw(renderer, pass, target) {
@@ -509,7 +264,6 @@ export class NimbusClouds {
    * `options.depth` (a DepthTexture) alone and the clouds are drawn over what `target` holds.
    */
   render(renderer, target = null, options = {}) {
-    if (!this.width) throw new Error('call setSize before render');
     const depth = options.depth ?? options.scene?.depthTexture ?? null;
     if (this.readsDepth) {
       if (!depth) {
@@ -518,28 +272,20 @@ export class NimbusClouds {
             'pass { scene: aRenderTargetWithADepthTexture } or { depth: aDepthTexture }',
         );
       }
-      const sc = this.blocks.scene;
-      const logarithmic = Boolean(renderer.capabilities?.logarithmicDepthBuffer);
-      sc.setUint('encoding', logarithmic ? 1 : 0);
-      sc.setFloats('log_range', [Math.log2(this.cameraFar + 1)]);
-      // WebGL's depth range: NDC z in [-1, 1], unless reversed (glClipControl, [0, 1]).
-      sc.setFloats('depth_scale', [this.reversedDepth ? 1 : 2]);
-      sc.setFloats('depth_offset', [this.reversedDepth ? 0 : -1]);
-      sc.setFloats('clear_depth', [this.reversedDepth ? 0 : 1]);
-      sc.setFloats('resolution', [depth.image.width, depth.image.height]);
-      sc.setFloats('flip_y', [1]);
+      // WebGL's depth range: NDC z in [-1, 1]; its textures' first row is the bottom one.
+      this.setDepthEncoding({
+        logarithmic: Boolean(renderer.capabilities?.logarithmicDepthBuffer),
+        depthScale: 2,
+        depthOffset: -1,
+        width: depth.image.width,
+        height: depth.image.height,
+        flipY: true,
+      });
       for (const d of this.dynamic) if (d.holds === 'scene_depth') d.uniform.value = depth;
     } else if (depth) {
       throw new Error(`render: the pair ${this.pair.pair} was built without --enable scene-depth; it cannot read a depth buffer`);
     }
-    const temporal = this.upscale || this.accumulate;
-    // Frames counted since the history started; a frame nothing resolves is always frame 0
-    // (the same picture for the same inputs, as `nimbus render` draws it).
-    const index = temporal ? this.frame : 0;
-    const upscale = this.upscale ? 1 : 0;
-    const u = this.blocks.pair;
-    // What the frame sequence writes into the cloud block: the twin of the runtime's own.
-    u.assign(cloud_frame(index, this.seed, upscale));
+    const index = this.beginFrame();
     const previous = renderer.getRenderTarget();
     if (this.passes.shadow && this.shadowDirty) {
       this.draw(renderer, this.passes.shadow, this.shadowTarget);
@@ -547,26 +293,10 @@ export class NimbusClouds {
     }
     this.draw(renderer, this.passes.clouds, this.cloudTarget);
     let shown = this.cloudTarget;
-    const drift = [...u.floats.subarray(u.word('media.wind_drift'), u.word('media.wind_drift') + 2),
-      ...u.floats.subarray(u.word('media.wind_shear_drift'), u.word('media.wind_shear_drift') + 2)];
-    if (temporal) {
+    if (this.temporal) {
       const read = this.latest;
       const write = 1 - read;
-      const r = this.blocks.resolve;
-      const before = index === 0 ? this.viewProjection : this.previousViewProjection;
-      const inverse = this.viewProjection.clone().invert();
-      r.setFloats('inverse_view_projection', inverse.elements);
-      r.setFloats('previous_view_projection', before.elements);
-      // The history is read where the wind had the clouds it shows (the slab's face towards
-      // the camera), so drifting clouds do not smear.
-      const altitude = facing_altitude(
-        u.float('camera_altitude'), u.float('march.min_height'), u.float('march.max_height'));
-      const moved = before.equals(this.viewProjection) ? 0 : 1;
-      const previousDrift = index === 0 ? drift : this.previousDrift;
-      r.assign(resolve_frame(index, upscale, moved, drift, previousDrift, altitude, [this.width, this.height]));
-      r.setFloats('cloud_altitude', [altitude]);
-      r.setFloats('camera_altitude', [u.float('camera_altitude')]);
-      r.setFloats('planet_radius', [u.float('march.radius')]);
+      this.resolveFrame(index);
       for (const d of this.dynamic) {
         if (d.holds === 'history_read') d.uniform.value = this.history[read].texture;
       }
@@ -592,9 +322,7 @@ export class NimbusClouds {
     this.draw(renderer, this.passes.display, target);
     renderer.autoClear = autoClear;
     renderer.setRenderTarget(previous);
-    this.previousViewProjection = this.viewProjection.clone();
-    this.previousDrift = drift;
-    this.frame += 1;
+    this.endFrame();
   }
 
   dispose() {

@@ -1,0 +1,404 @@
+// Nimbus host state: what any JavaScript host of a Nimbus engine package keeps and writes into
+// the uniform blocks — the camera, the sun, the timeline and the frame sequence — with no
+// graphics API. nimbus-clouds.js (three.js) and nimbus-webgpu.js (WebGPU) draw with it; the
+// formulas themselves are the JavaScript twins of Nimbus's Rust host functions
+// (nimbus-frame.js, nimbus-sun.js, nimbus-wind.js), printed from the same source the wgpu
+// runtime runs.
+
+import { cloud_frame, resolve_frame } from './nimbus-frame.js';
+import { sun_direction, sun_light } from './nimbus-sun.js';
+import { NimbusTimeline } from './nimbus-timeline.js';
+import { facing_altitude } from './nimbus-wind.js';
+
+/** The bytes of a hex string. */
+function fromHex(hex) {
+  const bytes = new Uint8Array(hex.length / 2);
+  for (let i = 0; i < bytes.length; i++) bytes[i] = parseInt(hex.substr(2 * i, 2), 16);
+  return bytes;
+}
+
+/** A uniform block: its bytes, with float and uint views, and member offsets by path. */
+export class Block {
+  constructor(json) {
+    this.bytes = fromHex(json.bytes_hex);
+    this.floats = new Float32Array(this.bytes.buffer);
+    this.uints = new Uint32Array(this.bytes.buffer);
+    this.ints = new Int32Array(this.bytes.buffer);
+    this.members = json.members;
+    this.offsets = new Map(json.members.map((m) => [m.member, m.offset / 4]));
+    this.types = new Map(json.members.map((m) => [m.member, m.type]));
+  }
+
+  /**
+   * Writes each field of `values` (a result of a generated host function, whose fields are
+   * named after the block's members) into the member of that name: numbers and arrays, as
+   * the member's type stores them.
+   */
+  assign(values) {
+    for (const [member, value] of Object.entries(values)) {
+      const at = this.word(member);
+      const words = [value].flat(2);
+      const type = this.types.get(member);
+      const view = /u32/.test(type) ? this.uints : /i32/.test(type) ? this.ints : this.floats;
+      view.set(words, at);
+    }
+  }
+
+  /**
+   * The block as the JavaScript twins of shader functions take it: nested objects by field
+   * name, arrays for vectors and fixed arrays, matrices as arrays of columns.
+   */
+  toObject() {
+    const root = {};
+    for (const m of this.members) {
+      const at = m.offset / 4;
+      const count = m.value.length;
+      const view = /u32/.test(m.type) ? this.uints : /i32/.test(m.type) ? this.ints : this.floats;
+      const words = Array.from(view.subarray(at, at + count));
+      let leaf;
+      if (m.type.startsWith('mat')) {
+        const n = Math.sqrt(count);
+        leaf = Array.from({ length: n }, (_, c) => words.slice(c * n, c * n + n));
+      } else {
+        leaf = m.type.startsWith('vec') ? words : words[0];
+      }
+      // `groups[1].min_height` → root.groups[1].min_height
+      const keys = m.member.split('.').flatMap((p) => p.split(/\[|\]/).filter((k) => k !== ''));
+      let node = root;
+      keys.forEach((key, i) => {
+        const last = i === keys.length - 1;
+        const nextIsIndex = !last && /^\d+$/.test(keys[i + 1]);
+        if (last) node[key] = leaf;
+        else node = node[key] ??= nextIsIndex ? [] : {};
+      });
+    }
+    return root;
+  }
+
+  word(path) {
+    const w = this.offsets.get(path);
+    if (w === undefined) throw new Error(`the uniform block has no member ${path}`);
+    return w;
+  }
+
+  setFloats(path, values) {
+    this.floats.set(values, this.word(path));
+  }
+
+  setUint(path, value) {
+    this.uints[this.word(path)] = value >>> 0;
+  }
+
+  float(path) {
+    return this.floats[this.word(path)];
+  }
+
+  /** `n` floats from member `path` on, as an array. */
+  vector(path, n) {
+    const at = this.word(path);
+    return Array.from(this.floats.subarray(at, at + n));
+  }
+}
+
+/** The inverse of a 4×4 matrix given column by column (16 numbers). */
+export function invert(m) {
+  const [a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23, a30, a31, a32, a33] = m;
+  const b00 = a00 * a11 - a01 * a10;
+  const b01 = a00 * a12 - a02 * a10;
+  const b02 = a00 * a13 - a03 * a10;
+  const b03 = a01 * a12 - a02 * a11;
+  const b04 = a01 * a13 - a03 * a11;
+  const b05 = a02 * a13 - a03 * a12;
+  const b06 = a20 * a31 - a21 * a30;
+  const b07 = a20 * a32 - a22 * a30;
+  const b08 = a20 * a33 - a23 * a30;
+  const b09 = a21 * a32 - a22 * a31;
+  const b10 = a21 * a33 - a23 * a31;
+  const b11 = a22 * a33 - a23 * a32;
+  const det = b00 * b11 - b01 * b10 + b02 * b09 + b03 * b08 - b04 * b07 + b05 * b06;
+  if (!det) throw new Error('the view-projection matrix cannot be inverted');
+  const d = 1 / det;
+  return [
+    (a11 * b11 - a12 * b10 + a13 * b09) * d, (a02 * b10 - a01 * b11 - a03 * b09) * d,
+    (a31 * b05 - a32 * b04 + a33 * b03) * d, (a22 * b04 - a21 * b05 - a23 * b03) * d,
+    (a12 * b08 - a10 * b11 - a13 * b07) * d, (a00 * b11 - a02 * b08 + a03 * b07) * d,
+    (a32 * b02 - a30 * b05 - a33 * b01) * d, (a20 * b05 - a22 * b02 + a23 * b01) * d,
+    (a10 * b10 - a11 * b08 + a13 * b06) * d, (a01 * b08 - a00 * b10 - a03 * b06) * d,
+    (a30 * b04 - a31 * b02 + a33 * b00) * d, (a21 * b02 - a20 * b04 - a23 * b00) * d,
+    (a11 * b07 - a10 * b09 - a12 * b06) * d, (a00 * b09 - a01 * b07 + a02 * b06) * d,
+    (a31 * b01 - a30 * b03 - a32 * b00) * d, (a20 * b03 - a21 * b01 + a22 * b00) * d,
+  ];
+}
+
+/**
+ * Fetches the package description at `base` for `engine`, its pair (`options.pair`, or the
+ * first) and the pair's uniform blocks. `get(path, 'json' | 'text' | 'bytes')` fetches any
+ * other file of the package.
+ */
+export async function loadPackage(base, engine, options = {}) {
+  const url = (path) => new URL(path, base).href;
+  const get = async (path, as = 'text') => {
+    const r = await fetch(url(path));
+    if (!r.ok) throw new Error(`${url(path)}: ${r.status}`);
+    if (as === 'json') return r.json();
+    if (as === 'bytes') return new Uint8Array(await r.arrayBuffer());
+    if (as === 'blob') return r.blob();
+    return r.text();
+  };
+  const pkg = await get('nimbus-package.json', 'json');
+  if (pkg.engine !== engine) throw new Error(`this package is for ${pkg.engine}, not ${engine}`);
+  const pair = options.pair ? pkg.pairs.find((p) => p.pair === options.pair) : pkg.pairs[0];
+  if (!pair) {
+    throw new Error(`no pair ${options.pair}; the package has ${pkg.pairs.map((p) => p.pair).join(', ')}`);
+  }
+  const blocks = {
+    pair: new Block(await get(pair.uniforms, 'json')),
+    resolve: new Block(await get('uniforms/resolve.json', 'json')),
+    display: new Block(await get('uniforms/display.json', 'json')),
+  };
+  // A pair built with `--enable scene-depth` reads the engine's depth buffer and its encoding
+  // (the camera's projection).
+  if (pair.passes.some((p) => p.bindings.some((b) => b.holds.id === 'scene'))) {
+    blocks.scene = new Block(await get('uniforms/scene.json', 'json'));
+  }
+  return { pkg, pair, blocks, url, get };
+}
+
+const same = (a, b) => a.length === b.length && a.every((v, i) => Object.is(v, b[i]));
+
+/**
+ * What a host of one package pair keeps between frames and writes into its blocks: no
+ * graphics API. Engine hosts extend it with their passes, targets and textures.
+ */
+export class NimbusHost {
+  constructor(pkg, pair, blocks) {
+    this.package = pkg;
+    this.pair = pair;
+    this.blocks = blocks;
+    this.frame = 0;
+    this.width = 0;
+    this.height = 0;
+    this.lowWidth = 1;
+    this.lowHeight = 1;
+    this.upscale = false;
+    this.accumulate = false;
+    this.seed = 0;
+    this.shadowDirty = true;
+    // Seconds since the timeline's start, and its wind and weather states (none: still air,
+    // the package's coverage).
+    this.time = 0;
+    this.timeline = new NimbusTimeline(blocks.pair.float('media.coverage'));
+    // The camera's view-projection without translation (16 numbers, column by column), and
+    // the last frame's, for the resolve's reprojection.
+    this.viewProjection = Array.from({ length: 16 }, (_, i) => (i % 5 === 0 ? 1 : 0));
+    this.previousViewProjection = null;
+    this.previousDrift = null;
+    this.readsDepth = Boolean(blocks.scene);
+    this.cameraFar = 1e6;
+    this.reversedDepth = false;
+  }
+
+  /** Whether frames are resolved from a history (upscaled or accumulated). */
+  get temporal() {
+    return this.upscale || this.accumulate;
+  }
+
+  /**
+   * The output size in pixels. With `upscale` set, the cloud pass shades one pixel in sixteen
+   * per frame and the resolve pass rebuilds the rest from the history; with `accumulate`,
+   * full-resolution frames are averaged. Both restart the history, as a new size does.
+   */
+  setSize(width, height) {
+    this.width = width;
+    this.height = height;
+    for (const block of [this.blocks.pair, this.blocks.display, this.blocks.resolve]) {
+      block.setFloats('resolution', [width, height]);
+    }
+    // The cloud pass's target: the size the resolve reads it at, as the frame sequence gives it.
+    const [w, h] = resolve_frame(0, this.upscale ? 1 : 0, 0, [0, 0, 0, 0], [0, 0, 0, 0], 0, [width, height]).low_resolution;
+    this.lowWidth = w;
+    this.lowHeight = h;
+    this.frame = 0;
+  }
+
+  /**
+   * Where the clouds are seen from (y up, metres; x east, −z north): `viewProjection`, the
+   * camera's projection × its view without translation (16 numbers, column by column);
+   * `position`, its place in the world (y is its altitude above the ground). With scene depth,
+   * `projection` (16 numbers), `forward` (a unit vector), `far` and `reversed` say how the
+   * engine's depth buffer encodes distance. A new altitude relights the sky there.
+   */
+  setView({ viewProjection, position, projection, forward, far = 1e6, reversed = false }) {
+    this.viewProjection = Array.from(viewProjection);
+    const u = this.blocks.pair;
+    u.setFloats('inverse_view_projection', invert(this.viewProjection));
+    if (this.blocks.scene && projection) {
+      const sc = this.blocks.scene;
+      const e = projection;
+      sc.setFloats('view_projection', this.viewProjection);
+      sc.setFloats('forward', forward);
+      sc.setFloats('projection_zw', [e[10], e[14], e[11], e[15]]);
+      this.cameraFar = far;
+      this.reversedDepth = reversed;
+    }
+    const altitude = Math.max(position[1], 0);
+    const offset = [position[0], 0, position[2]];
+    const moved = !Object.is(Math.fround(altitude), u.float('camera_altitude'))
+      || !same(offset.map(Math.fround), u.vector('camera_offset', 3));
+    if (moved) {
+      u.setFloats('camera_altitude', [altitude]);
+      u.setFloats('camera_offset', offset);
+      // The sun's and sky's light at the camera and the cascades around it follow.
+      this.relight();
+    }
+  }
+
+  /**
+   * Moves the sun: `elevation` above the horizon and `azimuth` clockwise from north (−z), in
+   * degrees, as Nimbus's scenes give them. The sun's and sky's irradiance and the shadow
+   * cascades follow, from the JavaScript twin of Nimbus's own `sun_light`; the shadow atlas is
+   * redrawn on the next frame.
+   */
+  setSun(elevation, azimuth) {
+    this.blocks.pair.setFloats('light.sun_direction', sun_direction(elevation, azimuth));
+    this.relight();
+  }
+
+  /** The sun's direction (unit, x east, y up, z south): where a scene's own sun light goes. */
+  get sunDirection() {
+    return this.blocks.pair.vector('light.sun_direction', 3);
+  }
+
+  /** Recomputes what the sun decides for the block as it stands (sun, camera altitude). */
+  relight() {
+    const u = this.blocks.pair;
+    const light = sun_light(u.toObject(), this.sunDirection);
+    u.setFloats('light.sun_direction', light.sun_direction);
+    u.setFloats('light.sun_irradiance', light.sun_irradiance);
+    u.setFloats('light.sky_irradiance', light.sky_irradiance);
+    u.setFloats('shadow.matrix', light.shadow_matrix.flat());
+    u.setFloats('shadow.inverse_matrix', light.shadow_inverse_matrix.flat());
+    this.shadowDirty = true;
+  }
+
+  /**
+   * The wind, as a scene's `[wind]` gives it: `speed` in m/s near the ground and `directionDeg`,
+   * where it blows from, in degrees clockwise from north (270: a westerly, blowing east);
+   * `topSpeed` and `topDirectionDeg` at 10 km (the ground's by default), linear in altitude
+   * between. The clouds drift with it as `setTime` moves the clock.
+   */
+  setWind(speed, directionDeg, topSpeed = speed, topDirectionDeg = directionDeg) {
+    this.timeline.setWind(speed, directionDeg, topSpeed, topDirectionDeg);
+    this.setTime(this.time);
+  }
+
+  /**
+   * A weather state, as a scene's `[[weather]]` within this pair's genus: by `at` seconds (on
+   * `setTime`'s clock) the coverage has become `coverage` (0..1), ramping smoothly (smoothstep,
+   * as Nimbus's timeline) from the state before it — from that state's time (second 0 and the
+   * package's coverage for the first), or over the last `over` seconds before `at` when `over`
+   * is given. Without `at` the state is reached `over` seconds after the current time (at once
+   * without `over`). Only `media.coverage` changes; the shadow atlas is redrawn.
+   */
+  setWeather(coverage, { at, over } = {}) {
+    this.timeline.setWeather(coverage, { at, over, now: this.time });
+    this.setTime(this.time);
+  }
+
+  /** Forgets every weather state: the package's coverage holds again. */
+  clearWeather() {
+    this.timeline.clearWeather();
+    this.setTime(this.time);
+  }
+
+  /**
+   * Moves the clock to `seconds` since the timeline's start (as `nimbus render --time`): sets
+   * `media.wind_drift` and `media.wind_shear_drift` from the wind and `media.coverage` from the
+   * weather states. The shadow atlas is redrawn on the next frame when any of them changed.
+   */
+  setTime(seconds) {
+    if (!Number.isFinite(seconds)) throw new Error(`setTime: seconds must be a finite number, got ${seconds}`);
+    this.time = seconds;
+    const at = this.timeline.at(seconds);
+    const u = this.blocks.pair;
+    const before = this.drift().concat(u.float('media.coverage'));
+    u.setFloats('media.wind_drift', at.wind_drift);
+    u.setFloats('media.wind_shear_drift', at.wind_shear_drift);
+    u.setFloats('media.coverage', [at.coverage]);
+    // The shadow atlas holds the clouds where they were: redraw it when they moved or changed.
+    if (!same(this.drift().concat(u.float('media.coverage')), before)) this.shadowDirty = true;
+  }
+
+  /** The clouds' drift as the frame sequence packs it: ground x, z; per metre of altitude. */
+  drift() {
+    const u = this.blocks.pair;
+    return u.vector('media.wind_drift', 2).concat(u.vector('media.wind_shear_drift', 2));
+  }
+
+  /** Linear radiance is scaled by this before the tone curve (8 in `nimbus render`). */
+  set exposure(value) {
+    this.blocks.display.setFloats('exposure', [value]);
+  }
+
+  get exposure() {
+    return this.blocks.display.float('exposure');
+  }
+
+  /**
+   * How the engine's depth texture of `width` × `height` texels encodes distance: a projection's
+   * depth in the API's range (`depthScale`, `depthOffset`: NDC z = depth × scale + offset; 2
+   * and −1 in WebGL, 1 and 0 in WebGPU), or three's logarithmic buffer; `flipY` where its first
+   * row is the bottom one.
+   */
+  setDepthEncoding({ logarithmic = false, depthScale, depthOffset, width, height, flipY }) {
+    const sc = this.blocks.scene;
+    sc.setUint('encoding', logarithmic ? 1 : 0);
+    sc.setFloats('log_range', [Math.log2(this.cameraFar + 1)]);
+    sc.setFloats('depth_scale', [this.reversedDepth ? 1 : depthScale]);
+    sc.setFloats('depth_offset', [this.reversedDepth ? 0 : depthOffset]);
+    sc.setFloats('clear_depth', [this.reversedDepth ? 0 : 1]);
+    sc.setFloats('resolution', [width, height]);
+    sc.setFloats('flip_y', [flipY ? 1 : 0]);
+  }
+
+  /**
+   * Starts a frame: the frame sequence's members of the cloud block. Frames are counted since
+   * the history started; a frame nothing resolves is always frame 0 (the same picture for the
+   * same inputs, as `nimbus render` draws it). Returns the frame's index.
+   */
+  beginFrame() {
+    if (!this.width) throw new Error('call setSize before render');
+    const index = this.temporal ? this.frame : 0;
+    this.blocks.pair.assign(cloud_frame(index, this.seed, this.upscale ? 1 : 0));
+    return index;
+  }
+
+  /**
+   * The resolve block for frame `index`: reprojection from the last frame's camera, and the
+   * history read where the wind had the clouds it shows (the slab's face towards the camera),
+   * so drifting clouds do not smear.
+   */
+  resolveFrame(index) {
+    const u = this.blocks.pair;
+    const r = this.blocks.resolve;
+    const before = index === 0 ? this.viewProjection : this.previousViewProjection;
+    r.setFloats('inverse_view_projection', invert(this.viewProjection));
+    r.setFloats('previous_view_projection', before);
+    const altitude = facing_altitude(
+      u.float('camera_altitude'), u.float('march.min_height'), u.float('march.max_height'));
+    const moved = same(before, this.viewProjection) ? 0 : 1;
+    const drift = this.drift();
+    const previousDrift = index === 0 ? drift : this.previousDrift;
+    r.assign(resolve_frame(index, this.upscale ? 1 : 0, moved, drift, previousDrift, altitude, [this.width, this.height]));
+    r.setFloats('cloud_altitude', [altitude]);
+    r.setFloats('camera_altitude', [u.float('camera_altitude')]);
+    r.setFloats('planet_radius', [u.float('march.radius')]);
+  }
+
+  /** Ends a frame: what the next one reprojects from. */
+  endFrame() {
+    this.previousViewProjection = this.viewProjection.slice();
+    this.previousDrift = this.drift();
+    this.frame += 1;
+  }
+}
