@@ -23,11 +23,13 @@ const roots = {
   '/three/': join(here, 'node_modules', 'three'),
   '/page/': join(here, 'page'),
 };
+// `page=webgpu`: the webgpu package through its own host module, on Chromium's WebGPU.
+const webgpu = query.get('page') === 'webgpu';
 const status = await withPage(roots, {}, {}, async (page, origin, logs) => {
   // `page=scene`: the clouds inside a three.js scene (page/scene.html); the package alone
   // otherwise.
   const name = query.get('page') ?? 'index';
   await page.goto(`${origin}/page/${name}.html?${query}`);
   return report(page, logs, outPng);
-});
+}, { webgpu });
 process.exit(status);

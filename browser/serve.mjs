@@ -36,14 +36,20 @@ export async function serve(roots, generated = {}) {
   return { server, origin: `http://127.0.0.1:${server.address().port}` };
 }
 
-/** Debian's Chromium (or $CHROMIUM), headless, WebGL2 through SwiftShader. */
-export function launch() {
+/**
+ * Debian's Chromium (or $CHROMIUM), headless, WebGL2 through SwiftShader; with `webgpu`, WebGPU
+ * too, on SwiftShader's Vulkan.
+ */
+export function launch({ webgpu = false } = {}) {
+  const gpu = webgpu
+    ? ['--enable-unsafe-webgpu', '--enable-features=Vulkan,WebGPU', '--use-vulkan=swiftshader', '--use-webgpu-adapter=swiftshader']
+    : [];
   return chromium.launch({
     executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
     args: [
       '--no-sandbox', '--disable-gpu-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
       '--ignore-gpu-blocklist', '--disable-background-networking', '--disable-component-update',
-      '--disable-sync', '--no-first-run', '--disable-quic',
+      '--disable-sync', '--no-first-run', '--disable-quic', ...gpu,
     ],
   });
 }
@@ -54,9 +60,9 @@ export function launch() {
  * `drive(page, origin, logs)`; the browser and the server are closed whatever happens. Resolves
  * to what `drive` returns (a driver's exit status).
  */
-export async function withPage(roots, generated, pageOptions, drive) {
+export async function withPage(roots, generated, pageOptions, drive, launchOptions = {}) {
   const { server, origin } = await serve(roots, generated);
-  const browser = await launch();
+  const browser = await launch(launchOptions);
   try {
     const page = await browser.newPage(pageOptions);
     const logs = [];

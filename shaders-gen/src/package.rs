@@ -92,6 +92,12 @@ const THREE_MODULES: [(&str, &str); 3] = [
     ("example.html", include_str!("../assets/three/example.html")),
 ];
 
+/// The WebGPU host: draws a webgpu package with the API alone (`NimbusWebGPU`).
+const WEBGPU_MODULE: (&str, &str) = (
+    "nimbus-webgpu.js",
+    include_str!("../assets/webgpu/nimbus-webgpu.js"),
+);
+
 /// A page of the README: a tower of the user's scene standing in the clouds (three packages
 /// built with `--enable scene-depth`).
 const TOWER_PAGE: (&str, &str) = ("tower.html", include_str!("../assets/three/tower.html"));
@@ -395,6 +401,13 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         for (name, text) in HOST_MODULES {
             files.push((name.to_string(), text.as_bytes().to_vec()));
         }
+    }
+    if engine == Engine::Webgpu {
+        // The ES module that draws the package with the WebGPU API alone.
+        files.push((
+            WEBGPU_MODULE.0.to_string(),
+            WEBGPU_MODULE.1.as_bytes().to_vec(),
+        ));
     }
     if engine == Engine::Three {
         // The ES modules that draw the package with three.js alone.

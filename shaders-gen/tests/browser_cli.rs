@@ -526,3 +526,119 @@ fn the_three_package_example_page_runs_and_its_sun_moves() {
     assert!(brightest > 100, "the example page drew nothing");
     assert!(moved > 0.2, "the clouds did not change as the sun moved");
 }
+
+/// The webgpu package drawn by its own host module (`nimbus-webgpu.js`: pipelines from the
+/// package's WGSL, entry points and bind-group layouts as the API takes them) on Chromium's
+/// WebGPU (SwiftShader's Vulkan): one frame and sixteen upscaled ones against `nimbus render`
+/// of the same scene, and the one frame against the three.js package's frame in the same
+/// browser. The control: the low-sun scene's render against this frame.
+#[test]
+fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
+    if !browser_tools_present("the WebGPU browser test", missing()) {
+        return;
+    }
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-webgpu");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).expect("screenshot folder");
+    let (w, h) = (160u32, 90u32);
+    let v = &VIEWS[0];
+    let scene_file = scene(&out, v);
+    let scene_arg = scene_file.to_str().expect("utf8");
+    let mut packages = Vec::new();
+    for engine in ["webgpu", "three"] {
+        let package = out.join(format!("package-{engine}"));
+        let o = nimbus(&[
+            "emit",
+            "--engine",
+            engine,
+            "--scene",
+            scene_arg,
+            "-o",
+            package.to_str().expect("utf8"),
+        ]);
+        assert!(o.status.success(), "emit {engine}: {}", text(&o.stderr));
+        packages.push(package);
+    }
+    let render = |name: &str, scene: &Path, extra: &[&str]| -> image::RgbImage {
+        let png = out.join(format!("{name}-nimbus.png"));
+        let size = format!("{w}x{h}");
+        let mut args = vec![
+            "render",
+            scene.to_str().expect("utf8"),
+            "-r",
+            &size,
+            "-o",
+            png.to_str().expect("utf8"),
+        ];
+        args.extend(extra);
+        let o = nimbus(&args);
+        assert!(o.status.success(), "render: {}", text(&o.stderr));
+        rgb(&png)
+    };
+    let browse = |name: &str, package: &Path, extra: &[&str]| -> image::RgbImage {
+        let png = out.join(format!("{name}.png"));
+        let mut args = vec![
+            format!("width={w}"),
+            format!("height={h}"),
+            format!("pitch={}", v.pitch),
+            format!("yaw={}", v.yaw),
+            "fov=60".to_string(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let o = Command::new("node")
+            .current_dir(browser_dir())
+            .arg("render.mjs")
+            .arg(package)
+            .arg(&png)
+            .args(&args)
+            .output()
+            .expect("run node");
+        let log =
+            std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
+        assert!(
+            o.status.success(),
+            "{name}: the page failed or logged: {}{}\n{log}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
+        println!("{name}: {}", text(&o.stdout).trim());
+        rgb(&png)
+    };
+    let one = browse("webgpu-f1", &packages[0], &["page=webgpu", "frames=1"]);
+    let upscaled = browse(
+        "webgpu-upscaled",
+        &packages[0],
+        &["page=webgpu", "frames=16", "upscale=1"],
+    );
+    let three = browse("three-f1", &packages[1], &["frames=1"]);
+    let want_one = render("f1", &scene_file, &["-f", "1"]);
+    let want_upscaled = render("upscaled", &scene_file, &["-f", "16", "--upscale"]);
+    for (name, want, got) in [
+        ("one frame", &want_one, &one),
+        ("16 upscaled frames", &want_upscaled, &upscaled),
+    ] {
+        let score = rgb_hybrid_compare(want, got).expect("same size").score;
+        let mean = mean_difference(want, got);
+        let (row, row_mean) = worst_row(want, got);
+        println!(
+            "WebGPU {name}: similarity {score:.4}, mean difference {mean:.2}/255, worst row \
+             {row} {row_mean:.2}/255"
+        );
+        assert!(
+            score >= MIN_SCORE && mean <= MAX_MEAN && row_mean <= MAX_ROW_MEAN,
+            "WebGPU {name}: differs from nimbus render; see {}",
+            out.display()
+        );
+    }
+    let same = mean_difference(&one, &three);
+    println!("WebGPU against three.js in the same browser: mean difference {same:.3}/255");
+    assert!(
+        same <= 0.1,
+        "the two JavaScript hosts differ by {same:.3}/255"
+    );
+    // Control: another scene's render fails the comparison.
+    let low = render("sun-low", &scene(&out, &VIEWS[1]), &["-f", "1"]);
+    let mean = mean_difference(&low, &one);
+    println!("control (sun-low render vs this frame): mean {mean:.2}/255");
+    assert!(mean > MAX_MEAN, "the comparison cannot fail");
+}

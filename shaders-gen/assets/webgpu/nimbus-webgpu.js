@@ -1,0 +1,207 @@
+// Nimbus clouds for WebGPU: draws a Nimbus engine package (`nimbus emit --engine webgpu`) with
+// the WebGPU API alone. Shipped in every webgpu package; it reads nimbus-package.json for the
+// passes, their WGSL, entry points and bind-group layouts (in the API's own terms), the
+// textures and the uniform blocks, so it holds no knowledge of a genus or a preset. The camera,
+// the sun, the timeline and the frame sequence are NimbusHost's (nimbus-host.js), shared with
+// the three.js host.
+//
+//   import { NimbusWebGPU } from './nimbus-webgpu.js';
+//   const device = await (await navigator.gpu.requestAdapter()).requestDevice();
+//   const context = canvas.getContext('webgpu');
+//   const format = navigator.gpu.getPreferredCanvasFormat();
+//   context.configure({ device, format });
+//   const clouds = await NimbusWebGPU.load(new URL('./', import.meta.url), device, { format });
+//   clouds.setSize(canvas.width, canvas.height);
+//   clouds.setCamera({ viewProjection, position });   // 16 numbers (projection × view without
+//                                                     // translation, column-major); [x, y, z] m
+//   clouds.setSun(30, 150);                           // degrees: elevation, azimuth from north
+//   clouds.render(context.getCurrentTexture().createView());
+
+import { NimbusHost, loadPackage } from './nimbus-host.js';
+
+/** Every intermediate target: linear HDR radiance, alpha the clouds' opacity. */
+const HDR = 'rgba16float';
+
+async function loadTexture(device, get, t) {
+  const [w, h, d = 1] = t.size;
+  const texture = device.createTexture({
+    label: t.name,
+    size: [w, h, d],
+    dimension: t.dimension,
+    format: t.format,
+    usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST | GPUTextureUsage.RENDER_ATTACHMENT,
+  });
+  if (t.dimension === '3d') {
+    const data = await get(t.file, 'bytes');
+    if (data.length !== w * h * d * 4) throw new Error(`${t.file}: ${data.length} bytes, expected ${w * h * d * 4}`);
+    device.queue.writeTexture({ texture }, data, { bytesPerRow: w * 4, rowsPerImage: h }, [w, h, d]);
+  } else {
+    // Texel values are data, not colours: no premultiplication, no colour conversion.
+    const bitmap = await createImageBitmap(await get(t.file, 'blob'), {
+      premultiplyAlpha: 'none',
+      colorSpaceConversion: 'none',
+    });
+    device.queue.copyExternalImageToTexture({ source: bitmap }, { texture }, [w, h]);
+  }
+  return texture;
+}
+
+/** The WebGPU side of one Nimbus package pair: its pipelines, targets, textures and buffers. */
+export class NimbusWebGPU extends NimbusHost {
+  /**
+   * Loads the package at `base` (a URL of its folder) onto `device`. `options.pair` picks a
+   * genus × preset pair (`cumulus.high`; the first otherwise), `options.format` the format of
+   * the texture `render` draws into (the canvas's preferred format by default).
+   */
+  static async load(base, device, options = {}) {
+    const { pkg, pair, blocks, get } = await loadPackage(base, 'webgpu', options);
+    if (blocks.scene) {
+      throw new Error(`the pair ${pair.pair} reads an engine's depth (--enable scene-depth), which the WebGPU host does not draw yet`);
+    }
+    const textures = {};
+    for (const t of pkg.textures) textures[t.name] = await loadTexture(device, get, t);
+    const modules = {};
+    for (const pass of pair.passes) {
+      const code = await get(pass.files[0].file);
+      modules[pass.pass] = device.createShaderModule({ label: pass.shader, code });
+    }
+    const format = options.format ?? navigator.gpu.getPreferredCanvasFormat();
+    return new NimbusWebGPU(device, pkg, pair, blocks, textures, modules, format);
+  }
+
+  constructor(device, pkg, pair, blocks, textures, modules, format) {
+    super(pkg, pair, blocks);
+    this.device = device;
+    this.textures = textures;
+    this.format = format;
+    this.buffers = {};
+    for (const [name, block] of Object.entries(blocks)) {
+      this.buffers[name] = device.createBuffer({
+        label: `${name} block`,
+        // Whole 16-byte words.
+        size: Math.ceil(block.bytes.length / 16) * 16,
+        usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
+      });
+    }
+    const atlas = pair.shadow_atlas;
+    this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height) : null;
+    this.cloudTarget = null;
+    this.history = [null, null];
+    this.latest = 0;
+    this.samplers = new Map();
+    this.passes = {};
+    for (const pass of pair.passes) {
+      const layout = device.createBindGroupLayout({ label: pass.pass, entries: pass.bind_group_layout.entries });
+      const target = pass.pass === 'display' ? format : HDR;
+      const pipeline = device.createRenderPipeline({
+        label: pass.shader,
+        layout: device.createPipelineLayout({ bindGroupLayouts: [layout] }),
+        vertex: { module: modules[pass.pass], entryPoint: pass.entry_points.vertex },
+        fragment: {
+          module: modules[pass.pass],
+          entryPoint: pass.entry_points.fragment,
+          targets: [{ format: target }],
+        },
+        primitive: { topology: 'triangle-list' },
+      });
+      this.passes[pass.pass] = { pass, layout, pipeline };
+    }
+  }
+
+  target(label, width, height) {
+    return this.device.createTexture({
+      label,
+      size: [width, height],
+      format: HDR,
+      usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.TEXTURE_BINDING,
+    });
+  }
+
+  /** The output size in pixels (see NimbusHost.setSize); the targets follow. */
+  setSize(width, height) {
+    super.setSize(width, height);
+    for (const t of [this.cloudTarget, ...this.history]) t?.destroy();
+    this.cloudTarget = this.target('clouds', this.lowWidth, this.lowHeight);
+    this.history = [this.target('history A', width, height), this.target('history B', width, height)];
+  }
+
+  /**
+   * Where the clouds are seen from: `viewProjection`, the camera's projection × its view
+   * without translation (16 numbers, column by column: a WebGPU projection, depth 0..1), and
+   * `position`, its place in the world (y up, metres: y is its altitude; x east, −z north).
+   */
+  setCamera({ viewProjection, position }) {
+    this.setView({ viewProjection, position });
+  }
+
+  /** A sampler as the pass's layout describes it, made once. */
+  sampler(entry) {
+    const key = JSON.stringify(entry.samplerDescriptor);
+    if (!this.samplers.has(key)) this.samplers.set(key, this.device.createSampler(entry.samplerDescriptor));
+    return this.samplers.get(key);
+  }
+
+  /** A bind group for `pass`, each binding bound by the stable id the package gives it. */
+  bindGroup({ pass, layout }, shown, historyRead) {
+    const entries = pass.bindings.map((b) => {
+      const layoutEntry = pass.bind_group_layout.entries.find((e) => e.binding === b.binding);
+      const id = b.holds.id;
+      let resource;
+      if (b.kind === 'sampler') resource = this.sampler(layoutEntry);
+      else if (b.kind === 'uniform') resource = { buffer: this.buffers[id] };
+      else if (id === 'shadow_atlas') resource = this.shadowTarget.createView();
+      else if (id === 'clouds_hdr') resource = this.cloudTarget.createView();
+      else if (id === 'history_read') resource = historyRead.createView();
+      else if (id === 'shown') resource = shown.createView();
+      else if (this.textures[id]) resource = this.textures[id].createView();
+      else throw new Error(`${pass.pass}: nothing to bind to ${b.name} (${id})`);
+      return { binding: b.binding, resource };
+    });
+    return this.device.createBindGroup({ label: pass.pass, layout, entries });
+  }
+
+  draw(encoder, name, view, shown = null, historyRead = null) {
+    const p = this.passes[name];
+    const pass = encoder.beginRenderPass({
+      label: name,
+      colorAttachments: [{ view, loadOp: 'clear', storeOp: 'store', clearValue: [0, 0, 0, 0] }],
+    });
+    pass.setPipeline(p.pipeline);
+    pass.setBindGroup(0, this.bindGroup(p, shown, historyRead));
+    pass.draw(3);
+    pass.end();
+  }
+
+  /** Draws one frame into `view` (a GPUTextureView of `options.format`, e.g. the canvas's). */
+  render(view) {
+    const index = this.beginFrame();
+    const queue = this.device.queue;
+    const encoder = this.device.createCommandEncoder({ label: 'nimbus frame' });
+    let shown = this.cloudTarget;
+    let read = null;
+    if (this.temporal) {
+      this.resolveFrame(index);
+      read = this.history[this.latest];
+      shown = this.history[1 - this.latest];
+    }
+    for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
+    if (this.passes.shadow && this.shadowDirty) {
+      this.draw(encoder, 'shadow', this.shadowTarget.createView());
+      this.shadowDirty = false;
+    }
+    this.draw(encoder, 'clouds', this.cloudTarget.createView());
+    if (this.temporal) {
+      this.draw(encoder, 'resolve', shown.createView(), null, read);
+      this.latest = 1 - this.latest;
+    }
+    this.draw(encoder, 'display', view, shown);
+    queue.submit([encoder.finish()]);
+    this.endFrame();
+  }
+
+  dispose() {
+    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget]) t?.destroy();
+    for (const t of Object.values(this.textures)) t.destroy();
+    for (const b of Object.values(this.buffers)) b.destroy();
+  }
+}
