@@ -95,6 +95,7 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
             "scene_depth_texture",
             "composite_over_scene",
         ],
+        Toggle::Orthographic => &["orthographic_ray", "ray_block", "clouds_input"],
     }
 }
 
@@ -165,6 +166,7 @@ fn each_toggle_off_removes_its_code_and_bindings_from_every_target() {
         Toggle::ShapeDetail,
         Toggle::Turbulence,
         Toggle::SceneDepth,
+        Toggle::Orthographic,
     ] {
         t.set(&mut none, false);
     }

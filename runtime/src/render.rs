@@ -122,6 +122,11 @@ pub struct Frame {
     /// the march and the image becomes premultiplied over the engine's picture (the
     /// `scene-depth` key). `None`: Nimbus's sky and ground are the whole background.
     pub scene_depth: Option<SceneDepth>,
+    /// An orthographic camera's view: the height (m) of what it sees, the width following the
+    /// image's aspect; parallel rays along the camera's forward axis, each from its own point
+    /// of the plane through the camera (the `orthographic` key). `None`: a perspective camera
+    /// of `fov_deg`.
+    pub orthographic: Option<f32>,
 }
 
 impl Frame {
@@ -153,6 +158,7 @@ impl Frame {
             verification: false,
             composite: CompositeParams::ALL,
             scene_depth: None,
+            orthographic: None,
         }
     }
 
@@ -208,6 +214,13 @@ impl Frame {
         if let Some(d) = &self.scene_depth {
             d.validate(self.width, self.height)?;
         }
+        if let Some(h) = self.orthographic
+            && !(h.is_finite() && h > 0.0)
+        {
+            return Err(RuntimeError::Limit(format!(
+                "Frame::orthographic: the view's height must be a positive number of metres, got {h}"
+            )));
+        }
         self.genus
             .validate()
             .map_err(|(field, reason)| RuntimeError::Genus {
@@ -233,8 +246,10 @@ impl Frame {
         } else {
             self.features
         };
-        // The key reads the engine's depth exactly when the frame has a scene.
+        // The key reads the engine's depth exactly when the frame has a scene, and casts
+        // parallel rays exactly when its camera is orthographic.
         f.scene_depth = self.scene_depth.is_some();
+        f.orthographic = self.orthographic.is_some();
         f
     }
 
@@ -260,10 +275,15 @@ impl Frame {
     }
 
     /// View-projection without translation (the camera is the origin of the local frame).
-    fn view_projection(&self) -> Mat4 {
+    pub fn view_projection(&self) -> Mat4 {
         let (forward, up) = self.camera_basis();
         let view = Mat4::look_to_rh(Vec3::ZERO, forward, up);
         let aspect = self.width as f32 / self.height as f32;
+        if let Some(h) = self.orthographic {
+            // Depth 0 at the camera's plane: rays are unprojected at depths 0 and 1.
+            let (x, y) = (0.5 * h * aspect, 0.5 * h);
+            return Mat4::orthographic_rh(-x, x, -y, y, 0.0, 1e6) * view;
+        }
         // Infinite far plane, reversed depth: the shader unprojects depth 1, the near plane,
         // where w is well conditioned at any field of view (unprojecting a far plane 1e6
         // times further than the near one loses w to cancellation and flips wide rays).

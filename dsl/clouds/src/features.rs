@@ -147,6 +147,10 @@ effects! {
     /// preset, chosen by the host that has a scene (`--enable scene-depth`).
     SceneDepth, scene_depth, "scene-depth", tag "depth",
         presets [], rule None;
+    /// An orthographic camera: parallel rays, each from its own point of the image plane. A
+    /// camera's, not an effect: in no preset, chosen by the host (`--enable orthographic`).
+    Orthographic, orthographic, "orthographic", tag "ortho",
+        presets [], rule None;
 }
 
 fn first_line(doc: &[&'static str]) -> &'static str {

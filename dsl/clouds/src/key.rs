@@ -187,7 +187,10 @@ impl CloudKey {
         for &t in Toggle::ALL {
             t.set(
                 &mut features,
-                !matches!(t, Toggle::AccuratePhaseFunction | Toggle::SceneDepth),
+                !matches!(
+                    t,
+                    Toggle::AccuratePhaseFunction | Toggle::SceneDepth | Toggle::Orthographic
+                ),
             );
         }
         CloudKey {
@@ -202,8 +205,8 @@ impl CloudKey {
 
     /// Every canonical key of the built-in genus functions: each combination of the toggles
     /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer with
-    /// any of them, the engine's scene depth with any of them), 1–12 octaves, the four phase kinds and one or two lane groups.
-    /// 768 × 12 × 4 × 2 = 73,728 keys. A genus' own
+    /// any of them, the engine's scene depth and an orthographic camera with any of them), 1–12 octaves, the four phase kinds and one or two lane groups.
+    /// 1,536 × 12 × 4 × 2 = 147,456 keys. A genus' own
     /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL

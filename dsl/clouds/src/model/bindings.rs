@@ -23,6 +23,15 @@ pub static CLOUDS: Binding<CloudUniforms> = Binding::uniform(
     0,
     "Layers, media, march, shadow map, light, sky and camera.",
 );
+/// The cloud block as the host binds it, read under this name by orthographic keys only: each
+/// of their pixels shades its ray with [`CLOUDS`] fed a copy of it whose camera stands at the
+/// ray's own origin (`model::orthographic`). The same slot as [`CLOUDS`].
+pub static CLOUDS_INPUT: Binding<CloudUniforms> = Binding::uniform(
+    "clouds_input",
+    0,
+    0,
+    "Layers, media, march, shadow map, light, sky and camera, as bound.",
+);
 /// Local weather: coverage per channel.
 pub static WEATHER: Binding<Texture2d> = Binding::texture(
     "weather_texture",

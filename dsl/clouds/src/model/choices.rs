@@ -56,6 +56,7 @@ pub const POWDER: Toggle = Toggle::Powder;
 pub const SUN_SKY_LIGHT: Toggle = Toggle::AccurateSunSkyLight;
 pub const FLAT_HIGH_LAYER: Toggle = Toggle::FlatHighLayer;
 pub const SCENE_DEPTH: Toggle = Toggle::SceneDepth;
+pub const ORTHOGRAPHIC: Toggle = Toggle::Orthographic;
 
 pub const HENYEY_GREENSTEIN: PhaseKind = PhaseKind::HenyeyGreenstein;
 pub const DUAL_LOBE: PhaseKind = PhaseKind::DualLobe;
@@ -100,9 +101,9 @@ pub mod gate {
     use super::*;
 
     pub fn shader(key: CloudKey, toggle: Toggle) -> Switch {
-        // The engine's depth is a binding the host has or has not, not a run-time choice: the
-        // uber-shader has none.
-        if !key.uber || toggle == Toggle::SceneDepth {
+        // The engine's depth and its camera's projection are the host's, not run-time choices:
+        // the uber-shader has neither.
+        if !key.uber || matches!(toggle, Toggle::SceneDepth | Toggle::Orthographic) {
             return Switch::Fixed(super::gate(key, toggle));
         }
         let bit = Toggle::ALL.iter().position(|t| *t == toggle).unwrap_or(0) as u32;

@@ -250,7 +250,12 @@ pub fn eroded_density(
     let media = CLOUDS.get().media;
     let smp = LINEAR_REPEAT.get();
     let eta = height_fraction(altitude, layers);
-    let mut p = wind_drifted(position, altitude);
+    // The 3D noise is read at the altitude, not at the height above the camera: with the
+    // camera's height the clouds' shapes moved up and down through the noise, and they changed
+    // as a camera climbed (seen first by the orthographic camera, whose picture straight down
+    // must not depend on its height); the planet's curvature no longer bends it either.
+    let drifted = wind_drifted(position, altitude);
+    let mut p = vec3(drifted.x, altitude, drifted.z);
     if gate(key, TURBULENCE_ON) {
         let uv = vec2(p.x, p.z) * media.weather_repeat * media.turbulence_repeat;
         let curl = TURBULENCE.get().sample_level(&smp, uv, 0.0).xyz() * 2.0 - Vec3::ONE;

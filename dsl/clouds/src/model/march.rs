@@ -14,12 +14,14 @@ use nimbus_dsl::prelude::*;
 use super::bindings::CLOUDS;
 use super::choices::{
     APPROXIMATE_MIE, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE, HENYEY_GREENSTEIN,
-    LIGHT_SHAFTS, OCTAVES, POWDER, SCENE_DEPTH, SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
+    LIGHT_SHAFTS, OCTAVES, ORTHOGRAPHIC, POWDER, SCENE_DEPTH, SHADOWS, SUN_SKY_LIGHT, gate,
+    key_count, phase_is,
 };
 use super::density::{MediaParams, eroded_density, layer_density, weather_density};
 use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
+use super::orthographic::orthographic_fragment;
 use super::phase::{approximate_mie, dual_lobe_hg, henyey_greenstein, isotropic_phase};
 use super::scene_depth::{composite_over_scene, scene_distance};
 use super::shadow::{ShadowParams, shadow_texel};
@@ -592,7 +594,7 @@ pub fn march_clouds(
     // The engine's opaque scene ends the ray where it stands.
     let range = if gate(key, SCENE_DEPTH) {
         let open = cloud_range(mu);
-        vec2(open.x, open.y.min(scene_distance(direction)))
+        vec2(open.x, open.y.min(scene_distance(direction, key)))
     } else {
         cloud_range(mu)
     };
@@ -737,16 +739,29 @@ pub fn view_direction(pixel: Vec2) -> Vec3 {
     (clip.xyz() / clip.w).normalize()
 }
 
-/// Colour of one pixel: its ray marched through the clouds, then composited
-/// ([`composite`]), or one of the linear or instrumented layers of [`PixelOutput`].
+/// Colour of one pixel: its view ray through the camera ([`shade_ray`]), or, for an
+/// orthographic camera, its own parallel ray ([`orthographic_fragment`]).
 #[shader_fn]
 pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
+    if gate(key, ORTHOGRAPHIC) {
+        // Parallel rays, each from its own point of the image plane.
+        return orthographic_fragment(frag_coord, key);
+    }
     let u = CLOUDS.get();
     let cell = vec2(frag_coord.x, frag_coord.y).floor() * u.pixel_scale + u.pixel_offset;
     let pixel = cell + u.subpixel;
     let direction = view_direction(pixel);
     // The angle one output pixel subtends here (chord ≈ arc at these sizes).
     let pixel_angle = (view_direction(pixel + vec2(1.0, 0.0)) - direction).length();
+    shade_ray(cell, direction, pixel_angle, key)
+}
+
+/// Colour of the pixel `cell` (its block's corner when upscaled) along the view ray
+/// `direction`, whose pixel subtends `pixel_angle` (rad): its clouds marched, then composited
+/// ([`composite`]), or one of the linear or instrumented layers of [`PixelOutput`].
+#[shader_fn]
+pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: CloudKey) -> Vec4 {
+    let u = CLOUDS.get();
     // Seeded by the pixel, not the sample point within it: a pixel's jitter sequence is the
     // same whatever the sub-pixel offset.
     let jitter =

@@ -12,6 +12,7 @@ pub mod genus_fns;
 pub mod layers;
 pub mod march;
 pub mod noise;
+pub mod orthographic;
 pub mod phase;
 pub mod preview;
 pub mod profile;

@@ -16,8 +16,9 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, LINEAR_REPEAT, SCENE, SCENE_DEPTH};
-use super::choices::{HAZE, gate};
+use super::choices::{HAZE, ORTHOGRAPHIC, gate};
 use super::march::{MarchResult, composite, haze_light, haze_opacity};
+use super::orthographic::ray_origin;
 use super::sky::air_light;
 use crate::key::CloudKey;
 
@@ -108,11 +109,19 @@ pub fn forward_distance(depth: f32) -> f32 {
 }
 
 /// Distance (m) along the unit view ray `direction` (local frame) to the engine's opaque
-/// surface in its pixel, or [`NO_SURFACE`].
+/// surface in its pixel, or [`NO_SURFACE`]; the distance is the forward distance's along the
+/// ray from the camera's plane, which an orthographic ray leaves from.
 #[shader_fn]
-pub fn scene_distance(direction: Vec3) -> f32 {
+pub fn scene_distance(direction: Vec3, #[spec] key: CloudKey) -> f32 {
     let s = SCENE.get();
-    let clip = s.view_projection * direction.extend(1.0);
+    // A point of the ray projects onto its pixel: one metre along it, from the camera or, with
+    // an orthographic camera, from the ray's own origin.
+    let point = if gate(key, ORTHOGRAPHIC) {
+        ray_origin() + direction
+    } else {
+        direction
+    };
+    let clip = s.view_projection * point.extend(1.0);
     let ndc = vec2(clip.x, clip.y) / clip.w;
     let top_down = vec2(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
     // The texel's centre, where a linear sampler returns the texel itself.
@@ -146,7 +155,7 @@ pub fn composite_over_scene(
 ) -> Vec4 {
     let u = CLOUDS.get();
     let switches = u.composite;
-    let surface = scene_distance(direction);
+    let surface = scene_distance(direction, key);
     let has_surface = surface < NO_SURFACE;
     if !has_surface && switches.sky > 0.0 {
         return composite(direction, jitter, clouds, key)
