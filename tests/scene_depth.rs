@@ -59,13 +59,13 @@ fn wall(f: &Frame, distance: f32, encoding: Encoding) -> SceneDepth {
             let p = Mat4::perspective_rh_gl(fov, aspect, NEAR, FAR);
             (
                 p,
-                SceneDepthParams::perspective_gl(p, Mat4::IDENTITY, Vec3::Z, f.width, f.height),
+                SceneDepthParams::opengl(p, Mat4::IDENTITY, Vec3::Z, f.width, f.height),
             )
         }
         Encoding::ReversedInfinite => {
             let p = Mat4::perspective_infinite_reverse_rh(fov, aspect, NEAR);
             let mut params =
-                SceneDepthParams::perspective_gl(p, Mat4::IDENTITY, Vec3::Z, f.width, f.height);
+                SceneDepthParams::opengl(p, Mat4::IDENTITY, Vec3::Z, f.width, f.height);
             params.depth_scale = 1.0;
             params.depth_offset = 0.0;
             params.clear_depth = 0.0;

@@ -1,7 +1,7 @@
 // Nimbus clouds inside a three.js scene: a black tower (`tower=x,z,width,height`, metres) stands
 // in the cloud layer; the scene is drawn into a render target with a depth texture, and the
 // package (built with --enable scene-depth) draws the clouds over it, stopped by its depth.
-// `log=1` uses three's logarithmic depth buffer; `frames=N` accumulates N frames; `depth=0` draws the clouds the old way, over
+// `log=1` uses three's logarithmic depth buffer; `ortho=H` an orthographic camera; `frames=N` accumulates N frames; `depth=0` draws the clouds the old way, over
 // everything (the control). Publishes the frame like main.mjs.
 import * as THREE from 'three';
 import { publish } from './publish.mjs';
@@ -37,7 +37,11 @@ async function run(result) {
   const tower = new THREE.Mesh(new THREE.BoxGeometry(side, tall, side), new THREE.MeshBasicMaterial({ color: 0x000000 }));
   tower.position.set(x, tall / 2, z);
   scene.add(tower);
-  const camera = new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
+  // `ortho=H`: an orthographic camera seeing H metres top to bottom.
+  const extent = number('ortho', 0);
+  const camera = extent > 0
+    ? new THREE.OrthographicCamera(-extent * width / height / 2, extent * width / height / 2, extent / 2, -extent / 2, 1, 1e6)
+    : new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
   camera.rotation.order = 'YXZ';
   camera.rotation.set(number('pitch', 10) * degrees, -number('yaw', 0) * degrees, 0);
   camera.position.set(0, number('altitude', 2), 0);

@@ -1,5 +1,5 @@
-//! Host functions: `#[shader_fn]`s that a host runs on the CPU each frame (the sun, the wind,
-//! the frame sequence), recorded into a module of their own so that printers for host
+//! Host functions: `#[shader_fn]`s that a host runs on the CPU each frame (per-frame parameters,
+//! a light's position, a timeline), recorded into a module of their own so that printers for host
 //! languages (`nimbus_codegen::print_js`) can give other hosts the same function. Nothing
 //! else roots them: such a module has no entry point.
 
@@ -17,7 +17,7 @@ pub struct HostFn {
     pub call: fn(&[ExprId]) -> ExprId,
 }
 
-/// The [`HostFn`] of a `#[shader_fn]` without generation-time parameters: `host_fn!(sun_light)`.
+/// The [`HostFn`] of a `#[shader_fn]` without generation-time parameters: `host_fn!(my_fn)`.
 #[macro_export]
 macro_rules! host_fn {
     ($($f:ident)::+) => {

@@ -285,6 +285,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             "genus": a.genus,
             "quality": a.quality.name(),
             "uniforms": uniforms_file,
+            // What the host's camera and scene must be for this pair's key.
+            "camera": if a.clouds.features.orthographic { "orthographic" } else { "perspective" },
+            "scene_depth": a.clouds.features.scene_depth,
             "shadow_atlas": a.shadow.map(|_| json!({
                 "width": u.shadow.map_size as u32 * u.shadow.cascade_count,
                 "height": u.shadow.map_size as u32,
@@ -334,7 +337,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     if table.iter().any(|a| a.clouds.features.scene_depth) {
         // The engine's depth encoding: an OpenGL-style perspective buffer until the host says
         // otherwise.
-        let scene = SceneDepthParams::perspective_gl(
+        let scene = SceneDepthParams::opengl(
             glam::Mat4::perspective_rh_gl(1.0, 16.0 / 9.0, 1.0, 1e6),
             glam::Mat4::IDENTITY,
             -glam::Vec3::Z,

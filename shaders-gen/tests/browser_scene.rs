@@ -35,12 +35,15 @@ const COVERAGE: f32 = 0.6;
 /// The tower: centre x and z, side and height (m), as the page's `tower=` takes them.
 const TOWER: [f32; 4] = [0.0, -8000.0, 1500.0, 4000.0];
 const NEAR: f32 = 1.0;
+/// The orthographic case's view: 4 km top to bottom (from 200 m to 4.2 km, level).
+const ORTHO_EXTENT: f32 = 4000.0;
 const FAR: f32 = 1e6;
-/// A class of pixels must stay under this mean difference (of 255) from Nimbus's render. Inside
-/// the layer SwiftShader's and lavapipe's arithmetic part by up to 2.4/255 over a region of
-/// the march (measured without any scene too: the plain package at 2,200 m against `nimbus
-/// render`), 0.2/255 elsewhere.
-const MAX_MEAN: f64 = 2.5;
+/// A class of pixels must stay under this mean difference (of 255) from Nimbus's render.
+const MAX_MEAN: f64 = 2.0;
+/// The same inside the cloud layer, where SwiftShader's and lavapipe's arithmetic part over
+/// whole regions of the march: without any scene, the plain package at 2,200 m against
+/// `nimbus render` differs by 1.0/255 on average and by 3.4/255 in its worst 12 × 12 block.
+const MAX_MEAN_IN_CLOUD: f64 = 3.5;
 /// Frames accumulated on both sides, so that the march's noise is not what is compared.
 const FRAMES: u32 = 4;
 
@@ -56,7 +59,7 @@ enum Class {
     Edge,
 }
 
-fn frame(altitude: f32) -> Frame {
+fn frame(altitude: f32, orthographic: Option<f32>, pitch: f32) -> Frame {
     let lib = CloudLibrary::load(Path::new(&common::examples(""))).expect("library");
     let mut genus = lib.genus("cumulus").expect("cumulus").clone();
     genus.coverage = COVERAGE;
@@ -64,8 +67,9 @@ fn frame(altitude: f32) -> Frame {
     f.sun_elevation_deg = SUN.0;
     f.sun_azimuth_deg = SUN.1;
     f.camera_altitude = altitude;
-    f.camera_pitch_deg = PITCH;
+    f.camera_pitch_deg = pitch;
     f.fov_deg = FOV;
+    f.orthographic = orthographic;
     f
 }
 
@@ -88,8 +92,14 @@ fn tower_depth(f: &Frame) -> (SceneDepth, Vec<Class>) {
     let right = forward.cross(up);
     let aspect = W as f32 / H as f32;
     let half = (FOV.to_radians() * 0.5).tan();
-    let projection = Mat4::perspective_rh_gl(FOV.to_radians(), aspect, NEAR, FAR);
-    let origin = Vec3::new(0.0, f.camera_altitude, 0.0);
+    let camera = Vec3::new(0.0, f.camera_altitude, 0.0);
+    let projection = match f.orthographic {
+        Some(h) => {
+            let (x, y) = (0.5 * h * aspect, 0.5 * h);
+            Mat4::orthographic_rh_gl(-x, x, -y, y, NEAR, FAR)
+        }
+        None => Mat4::perspective_rh_gl(FOV.to_radians(), aspect, NEAR, FAR),
+    };
     let (base, top) = (1500.0, 3000.0);
     let mut texels = Vec::new();
     let mut hits = Vec::new();
@@ -97,7 +107,17 @@ fn tower_depth(f: &Frame) -> (SceneDepth, Vec<Class>) {
         for x in 0..W {
             let nx = (x as f32 + 0.5) / W as f32 * 2.0 - 1.0;
             let ny = 1.0 - (y as f32 + 0.5) / H as f32 * 2.0;
-            let dir = (forward + right * (nx * half * aspect) + up * (ny * half)).normalize();
+            // A perspective ray leaves the camera; an orthographic one its point of the plane.
+            let (origin, dir) = match f.orthographic {
+                Some(h) => (
+                    camera + right * (nx * 0.5 * h * aspect) + up * (ny * 0.5 * h),
+                    forward,
+                ),
+                None => (
+                    camera,
+                    (forward + right * (nx * half * aspect) + up * (ny * half)).normalize(),
+                ),
+            };
             match hit_tower(origin, dir) {
                 Some(t) => {
                     let z = t * dir.dot(forward);
@@ -133,7 +153,7 @@ fn tower_depth(f: &Frame) -> (SceneDepth, Vec<Class>) {
             });
         }
     }
-    let params = SceneDepthParams::perspective_gl(projection, Mat4::IDENTITY, Vec3::Z, W, H);
+    let params = SceneDepthParams::opengl(projection, Mat4::IDENTITY, Vec3::Z, W, H);
     (
         SceneDepth {
             width: W,
@@ -147,8 +167,13 @@ fn tower_depth(f: &Frame) -> (SceneDepth, Vec<Class>) {
 
 /// Nimbus's own render of the scene with the tower's depth, as the display pass shows it over
 /// a black tower.
-fn reference(gpu: &Gpu, altitude: f32) -> (RgbImage, Vec<Class>) {
-    let mut f = frame(altitude);
+fn reference(
+    gpu: &Gpu,
+    altitude: f32,
+    orthographic: Option<f32>,
+    pitch: f32,
+) -> (RgbImage, Vec<Class>) {
+    let mut f = frame(altitude, orthographic, pitch);
     let (depth, classes) = tower_depth(&f);
     f.scene_depth = Some(depth);
     f.frames = FRAMES;
@@ -181,7 +206,7 @@ fn scene_file(dir: &Path) -> PathBuf {
     file
 }
 
-fn emit(dir: &Path, name: &str, depth: bool) -> PathBuf {
+fn emit(dir: &Path, name: &str, toggles: &[&str]) -> PathBuf {
     let package = dir.join(name);
     let scene = scene_file(dir);
     let mut args = vec![
@@ -193,8 +218,8 @@ fn emit(dir: &Path, name: &str, depth: bool) -> PathBuf {
         "-o",
         package.to_str().expect("utf-8"),
     ];
-    if depth {
-        args.extend(["--enable", "scene-depth"]);
+    for t in toggles {
+        args.extend(["--enable", t]);
     }
     let o = nimbus(&args);
     assert!(o.status.success(), "emit: {}", text(&o.stderr));
@@ -206,7 +231,6 @@ fn browser(package: &Path, png: &Path, extra: &[String]) -> RgbImage {
         "page=scene".to_string(),
         format!("width={W}"),
         format!("height={H}"),
-        format!("pitch={PITCH}"),
         format!("fov={FOV}"),
         format!("tower={},{},{},{}", TOWER[0], TOWER[1], TOWER[2], TOWER[3]),
         format!("frames={FRAMES}"),
@@ -270,39 +294,57 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-scene");
     let _ = std::fs::remove_dir_all(&out);
     std::fs::create_dir_all(&out).expect("screenshot folder");
-    let with_depth = emit(&out, "package-depth", true);
+    let with_depth = emit(&out, "package-depth", &["scene-depth"]);
+    let orthographic = emit(
+        &out,
+        "package-orthographic",
+        &["scene-depth", "orthographic"],
+    );
     let sun = format!("sun={},{}", SUN.0, SUN.1);
 
-    // (name, camera altitude, logarithmic depth): on the ground, then climbing into and
-    // through the layer (base 1.5 km, top 3 km).
+    // (name, camera altitude, logarithmic depth, orthographic view's height, pitch): on the
+    // ground, then climbing into and through the layer (base 1.5 km, top 3 km), and a level
+    // orthographic camera at 2.2 km seeing 4 km top to bottom (the layer edge-on across the
+    // tower).
     let cases = [
-        ("perspective", 2.0, false),
-        ("logarithmic", 2.0, true),
-        ("climbing-2200m", 2200.0, false),
-        ("climbing-3600m", 3600.0, false),
+        ("perspective", 2.0, false, None, PITCH),
+        ("logarithmic", 2.0, true, None, PITCH),
+        ("climbing-2200m", 2200.0, false, None, PITCH),
+        ("climbing-3600m", 3600.0, false, None, PITCH),
+        ("orthographic", 2200.0, false, Some(ORTHO_EXTENT), 0.0),
     ];
     let mut references = Vec::new();
     let mut failures = Vec::new();
-    for (name, altitude, log) in cases {
-        let (want, classes) = reference(&gpu, altitude);
+    for (name, altitude, log, ortho, pitch) in cases {
+        let (want, classes) = reference(&gpu, altitude, ortho, pitch);
         want.save(out.join(format!("{name}-nimbus.png")))
             .expect("saves");
-        let got = browser(
-            &with_depth,
-            &out.join(format!("{name}-chromium.png")),
-            &[
-                format!("altitude={altitude}"),
-                format!("log={}", u8::from(log)),
-                sun.clone(),
-            ],
-        );
+        let mut extra = vec![
+            format!("pitch={pitch}"),
+            format!("altitude={altitude}"),
+            format!("log={}", u8::from(log)),
+            sun.clone(),
+        ];
+        let package = match ortho {
+            Some(h) => {
+                extra.push(format!("ortho={h}"));
+                &orthographic
+            }
+            None => &with_depth,
+        };
+        let got = browser(package, &out.join(format!("{name}-chromium.png")), &extra);
         let classes_seen = by_class(&want, &got, &classes);
         println!(
             "{name}: mean difference {:.2}/255; by class {classes_seen:?}",
             mean_difference(&want, &got)
         );
+        let limit = if (1500.0..=3000.0).contains(&altitude) {
+            MAX_MEAN_IN_CLOUD
+        } else {
+            MAX_MEAN
+        };
         for (class, count, mean) in &classes_seen {
-            if *count > 0 && *mean > MAX_MEAN {
+            if *count > 0 && *mean > limit {
                 failures.push(format!(
                     "{name}: {class:?} ({count} pixels) differs by {mean:.2}/255 from Nimbus's render"
                 ));
@@ -323,11 +365,16 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
     }
     // Control 1: the clouds drawn over everything (a package that cannot read depth) hide the
     // tower where clouds are in front of it and also where they are behind it.
-    let without = emit(&out, "package-no-depth", false);
+    let without = emit(&out, "package-no-depth", &[]);
     let erased = browser(
         &without,
         &out.join("no-depth-chromium.png"),
-        &["altitude=2".to_string(), "depth=0".to_string(), sun.clone()],
+        &[
+            format!("pitch={PITCH}"),
+            "altitude=2".to_string(),
+            "depth=0".to_string(),
+            sun.clone(),
+        ],
     );
     let control = by_class(&references[0].0, &erased, &references[0].1);
     println!("control (no scene depth): {control:?}");

@@ -228,11 +228,19 @@ export class NimbusClouds extends NimbusHost {
    * Where the clouds are seen from: the engine's own camera (y up, metres; x east, -z north),
    * nothing re-derived by hand. Its world position is the viewpoint: `y` its altitude above
    * the ground (flying up into a cloud layer works like any other altitude), `x` and `z` where
-   * it stands over the clouds. Its rotation and projection (field of view, aspect) give each
+   * it stands over the clouds. Its rotation and projection (field of view and aspect, or an
+   * OrthographicCamera's box with a package built with --enable orthographic) give each
    * pixel's ray. Moving the altitude relights the sky at the new height; moving the camera
    * over the clouds redraws the shadow atlas around it.
    */
   setCamera(camera) {
+    const orthographic = this.pair.camera === 'orthographic';
+    if (Boolean(camera.isOrthographicCamera) !== orthographic) {
+      throw new Error(
+        `setCamera: the pair ${this.pair.pair} was built for a ${this.pair.camera} camera ` +
+          `(${orthographic ? 'with' : 'without'} --enable orthographic), not a${camera.isOrthographicCamera ? 'n orthographic' : ' perspective'} one`,
+      );
+    }
     camera.updateMatrixWorld();
     // The cloud shader takes directions: the view without its translation.
     const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();

@@ -871,18 +871,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     }
     let mut color = background * clouds.transmittance;
     if clouds.front_depth > 0.0 {
-        // Aerial perspective: the air in front of the clouds dims them and adds its own light.
-        let near = air_light(
-            u.camera_altitude,
-            direction,
-            sun,
-            clouds.front_depth,
-            u.sky,
-            radius,
-        );
-        let air = switches.aerial_perspective;
-        color += near.inscatter * ((1.0 - clouds.transmittance) * air)
-            + clouds.radiance * (Vec3::ONE + (near.transmittance - Vec3::ONE) * air);
+        color += clouds_through_air(direction, clouds, switches.aerial_perspective);
     }
     if gate(key, HAZE) {
         // Haze and shafts end at the clouds' front, the ground, or the march's reach.
@@ -892,6 +881,24 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         color = color + (haze_light(direction, distance, jitter, key) - color) * opacity;
     }
     color.extend(1.0 - clouds.transmittance)
+}
+
+/// The clouds' light as it reaches the camera along `direction` (aerial perspective): the air
+/// in front of them dims them and adds its own light, weighted by `air` (1: all of it, 0: the
+/// clouds' own light alone).
+#[shader_fn]
+pub fn clouds_through_air(direction: Vec3, clouds: MarchResult, air: f32) -> Vec3 {
+    let u = CLOUDS.get();
+    let near = air_light(
+        u.camera_altitude,
+        direction,
+        u.light.sun_direction,
+        clouds.front_depth,
+        u.sky,
+        u.march.radius,
+    );
+    near.inscatter * ((1.0 - clouds.transmittance) * air)
+        + clouds.radiance * (Vec3::ONE + (near.transmittance - Vec3::ONE) * air)
 }
 
 /// The light the haze scatters towards the camera along `direction` over its first

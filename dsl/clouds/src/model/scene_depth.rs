@@ -17,7 +17,7 @@ use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, LINEAR_REPEAT, SCENE, SCENE_DEPTH};
 use super::choices::{HAZE, ORTHOGRAPHIC, gate};
-use super::march::{MarchResult, composite, haze_light, haze_opacity};
+use super::march::{MarchResult, clouds_through_air, composite, haze_light, haze_opacity};
 use super::orthographic::ray_origin;
 use super::sky::air_light;
 use crate::key::CloudKey;
@@ -55,11 +55,11 @@ pub struct SceneDepthParams {
 }
 
 impl SceneDepthParams {
-    /// A perspective camera's depth in an OpenGL-style buffer (depth 0 at the near plane, 1 at
-    /// the far one; NDC z in [−1, 1]) of `width` × `height` texels, first row at the top, drawn
-    /// with `projection` and the view `view_projection` (without translation) and looking
-    /// along `forward`.
-    pub fn perspective_gl(
+    /// A camera's depth in an OpenGL-style buffer (depth 0 at the near plane, 1 at the far one;
+    /// NDC z in [−1, 1]) of `width` × `height` texels, first row at the top, drawn with
+    /// `projection` (perspective or orthographic) and the view `view_projection` (without
+    /// translation), looking along `forward`.
+    pub fn opengl(
         projection: Mat4,
         view_projection: Mat4,
         forward: Vec3,
@@ -181,16 +181,7 @@ pub fn composite_over_scene(
     }
     if clouds.front_depth > 0.0 {
         // Aerial perspective on the clouds, as over Nimbus's own sky.
-        let near = air_light(
-            u.camera_altitude,
-            direction,
-            sun,
-            clouds.front_depth,
-            u.sky,
-            u.march.radius,
-        );
-        color += near.inscatter * ((1.0 - clouds.transmittance) * air_weight)
-            + clouds.radiance * (Vec3::ONE + (near.transmittance - Vec3::ONE) * air_weight);
+        color += clouds_through_air(direction, clouds, air_weight);
     }
     if gate(key, HAZE) {
         let open = select(u.march.max_ray_distance, surface, has_surface);
