@@ -6,6 +6,7 @@
 
 mod backend;
 pub mod bindings;
+mod dts;
 mod emit;
 mod error;
 pub mod external;
@@ -22,6 +23,7 @@ pub mod wgsl;
 
 pub use backend::{Contents, default_constants};
 pub use bindings::{BindingInfo, BindingKind, TextureDimension};
+pub use dts::print_dts;
 pub use emit::{EmitExtras, EmitReport, MARKER_FILE, emit};
 pub use error::{CodegenError, Origin};
 pub use generate::{

@@ -19,7 +19,7 @@ use nimbus_clouds::model::scene_depth::SceneDepthParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{
     BindingInfo, EmitExtras, Generated, MARKER_FILE, emit, flatten_uniform_blocks, generate,
-    print_js,
+    print_dts, print_js,
 };
 use nimbus_codegen::{BindingKind, TextureDimension};
 use nimbus_dsl::ShaderVariant;
@@ -53,6 +53,9 @@ const FRAME_MODULE: &str = "nimbus-frame.js";
 
 /// What `FRAME_MODULE` exports.
 const FRAME_EXPORTS: [&str; 3] = ["cloud_frame", "resolve_frame", "drift_at"];
+
+/// What `SUN_MODULE` exports.
+const SUN_EXPORTS: [&str; 2] = ["sun_direction", "sun_light"];
 
 /// What `WIND_MODULE` exports: the functions and the altitude of a scene's top wind.
 const WIND_EXPORTS: [&str; 5] = [
@@ -389,18 +392,31 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     if engine.javascript_host() {
         // What the sun's position decides, as the host computes it: the JavaScript twin of
         // the same `sun_light` whose CPU twin fills the uniform values above.
-        let host = nimbus_clouds::model::sun::host_module()?;
-        let js = print_js(&host, &["sun_direction", "sun_light"])?;
-        files.push((SUN_MODULE.to_string(), js.into_bytes()));
         // What the wind and the weather change as the scene runs: the JavaScript twins of the
-        // same functions whose CPU twins give `nimbus render --time` its drift and coverage.
-        let host = nimbus_clouds::timeline::host_module()?;
-        let js = print_js(&host, &WIND_EXPORTS)?;
-        files.push((WIND_MODULE.to_string(), js.into_bytes()));
-        // The frame sequence, as the runtime's render loop computes it.
-        let host = nimbus_clouds::frame_sequence::host_module()?;
-        let js = print_js(&host, &FRAME_EXPORTS)?;
-        files.push((FRAME_MODULE.to_string(), js.into_bytes()));
+        // same functions whose CPU twins give `nimbus render --time` its drift and coverage;
+        // and the frame sequence, as the runtime's render loop computes it. Each with its
+        // TypeScript declarations, printed from the same IR.
+        for (file, host, exports) in [
+            (
+                SUN_MODULE,
+                nimbus_clouds::model::sun::host_module()?,
+                &SUN_EXPORTS[..],
+            ),
+            (
+                WIND_MODULE,
+                nimbus_clouds::timeline::host_module()?,
+                &WIND_EXPORTS[..],
+            ),
+            (
+                FRAME_MODULE,
+                nimbus_clouds::frame_sequence::host_module()?,
+                &FRAME_EXPORTS[..],
+            ),
+        ] {
+            files.push((file.to_string(), print_js(&host, exports)?.into_bytes()));
+            let typings = file.replace(".js", ".d.ts");
+            files.push((typings, print_dts(&host, exports)?.into_bytes()));
+        }
         for (name, text) in HOST_MODULES {
             files.push((name.to_string(), text.as_bytes().to_vec()));
         }

@@ -1,0 +1,112 @@
+//! The JavaScript hosts' generated typings: the `.d.ts` beside each printed host module
+//! (`nimbus-frame.js`, `nimbus-sun.js`, `nimbus-wind.js`) describe what the JavaScript twins take
+//! and return. TypeScript's own checker (`tsc --strict`, from browser/node_modules) accepts a
+//! host written against them, and refuses the same host with a call missing an argument and a
+//! result field misread (the control).
+//!
+//! Needs node and `browser/node_modules` (`npm ci` in browser/).
+
+mod common;
+
+use std::process::Command;
+
+use common::{browser_dir, nimbus, text};
+use nimbus_testkit::skip::{browser_tools_present, node_missing};
+
+/// A host of the three modules, in TypeScript; `broken` adds two mistakes.
+fn host(broken: bool) -> String {
+    let mut ts = String::from(
+        "import { cloud_frame, resolve_frame, drift_at } from './pkg/nimbus-frame.js';\n\
+         import { sun_direction, sun_light } from './pkg/nimbus-sun.js';\n\
+         import { TOP_ALTITUDE, wind_velocity, wind_velocity_at } from './pkg/nimbus-wind.js';\n\
+         const frame = cloud_frame(3, 7, 1);\n\
+         const jitter: number = frame.jitter;\n\
+         const offset: [number, number] = frame.pixel_offset;\n\
+         const resolve = resolve_frame(4, 1, 0, [1, 2, 3, 4], [1, 2, 3, 4], 1500, [640, 360]);\n\
+         const shift: [number, number, number] = resolve.cloud_shift;\n\
+         const at: [number, number, number] = drift_at([0, 0, 0.1, 0.2], 2000);\n\
+         const sun: [number, number, number] = sun_direction(30, 150);\n\
+         declare const block: Parameters<typeof sun_light>[0];\n\
+         const light = sun_light(block, sun);\n\
+         const cascades: [number, number, number, number][] = [...light.shadow_matrix];\n\
+         const wind: [number, number] = wind_velocity_at(wind_velocity(6, 270), wind_velocity(20, 280), TOP_ALTITUDE);\n\
+         export const used = [jitter, offset, shift, at, cascades, wind, block.march.max_height];\n",
+    );
+    if broken {
+        ts.push_str(
+            "export const missing = cloud_frame(3, 7);\n\
+             export const misread: string = resolve.variance_gamma;\n",
+        );
+    }
+    ts
+}
+
+#[test]
+fn the_host_modules_typings_check_a_typescript_host() {
+    let tsc = browser_dir().join("node_modules/typescript/bin/tsc");
+    if !browser_tools_present(
+        "the typings test",
+        node_missing().or_else(|| {
+            (!tsc.is_file())
+                .then(|| "browser/node_modules is missing: run `npm ci` in browser/".into())
+        }),
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let package = dir.path().join("pkg");
+    let o = nimbus(&[
+        "emit",
+        "--engine",
+        "webgpu",
+        "--genus",
+        "cumulus",
+        "--quality",
+        "low",
+        "-o",
+        package.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    for module in ["nimbus-frame", "nimbus-sun", "nimbus-wind"] {
+        assert!(
+            package.join(format!("{module}.d.ts")).is_file(),
+            "{module}.d.ts missing"
+        );
+    }
+    let check = |name: &str, broken: bool| -> (bool, String) {
+        let file = dir.path().join(name);
+        std::fs::write(&file, host(broken)).expect("writes the host");
+        let out = Command::new("node")
+            .arg(&tsc)
+            .args([
+                "--noEmit",
+                "--strict",
+                "--target",
+                "es2022",
+                "--module",
+                "es2022",
+                "--moduleResolution",
+                "bundler",
+            ])
+            .arg(&file)
+            .current_dir(dir.path())
+            .output()
+            .expect("runs tsc");
+        (
+            out.status.success(),
+            format!("{}{}", text(&out.stdout), text(&out.stderr)),
+        )
+    };
+    let (ok, log) = check("host.ts", false);
+    assert!(ok, "tsc refused a correct host:\n{log}");
+    let (ok, log) = check("broken.ts", true);
+    println!("the control, as tsc reports it:\n{log}");
+    assert!(
+        !ok,
+        "tsc accepted a host with a missing argument and a misread field"
+    );
+    assert!(
+        log.contains("broken.ts") && log.matches("error TS").count() >= 2,
+        "{log}"
+    );
+}
