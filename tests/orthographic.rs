@@ -92,3 +92,21 @@ fn looking_down_an_orthographic_camera_sees_the_same_clouds_from_any_height() {
         "the perspective camera's did not: {perspective} against {ortho}"
     );
 }
+
+/// The temporal resolve reprojects rays from one point: an orthographic view asked to
+/// accumulate or upscale is refused with the field named, not drawn with every pixel reading
+/// the centre's history.
+#[test]
+fn an_orthographic_view_is_not_resolved_over_frames() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut r = Renderer::new(gpu, TextureSizes::default());
+    for (frames, upscale) in [(4, false), (1, true)] {
+        let mut f = frame(5000.0, true);
+        f.frames = frames;
+        f.upscale = upscale;
+        let e = r.render(&f).expect_err("refused").to_string();
+        assert!(e.contains("Frame::orthographic"), "{e}");
+    }
+    // One frame at a time is drawn.
+    assert!(r.render(&frame(5000.0, true)).is_ok());
+}

@@ -1,4 +1,4 @@
-// Nimbus clouds inside a three.js scene: a black tower (`tower=x,z,width,height`, metres) stands
+// Nimbus clouds inside a three.js scene: a tower (`tower=x,z,width,height`, metres) stands
 // in the cloud layer; the scene is drawn into a render target with a depth texture, and the
 // package (built with --enable scene-depth) draws the clouds over it, stopped by its depth.
 // `log=1` uses three's logarithmic depth buffer; `ortho=H` an orthographic camera; `frames=N` accumulates N frames; `depth=0` draws the clouds the old way, over
@@ -34,7 +34,9 @@ async function run(result) {
   // The user's scene: a tower, and the camera that sees it.
   const scene = new THREE.Scene();
   const [x, z, side, tall] = (q.get('tower') ?? '0,-8000,1500,4000').split(',').map(Number);
-  const tower = new THREE.Mesh(new THREE.BoxGeometry(side, tall, side), new THREE.MeshBasicMaterial({ color: 0x000000 }));
+  // `color=rrggbb`: the tower's colour as the canvas shows it (black by default).
+  const color = parseInt(q.get('color') ?? '000000', 16);
+  const tower = new THREE.Mesh(new THREE.BoxGeometry(side, tall, side), new THREE.MeshBasicMaterial({ color }));
   tower.position.set(x, tall / 2, z);
   scene.add(tower);
   // `ortho=H`: an orthographic camera seeing H metres top to bottom.

@@ -221,6 +221,14 @@ impl Frame {
                 "Frame::orthographic: the view's height must be a positive number of metres, got {h}"
             )));
         }
+        if self.orthographic.is_some() && (self.upscale || self.frames > 1) {
+            // The resolve reprojects directions from the camera, which parallel rays are not.
+            return Err(RuntimeError::Limit(
+                "Frame::orthographic: an orthographic view is drawn one frame at a time (the \
+                 temporal resolve reprojects rays from one point); set frames = 1, upscale off"
+                    .into(),
+            ));
+        }
         self.genus
             .validate()
             .map_err(|(field, reason)| RuntimeError::Genus {

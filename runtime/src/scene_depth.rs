@@ -60,8 +60,9 @@ impl SceneDepth {
 
 impl Gpu {
     /// The depth texels as a texture the cloud pass samples (red channel): 32-bit float where
-    /// the adapter filters it (lavapipe does), half float elsewhere, whose 11 bits lose a
-    /// perspective buffer's precision far from the camera.
+    /// the adapter filters it (lavapipe does), half float elsewhere. Half floats round every
+    /// depth above 1 − 2⁻¹¹ to 1, the clear value: with a perspective buffer and a 1 m near
+    /// plane, surfaces beyond about 2 km then vanish; give such adapters a logarithmic buffer.
     pub fn scene_depth_texture(&self, depth: &SceneDepth) -> GpuTexture {
         let format = self.accumulation_format();
         let size = wgpu::Extent3d {

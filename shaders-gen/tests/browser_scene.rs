@@ -1,4 +1,4 @@
-//! Clouds in the user's own three.js scene, in a real browser: a black tower 4 km tall and 8 km
+//! Clouds in the user's own three.js scene, in a real browser: a grey tower 4 km tall and 8 km
 //! away pierces the cumulus layer; three.js draws it into a render target with a depth texture
 //! and the package (built with `--enable scene-depth`, at `medium`, sun 8° high at azimuth
 //! 230°) draws the clouds over it, stopped by its depth. Each frame is compared with Nimbus's
@@ -18,6 +18,7 @@ use std::process::Command;
 use glam::{Mat4, Vec3, Vec4};
 use image::RgbImage;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
+use nimbus_clouds::model::tonemap::tonemap;
 use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
@@ -32,6 +33,9 @@ const PITCH: f32 = 10.0;
 const FOV: f32 = 60.0;
 const SUN: (f32, f32) = (8.0, 230.0);
 const COVERAGE: f32 = 0.6;
+/// The tower's colour on the canvas (sRGB level of its grey, as three draws a
+/// `MeshBasicMaterial` of that colour): the clouds' alpha must leave exactly that much of it.
+const TOWER_GREY: u8 = 0x80;
 /// The tower: centre x and z, side and height (m), as the page's `tower=` takes them.
 const TOWER: [f32; 4] = [0.0, -8000.0, 1500.0, 4000.0];
 const NEAR: f32 = 1.0;
@@ -46,6 +50,12 @@ const MAX_MEAN: f64 = 2.0;
 const MAX_MEAN_IN_CLOUD: f64 = 3.5;
 /// Frames accumulated on both sides, so that the march's noise is not what is compared.
 const FRAMES: u32 = 4;
+
+/// An orthographic view is drawn one frame at a time (the resolve reprojects rays from one
+/// point); the others accumulate [`FRAMES`].
+fn frames_for(orthographic: Option<f32>) -> u32 {
+    if orthographic.is_some() { 1 } else { FRAMES }
+}
 
 /// What a pixel of the frame shows of the tower.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -165,8 +175,9 @@ fn tower_depth(f: &Frame) -> (SceneDepth, Vec<Class>) {
     )
 }
 
-/// Nimbus's own render of the scene with the tower's depth, as the display pass shows it over
-/// a black tower.
+/// Nimbus's own render of the scene with the tower's depth, as the display pass draws it over
+/// the engine's picture: its tonemapped colour, plus what its alpha leaves of the tower (grey,
+/// [`TOWER_GREY`] on the canvas) or of the cleared background (black).
 fn reference(
     gpu: &Gpu,
     altitude: f32,
@@ -175,14 +186,22 @@ fn reference(
 ) -> (RgbImage, Vec<Class>) {
     let mut f = frame(altitude, orthographic, pitch);
     let (depth, classes) = tower_depth(&f);
+    let tower: Vec<bool> = depth.texels.iter().map(|&d| d < 1.0).collect();
     f.scene_depth = Some(depth);
-    f.frames = FRAMES;
+    f.frames = frames_for(orthographic);
     let mut r = Renderer::new(gpu, TextureSizes::default());
     let img = r.render(&f).expect("renders");
-    let rgba = img.to_rgba8(8.0);
     let rgb = RgbImage::from_fn(W, H, |x, y| {
-        let p = rgba.get_pixel(x, y);
-        image::Rgb([p[0], p[1], p[2]])
+        let i = (y * W + x) as usize;
+        let p = img.pixels[i];
+        let shown = tonemap(Vec3::new(p[0], p[1], p[2]), 8.0);
+        let behind = if tower[i] {
+            f32::from(TOWER_GREY) / 255.0
+        } else {
+            0.0
+        };
+        let c = (shown + Vec3::splat(behind * (1.0 - p[3]))) * 255.0;
+        image::Rgb([c.x, c.y, c.z].map(|v| v.round().clamp(0.0, 255.0) as u8))
     });
     (rgb, classes)
 }
@@ -233,7 +252,7 @@ fn browser(package: &Path, png: &Path, extra: &[String]) -> RgbImage {
         format!("height={H}"),
         format!("fov={FOV}"),
         format!("tower={},{},{},{}", TOWER[0], TOWER[1], TOWER[2], TOWER[3]),
-        format!("frames={FRAMES}"),
+        format!("color={TOWER_GREY:02x}{TOWER_GREY:02x}{TOWER_GREY:02x}"),
     ];
     args.extend(extra.iter().cloned());
     let o = Command::new("node")
@@ -320,6 +339,7 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
         want.save(out.join(format!("{name}-nimbus.png")))
             .expect("saves");
         let mut extra = vec![
+            format!("frames={}", frames_for(ortho)),
             format!("pitch={pitch}"),
             format!("altitude={altitude}"),
             format!("log={}", u8::from(log)),
@@ -370,6 +390,7 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
         &without,
         &out.join("no-depth-chromium.png"),
         &[
+            format!("frames={FRAMES}"),
             format!("pitch={PITCH}"),
             "altitude=2".to_string(),
             "depth=0".to_string(),

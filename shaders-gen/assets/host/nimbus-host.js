@@ -180,8 +180,8 @@ export class NimbusHost {
     this.height = 0;
     this.lowWidth = 1;
     this.lowHeight = 1;
-    this.upscale = false;
-    this.accumulate = false;
+    this.upscaleOn = false;
+    this.accumulateOn = false;
     this.seed = 0;
     this.shadowDirty = true;
     // Seconds since the timeline's start, and its wind and weather states (none: still air,
@@ -196,6 +196,29 @@ export class NimbusHost {
     this.readsDepth = Boolean(blocks.scene);
     this.cameraFar = 1e6;
     this.reversedDepth = false;
+  }
+
+  /**
+   * Shade one pixel in sixteen per frame and rebuild the rest from the history. Changing it
+   * restarts the history (and resizes the targets once sized).
+   */
+  get upscale() {
+    return this.upscaleOn;
+  }
+
+  set upscale(on) {
+    this.upscaleOn = Boolean(on);
+    if (this.width) this.setSize(this.width, this.height);
+  }
+
+  /** Average full-resolution frames while the camera holds still; restarts the history. */
+  get accumulate() {
+    return this.accumulateOn;
+  }
+
+  set accumulate(on) {
+    this.accumulateOn = Boolean(on);
+    if (this.width) this.setSize(this.width, this.height);
   }
 
   /** Whether frames are resolved from a history (upscaled or accumulated). */
@@ -368,6 +391,10 @@ export class NimbusHost {
    */
   beginFrame() {
     if (!this.width) throw new Error('call setSize before render');
+    if (this.temporal && this.pair.camera === 'orthographic') {
+      // The resolve reprojects rays from one point, which parallel rays are not.
+      throw new Error(`render: the pair ${this.pair.pair} has an orthographic camera, drawn one frame at a time: set upscale and accumulate off`);
+    }
     const index = this.temporal ? this.frame : 0;
     this.blocks.pair.assign(cloud_frame(index, this.seed, this.upscale ? 1 : 0));
     return index;

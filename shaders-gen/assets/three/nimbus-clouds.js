@@ -241,6 +241,9 @@ export class NimbusClouds extends NimbusHost {
           `(${orthographic ? 'with' : 'without'} --enable orthographic), not a${camera.isOrthographicCamera ? 'n orthographic' : ' perspective'} one`,
       );
     }
+    if (orthographic && camera.reversedDepth) {
+      throw new Error('setCamera: a reversed-depth orthographic camera is not drawn yet');
+    }
     camera.updateMatrixWorld();
     // The cloud shader takes directions: the view without its translation.
     const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();
@@ -282,7 +285,8 @@ export class NimbusClouds extends NimbusHost {
       }
       // WebGL's depth range: NDC z in [-1, 1]; its textures' first row is the bottom one.
       this.setDepthEncoding({
-        logarithmic: Boolean(renderer.capabilities?.logarithmicDepthBuffer),
+        // three writes a logarithmic depth for perspective cameras only.
+        logarithmic: Boolean(renderer.capabilities?.logarithmicDepthBuffer) && this.pair.camera !== 'orthographic',
         depthScale: 2,
         depthOffset: -1,
         width: depth.image.width,

@@ -55,6 +55,9 @@ export class NimbusWebGPU extends NimbusHost {
    */
   static async load(base, device, options = {}) {
     const { pkg, pair, blocks, get } = await loadPackage(base, 'webgpu', options);
+    if (pair.camera === 'orthographic') {
+      throw new Error(`the pair ${pair.pair} has an orthographic camera, which the WebGPU host does not draw yet`);
+    }
     if (blocks.scene) {
       throw new Error(`the pair ${pair.pair} reads an engine's depth (--enable scene-depth), which the WebGPU host does not draw yet`);
     }

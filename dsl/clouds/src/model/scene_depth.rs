@@ -132,7 +132,13 @@ pub fn scene_distance(direction: Vec3, #[spec] key: CloudKey) -> f32 {
         .get()
         .sample_level(&LINEAR_REPEAT.get(), uv, 0.0)
         .x;
-    let along = forward_distance(depth) / direction.dot(s.forward).max(1e-6);
+    // The marker is kept as it is: divided by a cosine a hair over 1 it would read as a surface.
+    let forward = forward_distance(depth);
+    let along = select(
+        forward / direction.dot(s.forward).max(1e-6),
+        NO_SURFACE,
+        forward >= NO_SURFACE,
+    );
     // Behind the camera, or outside the depth texture: nothing of the engine's there.
     let outside = clip.w <= 0.0
         || top_down.x < 0.0
