@@ -2,13 +2,9 @@
 // publishes the result (a PNG data URL) and every shader message three logged on `window`.
 import * as THREE from 'three';
 import { publish } from './publish.mjs';
+import { height, number, placeCamera, q, width } from './query.mjs';
 import { timeFrames } from './timing.mjs';
 
-const q = new URLSearchParams(location.search);
-const number = (name, fallback) => (q.has(name) ? Number(q.get(name)) : fallback);
-const width = number('width', 160);
-const height = number('height', 90);
-const degrees = Math.PI / 180;
 
 
 async function run(result) {
@@ -31,10 +27,7 @@ async function run(result) {
   clouds.exposure = number('exposure', 8);
   // Nimbus's camera: pitch up from the horizon, yaw clockwise from -z (north), vertical fov.
   const camera = new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
-  camera.rotation.order = 'YXZ';
-  // Its position is the viewpoint: y the altitude above the ground (metres).
-  camera.position.set(0, number('altitude', 2), 0);
-  camera.rotation.set(number('pitch', 12) * degrees, -number('yaw', 0) * degrees, 0);
+  placeCamera(camera, 12);
   clouds.setCamera(camera);
   if (q.has('sun')) {
     const [elevation, azimuth] = q.get('sun').split(',').map(Number);

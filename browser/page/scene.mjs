@@ -5,12 +5,8 @@
 // everything (the control). Publishes the frame like main.mjs.
 import * as THREE from 'three';
 import { publish } from './publish.mjs';
+import { height, number, placeCamera, q, width } from './query.mjs';
 
-const q = new URLSearchParams(location.search);
-const number = (name, fallback) => (q.has(name) ? Number(q.get(name)) : fallback);
-const width = number('width', 160);
-const height = number('height', 90);
-const degrees = Math.PI / 180;
 
 async function run(result) {
   const { messages } = result;
@@ -44,9 +40,7 @@ async function run(result) {
   const camera = extent > 0
     ? new THREE.OrthographicCamera(-extent * width / height / 2, extent * width / height / 2, extent / 2, -extent / 2, 1, 1e6)
     : new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
-  camera.rotation.order = 'YXZ';
-  camera.rotation.set(number('pitch', 10) * degrees, -number('yaw', 0) * degrees, 0);
-  camera.position.set(0, number('altitude', 2), 0);
+  placeCamera(camera, 10);
   const target = new THREE.WebGLRenderTarget(width, height, {
     type: THREE.HalfFloatType,
     depthTexture: new THREE.DepthTexture(width, height, THREE.FloatType),

@@ -3,12 +3,8 @@
 // and publishes the frame as a PNG data URL on `window.nimbus`. three.js is used here only for
 // the camera's matrices, as an application would use its own math library.
 import * as THREE from 'three';
+import { height, number, placeCamera, q, width } from './query.mjs';
 
-const q = new URLSearchParams(location.search);
-const number = (name, fallback) => (q.has(name) ? Number(q.get(name)) : fallback);
-const width = number('width', 160);
-const height = number('height', 90);
-const degrees = Math.PI / 180;
 
 async function run(result) {
   if (!navigator.gpu) throw new Error('no WebGPU in this browser');
@@ -29,9 +25,7 @@ async function run(result) {
   clouds.exposure = number('exposure', 8);
   // Nimbus's camera: pitch up from the horizon, yaw clockwise from -z (north), vertical fov.
   const camera = new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
-  camera.rotation.order = 'YXZ';
-  camera.rotation.set(number('pitch', 12) * degrees, -number('yaw', 0) * degrees, 0);
-  camera.position.set(0, number('altitude', 2), 0);
+  placeCamera(camera, 12);
   camera.updateMatrixWorld();
   const view = new THREE.Matrix4().extractRotation(camera.matrixWorld).invert();
   const viewProjection = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, view);
