@@ -68,15 +68,24 @@ const WIND_EXPORTS: [&str; 5] = [
 
 /// What every JavaScript host of a package keeps and writes into the blocks, with no graphics
 /// API (`NimbusHost`: camera, sun, timeline, frame sequence), and the timeline's weather states
-/// (`NimbusTimeline`): shipped in three and webgpu packages, used by their renderers.
-const HOST_MODULES: [(&str, &str); 2] = [
+/// (`NimbusTimeline`), with their TypeScript declarations: shipped in three and webgpu packages,
+/// used by their renderers.
+const HOST_MODULES: [(&str, &str); 4] = [
     (
         "nimbus-host.js",
         include_str!("../assets/host/nimbus-host.js"),
     ),
     (
+        "nimbus-host.d.ts",
+        include_str!("../assets/host/nimbus-host.d.ts"),
+    ),
+    (
         "nimbus-timeline.js",
         include_str!("../assets/host/nimbus-timeline.js"),
+    ),
+    (
+        "nimbus-timeline.d.ts",
+        include_str!("../assets/host/nimbus-timeline.d.ts"),
     ),
 ];
 

@@ -1,8 +1,8 @@
-//! The JavaScript hosts' generated typings: the `.d.ts` beside each printed host module
-//! (`nimbus-frame.js`, `nimbus-sun.js`, `nimbus-wind.js`) describe what the JavaScript twins take
-//! and return. TypeScript's own checker (`tsc --strict`, from browser/node_modules) accepts a
-//! host written against them, and refuses the same host with a call missing an argument and a
-//! result field misread (the control).
+//! The JavaScript hosts' typings: the `.d.ts` printed beside each host module (`nimbus-frame.js`,
+//! `nimbus-sun.js`, `nimbus-wind.js`: what the JavaScript twins take and return) and those of the
+//! shared host state (`nimbus-host.js`, `nimbus-timeline.js`). TypeScript's own checker
+//! (`tsc --strict`, from browser/node_modules) accepts a host written against them, and refuses
+//! the same host with a call missing an argument and two results misread (the control).
 //!
 //! Needs node and `browser/node_modules` (`npm ci` in browser/).
 
@@ -30,12 +30,31 @@ fn host(broken: bool) -> String {
          const light = sun_light(block, sun);\n\
          const cascades: [number, number, number, number][] = [...light.shadow_matrix];\n\
          const wind: [number, number] = wind_velocity_at(wind_velocity(6, 270), wind_velocity(20, 280), TOP_ALTITUDE);\n\
+         import { NimbusHost, loadPackage } from './pkg/nimbus-host.js';\n\
+         import { NimbusTimeline } from './pkg/nimbus-timeline.js';\n\
+         export async function drive(): Promise<number> {\n\
+           const { pkg, pair, blocks } = await loadPackage(new URL('https://example.invalid/'), 'webgpu');\n\
+           const host = new NimbusHost(pkg, pair, blocks);\n\
+           host.upscale = true;\n\
+           host.setSize(640, 360);\n\
+           host.setView({ viewProjection: new Float32Array(16), position: [0, 2, 0] });\n\
+           host.setSun(30, 150);\n\
+           host.setWind(6, 260);\n\
+           host.setWeather(0.4, { at: 600 });\n\
+           host.setTime(300);\n\
+           const index: number = host.beginFrame();\n\
+           host.resolveFrame(index);\n\
+           host.endFrame();\n\
+           const coverage: number = new NimbusTimeline(0.3).at(60).coverage;\n\
+           return index + coverage + host.lowWidth + blocks.pair.float('media.coverage');\n\
+         }\n\
          export const used = [jitter, offset, shift, at, cascades, wind, block.march.max_height];\n",
     );
     if broken {
         ts.push_str(
             "export const missing = cloud_frame(3, 7);\n\
-             export const misread: string = resolve.variance_gamma;\n",
+             export const misread: string = resolve.variance_gamma;\n\
+             export const wrong: string = new NimbusTimeline(0.3).coverageAt(1);\n",
         );
     }
     ts
@@ -106,7 +125,7 @@ fn the_host_modules_typings_check_a_typescript_host() {
         "tsc accepted a host with a missing argument and a misread field"
     );
     assert!(
-        log.contains("broken.ts") && log.matches("error TS").count() >= 2,
+        log.contains("broken.ts") && log.matches("error TS").count() >= 3,
         "{log}"
     );
 }
