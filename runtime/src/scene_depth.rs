@@ -80,31 +80,25 @@ impl Gpu {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         };
-        let texture = if format == wgpu::TextureFormat::Rgba32Float {
-            let data: Vec<f32> = depth
-                .texels
-                .iter()
-                .flat_map(|&d| [d, 0.0, 0.0, 1.0])
-                .collect();
-            self.device().create_texture_with_data(
-                self.queue(),
-                &desc,
-                wgpu::util::TextureDataOrder::LayerMajor,
-                bytemuck::cast_slice(&data),
-            )
+        // Depth in red; the texel layout the format asks for.
+        let texel = |d: f32| [d, 0.0, 0.0, 1.0];
+        let bytes: Vec<u8> = if format == wgpu::TextureFormat::Rgba32Float {
+            let data: Vec<f32> = depth.texels.iter().flat_map(|&d| texel(d)).collect();
+            bytemuck::cast_slice(&data).to_vec()
         } else {
             let data: Vec<u16> = depth
                 .texels
                 .iter()
-                .flat_map(|&d| [d, 0.0, 0.0, 1.0].map(crate::gpu::f16_bits))
+                .flat_map(|&d| texel(d).map(crate::gpu::f16_bits))
                 .collect();
-            self.device().create_texture_with_data(
-                self.queue(),
-                &desc,
-                wgpu::util::TextureDataOrder::LayerMajor,
-                bytemuck::cast_slice(&data),
-            )
+            bytemuck::cast_slice(&data).to_vec()
         };
+        let texture = self.device().create_texture_with_data(
+            self.queue(),
+            &desc,
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &bytes,
+        );
         let view = texture.create_view(&Default::default());
         GpuTexture {
             texture,

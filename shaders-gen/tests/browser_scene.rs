@@ -25,7 +25,9 @@ use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 use nimbus_runtime::scene_depth::SceneDepth;
 use nimbus_testkit::skip::browser_tools_present;
 
-use common::{browser_dir, have_gpu, mean_difference, missing_browser, nimbus, rgb, text};
+use common::{
+    browser_dir, emit_package, have_gpu, mean_difference, missing_browser, nimbus, rgb, text,
+};
 
 const W: u32 = 160;
 const H: u32 = 90;
@@ -428,20 +430,7 @@ fn the_readme_tower_page_runs_from_the_package() {
     let _ = std::fs::remove_dir_all(&out);
     std::fs::create_dir_all(&out).expect("screenshot folder");
     let package = out.join("package");
-    let o = nimbus(&[
-        "emit",
-        "--engine",
-        "three",
-        "--genus",
-        "cumulus",
-        "--quality",
-        "medium",
-        "--enable",
-        "scene-depth",
-        "-o",
-        package.to_str().expect("utf-8"),
-    ]);
-    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    emit_package("three", "cumulus", "medium", &["scene-depth"], &package);
     for page in ["tower", "example"] {
         let prefix = out.join(page);
         let o = Command::new("node")

@@ -27,7 +27,7 @@ use nimbus_runtime::render::{Frame, Renderer, TextureSizes, WrittenFrame};
 use nimbus_testkit::skip::{browser_tools_present, node_missing};
 use serde_json::{Value, json};
 
-use common::{browser_dir, have_gpu, nimbus, text};
+use common::{browser_dir, emit_package, have_gpu, text};
 
 const WIDTH: u32 = 24;
 const HEIGHT: u32 = 14;
@@ -327,18 +327,7 @@ fn the_package_writes_what_the_runtime_writes_for_every_frame() {
     println!("runtime on {}", gpu.info());
     let dir = tempfile::tempdir().expect("temp dir");
     let package = dir.path().join("pkg");
-    let out = nimbus(&[
-        "emit",
-        "--engine",
-        "three",
-        "--genus",
-        "cumulus",
-        "--quality",
-        "low",
-        "-o",
-        package.to_str().expect("utf-8 path"),
-    ]);
-    assert!(out.status.success(), "emit: {}", text(&out.stderr));
+    emit_package("three", "cumulus", "low", &[], &package);
     // The package's `import 'three'` resolves from a node_modules beside it.
     #[cfg(unix)]
     std::os::unix::fs::symlink(

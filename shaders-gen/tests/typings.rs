@@ -10,7 +10,7 @@ mod common;
 
 use std::process::Command;
 
-use common::{browser_dir, nimbus, text};
+use common::{browser_dir, emit_package, text};
 use nimbus_testkit::skip::{browser_tools_present, node_missing};
 
 /// A host of the three modules, in TypeScript; `broken` adds two mistakes.
@@ -74,18 +74,7 @@ fn the_host_modules_typings_check_a_typescript_host() {
     }
     let dir = tempfile::tempdir().expect("temp dir");
     let package = dir.path().join("pkg");
-    let o = nimbus(&[
-        "emit",
-        "--engine",
-        "webgpu",
-        "--genus",
-        "cumulus",
-        "--quality",
-        "low",
-        "-o",
-        package.to_str().expect("utf-8"),
-    ]);
-    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    emit_package("webgpu", "cumulus", "low", &[], &package);
     for module in ["nimbus-frame", "nimbus-sun", "nimbus-wind"] {
         assert!(
             package.join(format!("{module}.d.ts")).is_file(),

@@ -142,3 +142,23 @@ pub fn mean_difference(a: &image::RgbImage, b: &image::RgbImage) -> f64 {
         .sum();
     sum as f64 / a.as_raw().len() as f64
 }
+
+/// Emits the `engine` package of `genus` at `quality` with `toggles` enabled into `out`,
+/// asserting that `nimbus emit` succeeds.
+pub fn emit_package(engine: &str, genus: &str, quality: &str, toggles: &[&str], out: &Path) {
+    let mut args = vec![
+        "emit",
+        "--engine",
+        engine,
+        "--genus",
+        genus,
+        "--quality",
+        quality,
+    ];
+    for t in toggles {
+        args.extend(["--enable", t]);
+    }
+    args.extend(["-o", out.to_str().expect("utf-8 path")]);
+    let o = nimbus(&args);
+    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+}
