@@ -72,7 +72,7 @@ pub struct ManifestOverride {
 
 /// MSL's `_mslBufferSizes` argument: a `uint` per runtime-sized storage buffer, holding its
 /// size in bytes.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BufferSizes {
     /// `[[buffer(N)]]`: the slot after the declared buffers.
     pub target_name: String,
@@ -80,7 +80,7 @@ pub struct BufferSizes {
 }
 
 /// One member of [`BufferSizes`].
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BufferSize {
     /// `size1`.
     pub member: String,

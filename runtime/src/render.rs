@@ -667,7 +667,7 @@ impl<'g> Renderer<'g> {
             }
         }
         for (_, c) in cloud_bindings(pipeline) {
-            kinds.extend(NoiseKind::bound_at(c));
+            kinds.extend(NoiseKind::of(c.resource()));
         }
         for k in kinds {
             self.noise(k)?;
@@ -720,7 +720,7 @@ impl<'g> Renderer<'g> {
                 CloudBinding::Weather
                 | CloudBinding::Shape
                 | CloudBinding::Detail
-                | CloudBinding::Turbulence => NoiseKind::bound_at(c)
+                | CloudBinding::Turbulence => NoiseKind::of(c.resource())
                     .and_then(|k| self.user.get(&k).or_else(|| self.textures.get(&k)))
                     .map(|t| wgpu::BindingResource::TextureView(&t.view)),
             };

@@ -25,21 +25,9 @@ pub enum NoiseKind {
 }
 
 impl NoiseKind {
-    /// The procedural texture a cloud binding samples, if it is one.
-    pub fn bound_at(b: nimbus_clouds::model::bindings::CloudBinding) -> Option<NoiseKind> {
-        use nimbus_clouds::model::bindings::CloudBinding;
-        match b {
-            CloudBinding::Weather => Some(NoiseKind::Weather),
-            CloudBinding::Shape => Some(NoiseKind::Shape),
-            CloudBinding::Detail => Some(NoiseKind::Detail),
-            CloudBinding::Turbulence => Some(NoiseKind::Turbulence),
-            CloudBinding::Uniforms
-            | CloudBinding::ShadowMap
-            | CloudBinding::Sampler
-            | CloudBinding::Key
-            | CloudBinding::SceneDepth
-            | CloudBinding::Scene => None,
-        }
+    /// The procedural texture `resource` is, if it is one.
+    pub fn of(resource: nimbus_clouds::model::resource::Resource) -> Option<NoiseKind> {
+        Self::ALL.into_iter().find(|k| k.resource() == resource)
     }
 
     fn is_3d(self) -> bool {
@@ -56,14 +44,20 @@ impl NoiseKind {
         }
     }
 
-    /// `weather`, `shape`, `detail`, `turbulence`.
-    pub fn name(self) -> &'static str {
+    /// The resource it is in the passes' bindings.
+    pub fn resource(self) -> nimbus_clouds::model::resource::Resource {
+        use nimbus_clouds::model::resource::Resource;
         match self {
-            NoiseKind::Weather => "weather",
-            NoiseKind::Shape => "shape",
-            NoiseKind::Detail => "detail",
-            NoiseKind::Turbulence => "turbulence",
+            NoiseKind::Weather => Resource::Weather,
+            NoiseKind::Shape => Resource::Shape,
+            NoiseKind::Detail => Resource::Detail,
+            NoiseKind::Turbulence => Resource::Turbulence,
         }
+    }
+
+    /// `weather`, `shape`, `detail`, `turbulence`: its resource's id.
+    pub fn name(self) -> &'static str {
+        self.resource().id()
     }
 }
 

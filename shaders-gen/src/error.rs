@@ -56,6 +56,15 @@ pub(crate) enum CliError {
         output: String,
     },
 
+    /// A shader declares a binding its pass's binding enum does not: a bug of Nimbus's, refused
+    /// rather than described as something a host could not bind.
+    #[error("{shader}: no resource is declared for `{binding}` (group {group}, binding {slot})")]
+    UndeclaredBinding {
+        shader: String,
+        binding: String,
+        group: u32,
+        slot: u32,
+    },
     #[error("the package's noise textures could not be made: {0}")]
     Textures(String),
 

@@ -15,6 +15,7 @@ mod export_density;
 mod gallery;
 mod list;
 mod package;
+mod package_description;
 mod package_textures;
 mod plot;
 mod render;

@@ -15,6 +15,7 @@ use nimbus_clouds::model::bindings::{
 use nimbus_clouds::model::display::DisplayParams;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
+use nimbus_clouds::model::resource::Resource;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{
@@ -28,15 +29,18 @@ use nimbus_dsl::layout::{UniformBytes, member_layout};
 use nimbus_output::{Overwrite, check_folder};
 use nimbus_runtime::render::TextureSizes;
 use nimbus_runtime::textures::NoiseKind;
-use serde_json::{Value, json};
 
 use crate::data::{Resolved, Selection, load, resolve, table_text};
 use crate::engine::Engine;
 use crate::error::CliError;
+use crate::package_description::{
+    AtlasSize, BindGroupLayout, BindingDescription, BlockMember, CameraKind, DescriptorSetLayout,
+    FORMAT_VERSION, GpuBufferLayout, GpuLayoutEntry, GpuSamplerLayout, GpuTextureLayout,
+    NameInFile, PACKAGE_FILE, PACKAGE_SCHEMA_FILE, PackageDescription, Pair, Pass, PassDescription,
+    ResourceEntry, SamplerDescriptor, ShaderFile, Target, Targets, Temporal, UNIFORMS_SCHEMA_FILE,
+    UniformBlockFile, VulkanLayoutBinding, pretty, schema_files,
+};
 use crate::package_textures::texture_files;
-
-/// The package description, beside the manifest.
-pub(crate) const PACKAGE_FILE: &str = "nimbus-package.json";
 
 /// The JavaScript twin of `sun_light`, in packages for engines with a JavaScript host.
 const SUN_MODULE: &str = "nimbus-sun.js";
@@ -259,7 +263,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     let mut kinds = BTreeSet::new();
     for g in &shaders {
         for b in &g.bindings {
-            if let Some(kind) = CloudBinding::at(b.group, b.binding).and_then(NoiseKind::bound_at) {
+            if let Some(kind) =
+                CloudBinding::at(b.group, b.binding).and_then(|c| NoiseKind::of(c.resource()))
+            {
                 kinds.insert(kind);
             }
         }
@@ -274,38 +280,41 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         files.push((uniforms_file.clone(), pretty(&uniform_file(a, u))));
         let mut passes = Vec::new();
         if let Some(g) = shader(ShaderKey::SunLight) {
-            passes.push(pass_json(Pass::SunLight, g, engine));
+            passes.push(pass_description(Pass::SunLight, g, engine)?);
         }
         if let Some(k) = a.shadow
             && let Some(g) = shader(ShaderKey::Shadow(k))
         {
-            passes.push(pass_json(Pass::Shadow, g, engine));
+            passes.push(pass_description(Pass::Shadow, g, engine)?);
         }
         if let Some(g) = shader(ShaderKey::Clouds(a.clouds)) {
-            passes.push(pass_json(Pass::Clouds, g, engine));
+            passes.push(pass_description(Pass::Clouds, g, engine)?);
         }
         for (pass, key) in [
             (Pass::Resolve, ShaderKey::Resolve),
             (Pass::Display, ShaderKey::Display),
         ] {
             if let Some(g) = shader(key) {
-                passes.push(pass_json(pass, g, engine));
+                passes.push(pass_description(pass, g, engine)?);
             }
         }
-        pairs.push(json!({
-            "pair": a.name(),
-            "genus": a.genus,
-            "quality": a.quality.name(),
-            "uniforms": uniforms_file,
-            // What the host's camera and scene must be for this pair's key.
-            "camera": if a.clouds.features.orthographic { "orthographic" } else { "perspective" },
-            "scene_depth": a.clouds.features.scene_depth,
-            "shadow_atlas": a.shadow.map(|_| json!({
-                "width": u.shadow.map_size as u32 * u.shadow.cascade_count,
-                "height": u.shadow.map_size as u32,
-            })),
-            "passes": passes,
-        }));
+        pairs.push(Pair {
+            pair: a.name(),
+            genus: a.genus.clone(),
+            quality: a.quality.name().to_string(),
+            uniforms: uniforms_file,
+            camera: if a.clouds.features.orthographic {
+                CameraKind::Orthographic
+            } else {
+                CameraKind::Perspective
+            },
+            scene_depth: a.clouds.features.scene_depth,
+            shadow_atlas: a.shadow.map(|_| AtlasSize {
+                width: u.shadow.map_size as u32 * u.shadow.cascade_count,
+                height: u.shadow.map_size as u32,
+            }),
+            passes,
+        });
     }
     let resolve_defaults = ResolveParams {
         inverse_view_projection: glam::Mat4::IDENTITY,
@@ -329,7 +338,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     for (name, block) in [
         (
             "uniforms/resolve.json",
-            block_json(
+            block_file(
                 ResolveParams::shader_type(),
                 &resolve_defaults.to_uniform_bytes(),
                 RESOLVE_NOTES,
@@ -337,7 +346,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         ),
         (
             "uniforms/display.json",
-            block_json(
+            block_file(
                 DisplayParams::shader_type(),
                 &display_defaults.to_uniform_bytes(),
                 DISPLAY_NOTES,
@@ -358,46 +367,59 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         );
         files.push((
             "uniforms/scene.json".to_string(),
-            pretty(&block_json(
+            pretty(&block_file(
                 SceneDepthParams::shader_type(),
                 &scene.to_uniform_bytes(),
                 SCENE_NOTES,
             )),
         ));
     }
-    let textures: Vec<Value> = texels.files.iter().map(|t| t.descriptor.clone()).collect();
     let texture_count = texels.files.len();
+    let mut textures = Vec::new();
     for t in texels.files {
         files.push((t.file, t.bytes));
+        textures.push(t.descriptor);
     }
-    let conventions: serde_json::Map<String, Value> = engine
-        .conventions()
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), Value::String(v)))
+    // Every resource some pass of the package binds, once, in the order of `Resource::ALL`.
+    let bound: BTreeSet<Resource> = pairs
+        .iter()
+        .flat_map(|p| &p.passes)
+        .flat_map(|p| &p.bindings)
+        .map(|b| b.holds.id)
         .collect();
-    let description = json!({
-        "nimbus_package": 1,
-        "engine": engine.name(),
-        "language": engine.language(),
-        "conventions": conventions,
-        "bindings": engine.binding_note(),
-        "frame": frame_order(engine),
-        "temporal": {
-            "sequence": "each frame's cloud-block members (frame, jitter, pixel_offset, \
-                         pixel_scale, subpixel) are cloud_frame(index, seed, upscale) and the \
-                         resolve block's (low_resolution, pixel_offset, pixel_scale, \
-                         current_weight, variance_gamma, history_valid, cloud_shift) \
-                         resolve_frame(...), each result field written to the member of the \
-                         same name; index counts frames since the history started (0 for a \
-                         frame nothing resolves). nimbus-frame.js in JavaScript packages; the \
-                         Rust source is nimbus_clouds::frame_sequence",
+    let description = PackageDescription {
+        schema: PACKAGE_SCHEMA_FILE.to_string(),
+        nimbus_package: FORMAT_VERSION,
+        engine: engine.name().to_string(),
+        language: engine.language().to_string(),
+        conventions: engine
+            .conventions()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
+        bindings: engine.binding_note().to_string(),
+        frame: frame_order(engine).into_iter().map(String::from).collect(),
+        temporal: Temporal {
+            sequence: "each frame's cloud-block members (frame, jitter, pixel_offset, \
+                       pixel_scale, subpixel) are cloud_frame(index, seed, upscale) and the \
+                       resolve block's (low_resolution, pixel_offset, pixel_scale, \
+                       current_weight, variance_gamma, history_valid, cloud_shift) \
+                       resolve_frame(...), each result field written to the member of the \
+                       same name; index counts frames since the history started (0 for a \
+                       frame nothing resolves). nimbus-frame.js in JavaScript packages; the \
+                       Rust source is nimbus_clouds::frame_sequence"
+                .to_string(),
         },
-        "targets": targets_json(),
-        "textures": textures,
-        "textures_generated_by": texels.generated_by,
-        "pairs": pairs,
-    });
+        resources: bound.into_iter().map(ResourceEntry::of).collect(),
+        targets: targets(),
+        textures,
+        textures_generated_by: texels.generated_by.clone(),
+        pairs,
+    };
     files.push((PACKAGE_FILE.to_string(), pretty(&description)));
+    for (file, schema) in schema_files() {
+        files.push((file.to_string(), schema));
+    }
     if engine.javascript_host() {
         // What the sun's position decides, as the host computes it: the JavaScript twin of
         // the same `sun_light` whose CPU twin fills the uniform values above.
@@ -460,283 +482,219 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     })
 }
 
-fn pretty(v: &Value) -> Vec<u8> {
-    let mut s = serde_json::to_string_pretty(v).unwrap_or_else(|e| format!("\"{e}\""));
-    s.push('\n');
-    s.into_bytes()
-}
-
-/// The passes of a frame, in order.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Pass {
-    SunLight,
-    Shadow,
-    Clouds,
-    Resolve,
-    Display,
-}
-
-impl Pass {
-    fn name(self) -> &'static str {
-        match self {
-            Pass::SunLight => "sun_light",
-            Pass::Shadow => "shadow",
-            Pass::Clouds => "clouds",
-            Pass::Resolve => "resolve",
-            Pass::Display => "display",
-        }
+/// What a host binds at a pass's slot: the [`Resource`] the pass's binding enum declares there.
+fn resource_at(pass: Pass, b: &BindingInfo) -> Option<Resource> {
+    let (group, binding) = (b.group, b.binding);
+    match pass {
+        Pass::SunLight => SunLightBinding::at(group, binding).map(SunLightBinding::resource),
+        Pass::Shadow | Pass::Clouds => CloudBinding::at(group, binding).map(CloudBinding::resource),
+        Pass::Resolve => ResolveBinding::at(group, binding).map(ResolveBinding::resource),
+        Pass::Display => DisplayBinding::at(group, binding).map(DisplayBinding::resource),
     }
 }
 
-/// What a pass's binding slot holds, found by slot: its kind, a stable id a host can switch on
-/// (a uniform file, a texture, a target, a sampler), and the same in words.
-fn resource(pass: Pass, b: &BindingInfo) -> Value {
-    let (group, binding) = (b.group, b.binding);
-    let (kind, id, words) = match pass {
-        Pass::SunLight => match SunLightBinding::at(group, binding) {
-            Some(SunLightBinding::Inputs) => (
-                "uniform block",
-                "pair_inputs",
-                "uniforms/<pair>.json as the host fills it, light.sun_direction set",
-            ),
-            Some(SunLightBinding::Block) => (
-                "storage buffer",
-                "pair",
-                "the completed cloud block (storage + uniform usage, uniforms/<pair>.json's \
-                 size) that the shadow and clouds passes bind",
-            ),
-            None => ("unknown", "unknown", "?"),
-        },
-        Pass::Shadow | Pass::Clouds => match CloudBinding::at(group, binding) {
-            Some(CloudBinding::Uniforms) => ("uniform block", "pair", "uniforms/<pair>.json"),
-            Some(CloudBinding::Weather) => ("texture", "weather", "textures: weather"),
-            Some(CloudBinding::Shape) => ("texture", "shape", "textures: shape"),
-            Some(CloudBinding::Detail) => ("texture", "detail", "textures: detail"),
-            Some(CloudBinding::Turbulence) => ("texture", "turbulence", "textures: turbulence"),
-            Some(CloudBinding::ShadowMap) => ("target", "shadow_atlas", "the shadow pass's target"),
-            Some(CloudBinding::Sampler) => ("sampler", "linear_repeat", "linear, repeat"),
-            Some(CloudBinding::SceneDepth) => (
-                "engine depth",
-                "scene_depth",
-                "the engine's own depth buffer (its depth texture, read as float, one texel per \
-                 output pixel), given with each frame",
-            ),
-            Some(CloudBinding::Scene) => (
-                "uniform block",
-                "scene",
-                "uniforms/scene.json: the engine camera's view-projection, forward direction and \
-                 depth encoding, set with the camera",
-            ),
-            Some(CloudBinding::Key) | None => ("unknown", "unknown", "?"),
-        },
-        Pass::Resolve => match ResolveBinding::at(group, binding) {
-            Some(ResolveBinding::Params) => ("uniform block", "resolve", "uniforms/resolve.json"),
-            Some(ResolveBinding::Current) => ("target", "clouds_hdr", "the cloud pass's target"),
-            Some(ResolveBinding::History) => (
-                "target",
-                "history_read",
-                "the history target written last frame",
-            ),
-            Some(ResolveBinding::Nearest) => ("sampler", "nearest_clamp", "nearest, clamp"),
-            Some(ResolveBinding::Linear) => ("sampler", "linear_clamp", "linear, clamp"),
-            None => ("unknown", "unknown", "?"),
-        },
-        Pass::Display => match DisplayBinding::at(group, binding) {
-            Some(DisplayBinding::Params) => ("uniform block", "display", "uniforms/display.json"),
-            Some(DisplayBinding::Source) => (
-                "target",
-                "shown",
-                "the history target resolve wrote, or clouds_hdr when there is no resolve",
-            ),
-            Some(DisplayBinding::Sampler) => ("sampler", "nearest_clamp", "nearest, clamp"),
-            None => ("unknown", "unknown", "?"),
-        },
-    };
-    json!({ "kind": kind, "id": id, "holds": words })
-}
-
-fn pass_json(pass: Pass, g: &Generated, engine: Engine) -> Value {
-    let files: Vec<Value> = g
+fn pass_description(
+    pass: Pass,
+    g: &Generated,
+    engine: Engine,
+) -> Result<PassDescription, CliError> {
+    let files = g
         .files
         .iter()
-        .map(|f| {
-            json!({
-                "file": f.file_name,
-                "entry_point": f.entry_point.as_ref().map(|(e, _)| e.clone()),
-                "stage": f.entry_point.as_ref().map(|(_, s)| format!("{s:?}").to_lowercase()),
-                "manifest": f.manifest.as_ref().map(|_| format!("{}.json", f.file_name)),
-                "buffer_sizes": f.manifest.as_ref().and_then(|m| m.buffer_sizes.as_ref()),
-            })
+        .map(|f| ShaderFile {
+            file: f.file_name.clone(),
+            entry_point: f.entry_point.as_ref().map(|(e, _)| e.clone()),
+            stage: f
+                .entry_point
+                .as_ref()
+                .map(|(_, s)| format!("{s:?}").to_lowercase()),
+            manifest: f.manifest.as_ref().map(|_| format!("{}.json", f.file_name)),
+            buffer_sizes: f.manifest.as_ref().and_then(|m| m.buffer_sizes.clone()),
         })
         .collect();
-    let bindings: Vec<Value> = g
+    let mut bindings = Vec::new();
+    for b in &g.bindings {
+        let Some(resource) = resource_at(pass, b) else {
+            return Err(CliError::UndeclaredBinding {
+                shader: g.id(),
+                binding: b.name.clone(),
+                group: b.group,
+                slot: b.binding,
+            });
+        };
+        let mut in_files = Vec::new();
+        for m in g.files.iter().filter_map(|f| f.manifest.as_ref()) {
+            in_files.extend(
+                m.bindings
+                    .iter()
+                    .filter(|mb| (mb.group, mb.binding) == (b.group, b.binding))
+                    .filter(|mb| !mb.target_name.is_empty())
+                    .map(|mb| NameInFile {
+                        stage: m.stage.clone(),
+                        name: Some(mb.target_name.clone()),
+                        combined_sampler: None,
+                    }),
+            );
+            in_files.extend(
+                m.combined_samplers
+                    .iter()
+                    .filter(|c| c.texture == b.name || c.sampler == b.name)
+                    .map(|c| NameInFile {
+                        stage: m.stage.clone(),
+                        name: None,
+                        combined_sampler: Some(c.name.clone()),
+                    }),
+            );
+        }
+        bindings.push(BindingDescription {
+            group: b.group,
+            binding: b.binding,
+            name: b.name.clone(),
+            kind: b.kind.word().to_string(),
+            wgsl_type: b.wgsl_type.clone(),
+            holds: ResourceEntry::of(resource),
+            in_files,
+        });
+    }
+    // The module's entry points by stage: what a pipeline descriptor names (a WGSL file holds
+    // them all; the other languages have a file each).
+    let entry_points =
+        g.ir.entry_points
+            .iter()
+            .map(|e| (format!("{:?}", e.stage).to_lowercase(), e.function.clone()))
+            .collect();
+    let (bind_group_layout, descriptor_set_layout) = match engine {
+        Engine::Webgpu | Engine::Wgpu => (Some(bind_group_layout(g)), None),
+        Engine::Vulkan => (None, Some(descriptor_set_layout(g))),
+        Engine::Three | Engine::Unity | Engine::Metal => (None, None),
+    };
+    Ok(PassDescription {
+        pass,
+        shader: g.id(),
+        language: engine.language().to_string(),
+        entry_points,
+        files,
+        bindings,
+        bind_group_layout,
+        descriptor_set_layout,
+        dispatch: (pass == Pass::SunLight).then_some([1, 1, 1]),
+    })
+}
+
+/// A binding's stages in words, and as the API's flags given the flag of each stage.
+fn stage_names(b: &BindingInfo) -> Vec<&'static str> {
+    b.visibility
+        .iter()
+        .map(|s| match s {
+            nimbus_dsl::ir::Stage::Vertex => "VERTEX",
+            nimbus_dsl::ir::Stage::Fragment => "FRAGMENT",
+            nimbus_dsl::ir::Stage::Compute => "COMPUTE",
+        })
+        .collect()
+}
+
+fn stage_flags(b: &BindingInfo, [vertex, fragment, compute]: [u32; 3]) -> u32 {
+    b.visibility
+        .iter()
+        .map(|s| match s {
+            nimbus_dsl::ir::Stage::Vertex => vertex,
+            nimbus_dsl::ir::Stage::Fragment => fragment,
+            nimbus_dsl::ir::Stage::Compute => compute,
+        })
+        .fold(0, |a, f| a | f)
+}
+
+/// The pass's bindings as a WebGPU `GPUBindGroupLayoutDescriptor` (with the samplers'
+/// `GPUSamplerDescriptor`s), to hand to the API as it is.
+fn bind_group_layout(g: &Generated) -> BindGroupLayout {
+    let entries = g
         .bindings
         .iter()
         .map(|b| {
-            let names: Vec<Value> = g
-                .files
-                .iter()
-                .filter_map(|f| f.manifest.as_ref())
-                .flat_map(|m| {
-                    let stage = m.stage.clone();
-                    let direct = m
-                        .bindings
-                        .iter()
-                        .filter(|mb| (mb.group, mb.binding) == (b.group, b.binding))
-                        .filter(|mb| !mb.target_name.is_empty())
-                        .map(move |mb| json!({ "stage": stage, "name": mb.target_name }));
-                    let stage = m.stage.clone();
-                    let combined = m
-                        .combined_samplers
-                        .iter()
-                        .filter(|c| c.texture == b.name || c.sampler == b.name)
-                        .map(move |c| json!({ "stage": stage, "combined_sampler": c.name }));
-                    direct.chain(combined).collect::<Vec<_>>()
-                })
-                .collect();
-            json!({
-                "group": b.group,
-                "binding": b.binding,
-                "name": b.name,
-                "kind": b.kind.word(),
-                "wgsl_type": b.wgsl_type,
-                "holds": resource(pass, b),
-                "in_files": names,
-            })
+            let mut entry = GpuLayoutEntry {
+                binding: b.binding,
+                // GPUShaderStage: VERTEX 1, FRAGMENT 2, COMPUTE 4.
+                visibility: stage_flags(b, [1, 2, 4]),
+                visibility_names: stage_names(b).join(" | "),
+                buffer: None,
+                texture: None,
+                sampler: None,
+                sampler_descriptor: None,
+            };
+            match &b.kind {
+                BindingKind::Uniform { size, .. } => {
+                    entry.buffer = Some(GpuBufferLayout {
+                        kind: "uniform".into(),
+                        min_binding_size: Some(*size as u64),
+                    })
+                }
+                BindingKind::Storage { read_write } => {
+                    entry.buffer = Some(GpuBufferLayout {
+                        kind: if *read_write {
+                            "storage"
+                        } else {
+                            "read-only-storage"
+                        }
+                        .into(),
+                        min_binding_size: None,
+                    })
+                }
+                BindingKind::Texture { dimension } => {
+                    entry.texture = Some(GpuTextureLayout {
+                        sample_type: "float".into(),
+                        view_dimension: match dimension {
+                            TextureDimension::D2 => "2d",
+                            TextureDimension::D3 => "3d",
+                        }
+                        .into(),
+                    })
+                }
+                BindingKind::Sampler(desc) => {
+                    entry.sampler = Some(GpuSamplerLayout {
+                        kind: "filtering".into(),
+                    });
+                    entry.sampler_descriptor = Some(sampler_descriptor(*desc));
+                }
+            }
+            entry
         })
         .collect();
-    // The module's entry points by stage: what a pipeline descriptor names (a WGSL file holds
-    // them all; the other languages have a file each).
-    let mut entry_points = serde_json::Map::new();
-    for e in &g.ir.entry_points {
-        entry_points.insert(
-            format!("{:?}", e.stage).to_lowercase(),
-            Value::String(e.function.clone()),
-        );
-    }
-    let mut v = json!({
-        "pass": pass.name(),
-        "shader": g.id(),
-        "language": engine.language(),
-        "entry_points": entry_points,
-        "files": files,
-        "bindings": bindings,
-    });
-    if let (Some(layout), Value::Object(map)) = (layout_json(g, engine), &mut v) {
-        map.insert(layout.0.to_string(), layout.1);
-    }
-    if let (Pass::SunLight, Value::Object(map)) = (pass, &mut v) {
-        map.insert("dispatch".into(), json!([1, 1, 1]));
-    }
-    v
+    BindGroupLayout { group: 0, entries }
 }
 
-/// The pass's bindings in the API's own terms, where the engine has one: a WebGPU
-/// `GPUBindGroupLayoutDescriptor` (with the samplers' `GPUSamplerDescriptor`s) or a Vulkan
-/// descriptor-set layout, to pass to the API as they are.
-fn layout_json(g: &Generated, engine: Engine) -> Option<(&'static str, Value)> {
-    let stages = |b: &BindingInfo| -> Vec<&'static str> {
-        b.visibility
-            .iter()
-            .map(|s| match s {
-                nimbus_dsl::ir::Stage::Vertex => "VERTEX",
-                nimbus_dsl::ir::Stage::Fragment => "FRAGMENT",
-                nimbus_dsl::ir::Stage::Compute => "COMPUTE",
-            })
-            .collect()
-    };
-    // The APIs' own stage flags: GPUShaderStage (VERTEX 1, FRAGMENT 2, COMPUTE 4) and
-    // VkShaderStageFlagBits (VERTEX 0x1, FRAGMENT 0x10, COMPUTE 0x20).
-    let flags = |b: &BindingInfo, vertex: u32, fragment: u32, compute: u32| -> u32 {
-        b.visibility
-            .iter()
-            .map(|s| match s {
-                nimbus_dsl::ir::Stage::Vertex => vertex,
-                nimbus_dsl::ir::Stage::Fragment => fragment,
-                nimbus_dsl::ir::Stage::Compute => compute,
-            })
-            .fold(0, |a, f| a | f)
-    };
-    match engine {
-        Engine::Webgpu | Engine::Wgpu => {
-            let entries: Vec<Value> = g
-                .bindings
+/// The pass's bindings as a Vulkan descriptor-set layout.
+fn descriptor_set_layout(g: &Generated) -> DescriptorSetLayout {
+    let bindings = g
+        .bindings
+        .iter()
+        .map(|b| VulkanLayoutBinding {
+            binding: b.binding,
+            descriptor_type: match &b.kind {
+                BindingKind::Uniform { .. } => "VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER",
+                BindingKind::Storage { .. } => "VK_DESCRIPTOR_TYPE_STORAGE_BUFFER",
+                BindingKind::Texture { .. } => "VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE",
+                BindingKind::Sampler(_) => "VK_DESCRIPTOR_TYPE_SAMPLER",
+            }
+            .into(),
+            descriptor_count: 1,
+            // VkShaderStageFlagBits: VERTEX 0x1, FRAGMENT 0x10, COMPUTE 0x20.
+            stage_flags: stage_flags(b, [0x1, 0x10, 0x20]),
+            stage_flag_names: stage_names(b)
                 .iter()
-                .map(|b| {
-                    let resource = match &b.kind {
-                        BindingKind::Uniform { size, .. } => {
-                            json!({ "buffer": { "type": "uniform", "minBindingSize": size } })
-                        }
-                        BindingKind::Storage { read_write } => json!({ "buffer": {
-                            "type": if *read_write { "storage" } else { "read-only-storage" } } }),
-                        BindingKind::Texture { dimension } => json!({ "texture": {
-                            "sampleType": "float",
-                            "viewDimension": match dimension {
-                                TextureDimension::D2 => "2d",
-                                TextureDimension::D3 => "3d",
-                            } } }),
-                        BindingKind::Sampler(desc) => json!({
-                            "sampler": { "type": "filtering" },
-                            "samplerDescriptor": sampler_descriptor(*desc),
-                        }),
-                    };
-                    // A GPUBindGroupLayoutEntry as the API takes it; `visibilityNames` says
-                    // the flags in words (the API ignores members it does not know).
-                    let mut entry = json!({
-                        "binding": b.binding,
-                        "visibility": flags(b, 1, 2, 4),
-                        "visibilityNames": stages(b).join(" | "),
-                    });
-                    if let (Value::Object(e), Value::Object(r)) = (&mut entry, resource) {
-                        e.extend(r);
-                    }
-                    entry
-                })
-                .collect();
-            Some((
-                "bind_group_layout",
-                json!({ "group": 0, "entries": entries }),
-            ))
-        }
-        Engine::Vulkan => {
-            let bindings: Vec<Value> = g
-                .bindings
-                .iter()
-                .map(|b| {
-                    let ty = match &b.kind {
-                        BindingKind::Uniform { .. } => "VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER",
-                        BindingKind::Storage { .. } => "VK_DESCRIPTOR_TYPE_STORAGE_BUFFER",
-                        BindingKind::Texture { .. } => "VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE",
-                        BindingKind::Sampler(_) => "VK_DESCRIPTOR_TYPE_SAMPLER",
-                    };
-                    let names: Vec<String> = stages(b)
-                        .iter()
-                        .map(|s| format!("VK_SHADER_STAGE_{s}_BIT"))
-                        .collect();
-                    let mut v = json!({
-                        "binding": b.binding,
-                        "descriptorType": ty,
-                        "descriptorCount": 1,
-                        "stageFlags": flags(b, 0x1, 0x10, 0x20),
-                        "stageFlagNames": names.join(" | "),
-                    });
-                    if let (BindingKind::Sampler(desc), Value::Object(m)) = (&b.kind, &mut v) {
-                        m.insert("sampler".into(), sampler_descriptor(*desc));
-                    }
-                    v
-                })
-                .collect();
-            Some((
-                "descriptor_set_layout",
-                json!({ "set": 0, "bindings": bindings }),
-            ))
-        }
-        Engine::Three | Engine::Unity | Engine::Metal => None,
-    }
+                .map(|s| format!("VK_SHADER_STAGE_{s}_BIT"))
+                .collect::<Vec<_>>()
+                .join(" | "),
+            sampler: match &b.kind {
+                BindingKind::Sampler(desc) => Some(sampler_descriptor(*desc)),
+                _ => None,
+            },
+        })
+        .collect();
+    DescriptorSetLayout { set: 0, bindings }
 }
 
 /// A sampler's state in WebGPU's spelling (Vulkan's is the same modes).
-fn sampler_descriptor(desc: SamplerDesc) -> Value {
+fn sampler_descriptor(desc: SamplerDesc) -> SamplerDescriptor {
     let address = match desc.address {
         AddressMode::Repeat => "repeat",
         AddressMode::ClampToEdge => "clamp-to-edge",
@@ -746,14 +704,14 @@ fn sampler_descriptor(desc: SamplerDesc) -> Value {
         FilterMode::Nearest => "nearest",
         FilterMode::Linear => "linear",
     };
-    json!({
-        "addressModeU": address,
-        "addressModeV": address,
-        "addressModeW": address,
-        "magFilter": filter,
-        "minFilter": filter,
-        "mipmapFilter": filter,
-    })
+    SamplerDescriptor {
+        address_mode_u: address.into(),
+        address_mode_v: address.into(),
+        address_mode_w: address.into(),
+        mag_filter: filter.into(),
+        min_filter: filter.into(),
+        mipmap_filter: filter.into(),
+    }
 }
 
 /// The frame, in order.
@@ -781,25 +739,30 @@ fn frame_order(engine: Engine) -> Vec<&'static str> {
     steps
 }
 
-fn targets_json() -> Value {
-    json!({
-        "shadow_atlas": {
-            "format": HDR_FORMAT,
-            "size": "the pair's shadow_atlas width × height (cascades side by side)",
-            "sampled_as": "with the pass's linear, repeat sampler (the shader keeps its \
-                           coordinates inside each cascade)",
+fn targets() -> Targets {
+    let hdr = |size: &str| Target {
+        format: HDR_FORMAT.into(),
+        size: size.into(),
+        sampled_as: None,
+    };
+    Targets {
+        shadow_atlas: Target {
+            sampled_as: Some(
+                "with the pass's linear, repeat sampler (the shader keeps its coordinates inside \
+                 each cascade)"
+                    .into(),
+            ),
+            ..hdr("the pair's shadow_atlas width × height (cascades side by side)")
         },
-        "clouds_hdr": {
-            "format": HDR_FORMAT,
-            "size": "the output size, or ceil(width / 4) × ceil(height / 4) when upscaling",
+        clouds_hdr: hdr("the output size, or ceil(width / 4) × ceil(height / 4) when upscaling"),
+        history_a: hdr("the output size"),
+        history_b: hdr("the output size"),
+        screen: Target {
+            format: "rgba8unorm (display sRGB already encoded: not an sRGB format)".into(),
+            size: "the output size".into(),
+            sampled_as: None,
         },
-        "history_a": { "format": HDR_FORMAT, "size": "the output size" },
-        "history_b": { "format": HDR_FORMAT, "size": "the output size" },
-        "screen": {
-            "format": "rgba8unorm (display sRGB already encoded: not an sRGB format)",
-            "size": "the output size",
-        },
-    })
+    }
 }
 
 /// What an engine sets in the cloud uniform block, by member.
@@ -996,56 +959,52 @@ fn type_name(ty: Type) -> String {
     ty.wgsl()
 }
 
-fn block_json(ty: Type, bytes: &[u8], notes: &[(&str, &str)]) -> Value {
+fn block_file(ty: Type, bytes: &[u8], notes: &[(&str, &str)]) -> UniformBlockFile {
     // std140 hosts (WebGL's uniform blocks) round a block's size up to 16 bytes; every API
     // accepts a buffer that large.
     let mut bytes = bytes.to_vec();
     bytes.resize(bytes.len().div_ceil(16) * 16, 0);
-    let bytes = bytes.as_slice();
-    let members: Vec<Value> = member_layout(ty, bytes)
+    let members = member_layout(ty, &bytes)
         .into_iter()
-        .map(|m| {
-            let note = notes
+        .map(|m| BlockMember {
+            set: notes
                 .iter()
                 .find(|(path, _)| *path == m.path)
-                .map(|(_, n)| *n);
-            json!({
-                "member": m.path,
-                "offset": m.offset,
-                "type": type_name(m.ty),
-                "value": m.value,
-                "set": note,
-            })
+                .map(|(_, n)| n.to_string()),
+            member: m.path,
+            offset: m.offset,
+            ty: type_name(m.ty),
+            value: m.value,
         })
         .collect();
-    json!({
-        "size": bytes.len(),
-        "layout": "WGSL uniform address-space layout (std140-compatible): write the values \
-                   little-endian at these byte offsets into one buffer of `size` bytes (a \
-                   multiple of 16); matrices are column-major, one 16-byte column after \
-                   another",
-        "bytes_hex": bytes.iter().map(|b| format!("{b:02x}")).collect::<String>(),
-        "members": members,
-    })
+    UniformBlockFile {
+        schema: format!("../{UNIFORMS_SCHEMA_FILE}"),
+        size: bytes.len(),
+        layout: "WGSL uniform address-space layout (std140-compatible): write the values \
+                 little-endian at these byte offsets into one buffer of `size` bytes (a \
+                 multiple of 16); matrices are column-major, one 16-byte column after another"
+            .into(),
+        bytes_hex: bytes.iter().map(|b| format!("{b:02x}")).collect(),
+        members,
+        pair: None,
+        scene: None,
+    }
 }
 
-fn uniform_file(a: &Assignment, u: &CloudUniforms) -> Value {
-    let mut v = block_json(
-        CloudUniforms::shader_type(),
-        &u.to_uniform_bytes(),
-        CLOUD_NOTES,
-    );
-    if let Value::Object(map) = &mut v {
-        map.insert("pair".into(), json!(a.name()));
-        map.insert(
-            "scene".into(),
-            json!(
-                "values for the pair's scene: sun 35° high at azimuth 150°, camera 2 m above \
-                   the ground looking 12° up, 640 × 360 (a scene file's own values with --scene)"
-            ),
-        );
+fn uniform_file(a: &Assignment, u: &CloudUniforms) -> UniformBlockFile {
+    UniformBlockFile {
+        pair: Some(a.name()),
+        scene: Some(
+            "values for the pair's scene: sun 35° high at azimuth 150°, camera 2 m above the \
+             ground looking 12° up, 640 × 360 (a scene file's own values with --scene)"
+                .into(),
+        ),
+        ..block_file(
+            CloudUniforms::shader_type(),
+            &u.to_uniform_bytes(),
+            CLOUD_NOTES,
+        )
     }
-    v
 }
 
 fn readme(engine: Engine, table: &[Assignment]) -> String {
@@ -1065,8 +1024,11 @@ fn readme(engine: Engine, table: &[Assignment]) -> String {
          Generated by `nimbus emit --engine {engine}`; nothing here needs Nimbus at run time. \
          Pairs: {pairs}.\n\n\
          - `{PACKAGE_FILE}`: the pass graph (per pair: each pass's shader files, what each \
-         binding slot holds and how the files name it), the render targets and formats, the \
-         textures, and these conventions.\n\
+         binding slot holds and how the files name it), the resources the passes bind (by id: \
+         how a host provides each), the render targets and formats, the textures, and these \
+         conventions. `{PACKAGE_SCHEMA_FILE}` is its JSON Schema (draft 2020-12) and \
+         `{UNIFORMS_SCHEMA_FILE}` that of the uniform files: both derived from the Rust types \
+         the files are written from.\n\
          - `uniforms/<pair>.json`, `uniforms/resolve.json`, `uniforms/display.json`: each \
          uniform block's size, members (offset, type, value) and which members to set when; \
          `bytes_hex` is the whole block.\n\

@@ -10,11 +10,13 @@ use nimbus_runtime::Gpu;
 use nimbus_runtime::render::TextureSizes;
 use nimbus_runtime::textures::NoiseKind;
 
+use crate::package_description::{TextureDescriptor, TextureDimension};
+
 /// One texture file and its description.
 pub(crate) struct TextureFile {
     pub file: String,
     pub bytes: Vec<u8>,
-    pub descriptor: serde_json::Value,
+    pub descriptor: TextureDescriptor,
 }
 
 /// What made the texels.
@@ -81,18 +83,26 @@ pub(crate) fn texture_files(
                 "PNG, RGBA8, linear values (not sRGB: load without colour conversion)",
             )
         };
-        let descriptor = serde_json::json!({
-            "name": kind.name(),
-            "file": file,
-            "dimension": if is_3d(kind) { "3d" } else { "2d" },
-            "size": if is_3d(kind) { vec![size, size, size] } else { vec![size, size] },
-            "format": "rgba8unorm",
-            "layout": layout,
-            "colour_space": "linear",
-            "address_mode": "repeat",
-            "filter": "linear",
-            "mipmaps": false,
-        });
+        let descriptor = TextureDescriptor {
+            name: kind.resource(),
+            file: file.clone(),
+            dimension: if is_3d(kind) {
+                TextureDimension::D3
+            } else {
+                TextureDimension::D2
+            },
+            size: if is_3d(kind) {
+                vec![size, size, size]
+            } else {
+                vec![size, size]
+            },
+            format: "rgba8unorm".into(),
+            layout: layout.into(),
+            colour_space: "linear".into(),
+            address_mode: "repeat".into(),
+            filter: "linear".into(),
+            mipmaps: false,
+        };
         files.push(TextureFile {
             file,
             bytes,

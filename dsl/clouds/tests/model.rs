@@ -179,3 +179,55 @@ fn binding_enums_find_every_slot_they_declare() {
         assert_eq!(b as usize, i);
     }
 }
+
+#[test]
+fn every_resource_id_is_its_serialised_name_and_every_slot_names_one() {
+    use nimbus_clouds::model::bindings::{DisplayBinding, SunLightBinding};
+    use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
+    use nimbus_clouds::model::resource::Resource;
+    let mut ids = std::collections::BTreeSet::new();
+    for r in Resource::ALL {
+        let serialised = serde_json::to_value(r).expect("a resource serialises");
+        assert_eq!(
+            serialised,
+            serde_json::Value::String(r.id().into()),
+            "{r:?}"
+        );
+        assert!(ids.insert(r.id()), "{} named twice", r.id());
+    }
+    // Each pass's slots are distinct, and every resource but the uber-shader's key is bound by
+    // some pass of a package.
+    let mut used: std::collections::BTreeSet<Resource> = Default::default();
+    let slots: Vec<Vec<((u32, u32), Resource)>> = vec![
+        CloudBinding::ALL
+            .iter()
+            .map(|b| (b.slot(), b.resource()))
+            .collect(),
+        ResolveBinding::ALL
+            .iter()
+            .map(|b| (b.slot(), b.resource()))
+            .collect(),
+        DisplayBinding::ALL
+            .iter()
+            .map(|b| (b.slot(), b.resource()))
+            .collect(),
+        SunLightBinding::ALL
+            .iter()
+            .map(|b| (b.slot(), b.resource()))
+            .collect(),
+    ];
+    for pass in &slots {
+        let distinct: std::collections::BTreeSet<_> = pass.iter().map(|(s, _)| *s).collect();
+        assert_eq!(distinct.len(), pass.len(), "{pass:?}");
+        used.extend(pass.iter().map(|(_, r)| *r));
+    }
+    assert_eq!(
+        used.len(),
+        Resource::ALL.len(),
+        "unused: {:?}",
+        Resource::ALL
+            .iter()
+            .filter(|r| !used.contains(r))
+            .collect::<Vec<_>>()
+    );
+}

@@ -151,28 +151,33 @@ export class NimbusClouds extends NimbusHost {
       .find((n) => n.combined_sampler).combined_sampler;
   }
 
-  /** What a binding is bound to, by the stable id the package gives its resource. */
+  /**
+   * What a binding is bound to: the package names the resource (`holds.id`) and how a host
+   * provides it (`holds.kind`, one of the package's resource kinds); the uniform blocks, the
+   * textures and the targets are each kept by that id.
+   */
   resourceFor(binding) {
-    const id = binding.holds.id;
-    switch (id) {
-      case 'pair':
-      case 'resolve':
-      case 'display':
-        return this.blocks[id];
-      case 'shadow_atlas':
-        return this.shadowTarget.texture;
-      case 'clouds_hdr':
-      case 'shown':
-        return this.cloudTarget.texture;
-      case 'history_read':
-        return this.history[0].texture;
-      case 'scene':
-        return this.blocks.scene;
-      case 'scene_depth':
-        return null; // the engine's depth texture, given with each frame
-      default:
+    const { id, kind } = binding.holds;
+    switch (kind) {
+      case 'uniform block':
+        return this.blocks[id] ?? null;
+      case 'texture':
         return this.textures[id] ?? null;
+      case 'target':
+        return this.targets()[id]?.texture ?? null;
+      default:
+        return null; // samplers are the manifest's; the engine's depth comes with each frame
     }
+  }
+
+  /** The render targets by resource id (the display and resolve sources change per frame). */
+  targets() {
+    return {
+      shadow_atlas: this.shadowTarget,
+      clouds_hdr: this.cloudTarget,
+      shown: this.cloudTarget,
+      history_read: this.history[0],
+    };
   }
 
   makePass(pass, source) {

@@ -144,20 +144,26 @@ export class NimbusWebGPU extends NimbusHost {
     return this.samplers.get(key);
   }
 
-  /** A bind group for `pass`, each binding bound by the stable id the package gives it. */
+  /**
+   * A bind group for `pass`: each binding bound by the resource the package names there
+   * (`holds.id`), provided as its kind says (`holds.kind`).
+   */
   bindGroup({ pass, layout }, shown, historyRead) {
+    const targets = {
+      shadow_atlas: this.shadowTarget,
+      clouds_hdr: this.cloudTarget,
+      history_read: historyRead,
+      shown,
+    };
     const entries = pass.bindings.map((b) => {
       const layoutEntry = pass.bind_group_layout.entries.find((e) => e.binding === b.binding);
-      const id = b.holds.id;
+      const { id, kind } = b.holds;
       let resource;
-      if (b.kind === 'sampler') resource = this.sampler(layoutEntry);
-      else if (b.kind === 'uniform') resource = { buffer: this.buffers[id] };
-      else if (id === 'shadow_atlas') resource = this.shadowTarget.createView();
-      else if (id === 'clouds_hdr') resource = this.cloudTarget.createView();
-      else if (id === 'history_read') resource = historyRead.createView();
-      else if (id === 'shown') resource = shown.createView();
-      else if (this.textures[id]) resource = this.textures[id].createView();
-      else throw new Error(`${pass.pass}: nothing to bind to ${b.name} (${id})`);
+      if (kind === 'sampler') resource = this.sampler(layoutEntry);
+      else if (kind === 'uniform block' && this.buffers[id]) resource = { buffer: this.buffers[id] };
+      else if (kind === 'texture' && this.textures[id]) resource = this.textures[id].createView();
+      else if (kind === 'target' && targets[id]) resource = targets[id].createView();
+      else throw new Error(`${pass.pass}: nothing to bind to ${b.name} (${kind} ${id})`);
       return { binding: b.binding, resource };
     });
     return this.device.createBindGroup({ label: pass.pass, layout, entries });

@@ -2,7 +2,8 @@
 //! read by name (`CLOUDS.get().march`, `WEATHER.get().sample_level(..)`): no function passes
 //! the uniform block or a texture around. A module declares the bindings its code reads, so a
 //! variant without shadows has no shadow map. The clouds and shadow passes share the numbering;
-//! the runtime binds by [`CloudBinding`], found by slot in codegen's binding description.
+//! the runtime binds by [`CloudBinding`], found by slot in codegen's binding description, and
+//! every slot names the [`Resource`] a host puts there.
 
 use std::sync::Arc;
 
@@ -14,6 +15,7 @@ use super::choices::KeyUniforms;
 use super::display::DisplayParams;
 use super::march::CloudUniforms;
 use super::resolve::ResolveParams;
+use super::resource::Resource;
 use super::scene_depth::SceneDepthParams;
 
 /// Layers, media, march, shadow map, light, sky and camera.
@@ -148,160 +150,102 @@ pub static DISPLAY_SAMPLER: Binding<Sampler> = Binding::sampler(
     "Nearest, clamp: one source texel per pixel.",
 );
 
-/// What the runtime binds at each slot of the cloud passes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum CloudBinding {
-    Uniforms,
-    Weather,
-    Shape,
-    Detail,
-    Turbulence,
-    ShadowMap,
-    Sampler,
-    /// The uber-shader's key uniforms ([`KEY`]).
-    Key,
-    /// The engine's depth buffer ([`SCENE_DEPTH`]).
-    SceneDepth,
-    /// Its encoding and camera ([`SCENE`]).
-    Scene,
-}
-
-impl CloudBinding {
-    pub const GROUP: u32 = 0;
-    pub const ALL: [CloudBinding; 10] = [
-        CloudBinding::Uniforms,
-        CloudBinding::Weather,
-        CloudBinding::Shape,
-        CloudBinding::Detail,
-        CloudBinding::Turbulence,
-        CloudBinding::ShadowMap,
-        CloudBinding::Sampler,
-        CloudBinding::Key,
-        CloudBinding::SceneDepth,
-        CloudBinding::Scene,
-    ];
-
-    /// `(group, binding)`, from the binding's one declaration.
-    pub fn slot(self) -> (u32, u32) {
-        match self {
-            CloudBinding::Uniforms => CLOUDS.slot(),
-            CloudBinding::Weather => WEATHER.slot(),
-            CloudBinding::Shape => SHAPE.slot(),
-            CloudBinding::Detail => DETAIL.slot(),
-            CloudBinding::Turbulence => TURBULENCE.slot(),
-            CloudBinding::ShadowMap => SHADOW_MAP.slot(),
-            CloudBinding::Sampler => LINEAR_REPEAT.slot(),
-            CloudBinding::Key => KEY.slot(),
-            CloudBinding::SceneDepth => SCENE_DEPTH.slot(),
-            CloudBinding::Scene => SCENE.slot(),
-        }
-    }
-
-    /// The binding index in [`Self::GROUP`].
-    pub fn binding(self) -> u32 {
-        self.slot().1
-    }
-
-    /// The binding at `(group, binding)`.
-    pub fn at(group: u32, binding: u32) -> Option<CloudBinding> {
-        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
-    }
-}
-
-/// What the runtime binds at each slot of the temporal resolve pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ResolveBinding {
-    Params,
-    Current,
-    History,
-    Nearest,
-    Linear,
-}
-
-impl ResolveBinding {
-    pub const GROUP: u32 = 0;
-    pub const ALL: [ResolveBinding; 5] = [
-        ResolveBinding::Params,
-        ResolveBinding::Current,
-        ResolveBinding::History,
-        ResolveBinding::Nearest,
-        ResolveBinding::Linear,
-    ];
-
-    /// `(group, binding)`, from the binding's one declaration.
-    pub fn slot(self) -> (u32, u32) {
-        match self {
-            ResolveBinding::Params => RESOLVE.slot(),
-            ResolveBinding::Current => CURRENT.slot(),
-            ResolveBinding::History => HISTORY.slot(),
-            ResolveBinding::Nearest => NEAREST_CLAMP.slot(),
-            ResolveBinding::Linear => LINEAR_CLAMP.slot(),
-        }
-    }
-
-    /// The binding at `(group, binding)`.
-    pub fn at(group: u32, binding: u32) -> Option<ResolveBinding> {
-        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
-    }
-}
-
-/// What an engine binds at each slot of the display pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum DisplayBinding {
-    Params,
-    Source,
-    Sampler,
-}
-
-impl DisplayBinding {
-    pub const ALL: [DisplayBinding; 3] = [
-        DisplayBinding::Params,
-        DisplayBinding::Source,
-        DisplayBinding::Sampler,
-    ];
-
-    /// `(group, binding)`, from the binding's one declaration.
-    pub fn slot(self) -> (u32, u32) {
-        match self {
-            DisplayBinding::Params => DISPLAY.slot(),
-            DisplayBinding::Source => DISPLAY_SOURCE.slot(),
-            DisplayBinding::Sampler => DISPLAY_SAMPLER.slot(),
-        }
-    }
-
-    /// The binding at `(group, binding)`.
-    pub fn at(group: u32, binding: u32) -> Option<DisplayBinding> {
-        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
-    }
-}
-
 /// Where the `sun_light` kernel writes the completed cloud block: a storage buffer that the
 /// host then binds as [`CLOUDS`] in the shadow and cloud passes.
 pub const SUN_LIGHT_BLOCK: (u32, u32) = (0, 1);
 
-/// What an engine binds at each slot of the `sun_light` kernel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum SunLightBinding {
-    /// The cloud block as the host filled it (with `light.sun_direction` set).
-    Inputs,
-    /// The same block with what the sun decides filled in.
-    Block,
+/// A pass's slots, each declared once with the binding it is and the [`Resource`] a host puts
+/// there: `slot`, `at` and `resource` all come from this one list.
+macro_rules! pass_bindings {
+    (
+        $(#[$doc:meta])*
+        pub enum $name:ident {
+            $($(#[$vdoc:meta])* $variant:ident = $slot:expr => $resource:ident,)+
+        }
+    ) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum $name {
+            $($(#[$vdoc])* $variant,)+
+        }
+
+        impl $name {
+            pub const GROUP: u32 = 0;
+            pub const ALL: [$name; [$(stringify!($variant)),+].len()] = [$($name::$variant),+];
+
+            /// `(group, binding)`, from the binding's one declaration.
+            pub fn slot(self) -> (u32, u32) {
+                match self {
+                    $($name::$variant => $slot,)+
+                }
+            }
+
+            /// The binding index in [`Self::GROUP`].
+            pub fn binding(self) -> u32 {
+                self.slot().1
+            }
+
+            /// The binding at `(group, binding)`.
+            pub fn at(group: u32, binding: u32) -> Option<$name> {
+                Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
+            }
+
+            /// What a host binds there.
+            pub fn resource(self) -> Resource {
+                match self {
+                    $($name::$variant => Resource::$resource,)+
+                }
+            }
+        }
+    };
 }
 
-impl SunLightBinding {
-    pub const ALL: [SunLightBinding; 2] = [SunLightBinding::Inputs, SunLightBinding::Block];
-
-    /// `(group, binding)`, from the binding's one declaration.
-    pub fn slot(self) -> (u32, u32) {
-        match self {
-            SunLightBinding::Inputs => CLOUDS.slot(),
-            SunLightBinding::Block => SUN_LIGHT_BLOCK,
-        }
+pass_bindings! {
+    /// What the runtime binds at each slot of the cloud passes (clouds and shadow).
+    pub enum CloudBinding {
+        Uniforms = CLOUDS.slot() => Pair,
+        Weather = WEATHER.slot() => Weather,
+        Shape = SHAPE.slot() => Shape,
+        Detail = DETAIL.slot() => Detail,
+        Turbulence = TURBULENCE.slot() => Turbulence,
+        ShadowMap = SHADOW_MAP.slot() => ShadowAtlas,
+        Sampler = LINEAR_REPEAT.slot() => LinearRepeat,
+        /// The uber-shader's key uniforms ([`KEY`]).
+        Key = KEY.slot() => Key,
+        /// The engine's depth buffer ([`SCENE_DEPTH`]).
+        SceneDepth = SCENE_DEPTH.slot() => SceneDepth,
+        /// Its encoding and camera ([`SCENE`]).
+        Scene = SCENE.slot() => Scene,
     }
+}
 
-    /// The binding at `(group, binding)`.
-    pub fn at(group: u32, binding: u32) -> Option<SunLightBinding> {
-        Self::ALL.into_iter().find(|b| b.slot() == (group, binding))
+pass_bindings! {
+    /// What the runtime binds at each slot of the temporal resolve pass.
+    pub enum ResolveBinding {
+        Params = RESOLVE.slot() => Resolve,
+        Current = CURRENT.slot() => CloudsHdr,
+        History = HISTORY.slot() => HistoryRead,
+        Nearest = NEAREST_CLAMP.slot() => NearestClamp,
+        Linear = LINEAR_CLAMP.slot() => LinearClamp,
+    }
+}
+
+pass_bindings! {
+    /// What an engine binds at each slot of the display pass.
+    pub enum DisplayBinding {
+        Params = DISPLAY.slot() => Display,
+        Source = DISPLAY_SOURCE.slot() => Shown,
+        Sampler = DISPLAY_SAMPLER.slot() => NearestClamp,
+    }
+}
+
+pass_bindings! {
+    /// What an engine binds at each slot of the `sun_light` kernel.
+    pub enum SunLightBinding {
+        /// The cloud block as the host filled it (with `light.sun_direction` set).
+        Inputs = CLOUDS.slot() => PairInputs,
+        /// The same block with what the sun decides filled in.
+        Block = SUN_LIGHT_BLOCK => Pair,
     }
 }
 

@@ -17,6 +17,7 @@ pub mod phase;
 pub mod preview;
 pub mod profile;
 pub mod resolve;
+pub mod resource;
 pub mod scene_depth;
 pub mod shadow;
 pub mod shell;

@@ -1,0 +1,408 @@
+//! `nimbus-package.json` and the uniform files beside it, as types: what `emit --engine` writes
+//! is serialised from these, and the JSON Schema shipped in every package
+//! (`nimbus-package.schema.json`, `nimbus-uniforms.schema.json`) is derived from the same types,
+//! so the description, its schema and its readers cannot drift apart.
+
+use std::collections::BTreeMap;
+
+use nimbus_clouds::model::resource::{Resource, ResourceKind};
+use nimbus_codegen::manifest::BufferSizes;
+use schemars::JsonSchema;
+use serde::Serialize;
+
+/// The package description's file.
+pub(crate) const PACKAGE_FILE: &str = "nimbus-package.json";
+/// Its JSON Schema (draft 2020-12), beside it.
+pub(crate) const PACKAGE_SCHEMA_FILE: &str = "nimbus-package.schema.json";
+/// The JSON Schema of every file under `uniforms/`.
+pub(crate) const UNIFORMS_SCHEMA_FILE: &str = "nimbus-uniforms.schema.json";
+
+/// The description's format; a reader refuses another.
+pub(crate) const FORMAT_VERSION: u32 = 1;
+
+/// A Nimbus engine package: the pass graph of every genus × preset pair, the render targets, the
+/// textures and the conventions an engine follows to draw the first frame right.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct PackageDescription {
+    /// The schema of this file, beside it in the package.
+    #[serde(rename = "$schema")]
+    pub schema: String,
+    /// The description's format (1).
+    pub nimbus_package: u32,
+    /// The engine the package is for (`three`, `webgpu`, `wgpu`, `vulkan`, `unity`, `metal`).
+    pub engine: String,
+    /// The shader language of its files.
+    pub language: String,
+    /// What makes the first frame right, by topic.
+    pub conventions: BTreeMap<String, String>,
+    /// How the shader files' bindings are named in this language.
+    pub bindings: String,
+    /// The passes of a frame, in order, in words.
+    pub frame: Vec<String>,
+    /// How the temporal members are computed each frame.
+    pub temporal: Temporal,
+    /// Every resource a pass binds, by id: how a host provides it and what it holds.
+    pub resources: Vec<ResourceEntry>,
+    /// The render targets the host creates.
+    pub targets: Targets,
+    /// The noise textures, as files of the package.
+    pub textures: Vec<TextureDescriptor>,
+    /// What made the texels.
+    pub textures_generated_by: String,
+    /// Each genus × preset pair: its uniform file and its passes.
+    pub pairs: Vec<Pair>,
+}
+
+/// The temporal sequence's contract.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct Temporal {
+    pub sequence: String,
+}
+
+/// One resource of the passes' bindings.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct ResourceEntry {
+    pub id: Resource,
+    pub kind: ResourceKind,
+    pub holds: String,
+}
+
+impl ResourceEntry {
+    pub(crate) fn of(id: Resource) -> Self {
+        Self {
+            id,
+            kind: id.kind(),
+            holds: id.holds().to_string(),
+        }
+    }
+}
+
+/// The render targets, by the resource ids that name them.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct Targets {
+    pub shadow_atlas: Target,
+    pub clouds_hdr: Target,
+    pub history_a: Target,
+    pub history_b: Target,
+    pub screen: Target,
+}
+
+/// One render target.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct Target {
+    /// Its texel format, in WebGPU's spelling.
+    pub format: String,
+    /// Its size, in words.
+    pub size: String,
+    /// How the passes that read it sample it, where that matters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampled_as: Option<String>,
+}
+
+/// Whether a texture file holds a plane or a volume.
+#[derive(Clone, Copy, Serialize, JsonSchema)]
+pub(crate) enum TextureDimension {
+    #[serde(rename = "2d")]
+    D2,
+    #[serde(rename = "3d")]
+    D3,
+}
+
+/// One noise texture file.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct TextureDescriptor {
+    /// The resource it is (`weather`, `shape`, `detail`, `turbulence`).
+    pub name: Resource,
+    /// Its file in the package.
+    pub file: String,
+    pub dimension: TextureDimension,
+    /// Texels per side: two numbers for 2D, three for 3D.
+    pub size: Vec<u32>,
+    /// Its texel format, in WebGPU's spelling.
+    pub format: String,
+    /// How the file's bytes are laid out.
+    pub layout: String,
+    pub colour_space: String,
+    pub address_mode: String,
+    pub filter: String,
+    pub mipmaps: bool,
+}
+
+/// What a pair's key asks of the host's camera.
+#[derive(Clone, Copy, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum CameraKind {
+    Perspective,
+    Orthographic,
+}
+
+/// The size of a pair's shadow atlas (cascades side by side).
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct AtlasSize {
+    pub width: u32,
+    pub height: u32,
+}
+
+/// One genus × preset pair.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct Pair {
+    /// `<genus>.<preset>`.
+    pub pair: String,
+    pub genus: String,
+    pub quality: String,
+    /// Its cloud block's uniform file.
+    pub uniforms: String,
+    /// What the host's camera must be for this pair's key.
+    pub camera: CameraKind,
+    /// Whether the pair reads the engine's depth buffer (`scene_depth` then has to be given
+    /// with each frame).
+    pub scene_depth: bool,
+    /// The shadow atlas's size, when the pair has one.
+    pub shadow_atlas: Option<AtlasSize>,
+    /// Its passes, in the order of a frame.
+    pub passes: Vec<PassDescription>,
+}
+
+/// The passes of a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum Pass {
+    SunLight,
+    Shadow,
+    Clouds,
+    Resolve,
+    Display,
+}
+
+/// One pass of a pair.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct PassDescription {
+    pub pass: Pass,
+    /// The shader's id (`<module>-<key>`).
+    pub shader: String,
+    pub language: String,
+    /// The module's entry points by stage (`vertex`, `fragment`, `compute`).
+    pub entry_points: BTreeMap<String, String>,
+    /// Its files (a WGSL file holds every entry point; other languages have a file each).
+    pub files: Vec<ShaderFile>,
+    /// Every binding slot, with the resource it holds.
+    pub bindings: Vec<BindingDescription>,
+    /// WebGPU and wgpu: the `GPUBindGroupLayoutDescriptor`, to hand to the API as it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bind_group_layout: Option<BindGroupLayout>,
+    /// Vulkan: the descriptor-set layout.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub descriptor_set_layout: Option<DescriptorSetLayout>,
+    /// Compute passes: the workgroups to dispatch.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dispatch: Option<[u32; 3]>,
+}
+
+/// One shader file of a pass.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct ShaderFile {
+    pub file: String,
+    /// Its entry point, where the file holds one (null for WGSL, which holds them all).
+    pub entry_point: Option<String>,
+    pub stage: Option<String>,
+    /// Its binding manifest, beside it.
+    pub manifest: Option<String>,
+    /// MSL: the buffer of storage-buffer sizes.
+    pub buffer_sizes: Option<BufferSizes>,
+}
+
+/// One binding slot of a pass.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct BindingDescription {
+    pub group: u32,
+    pub binding: u32,
+    /// The name the WGSL source gives it.
+    pub name: String,
+    /// `uniform`, `storage`, `texture` or `sampler`.
+    pub kind: String,
+    pub wgsl_type: String,
+    /// What a host binds there.
+    pub holds: ResourceEntry,
+    /// How each file names it.
+    pub in_files: Vec<NameInFile>,
+}
+
+/// How one file names a binding: directly, or as a GLSL combined sampler.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct NameInFile {
+    pub stage: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub combined_sampler: Option<String>,
+}
+
+/// A `GPUBindGroupLayoutDescriptor` (its group's index beside it).
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct BindGroupLayout {
+    pub group: u32,
+    pub entries: Vec<GpuLayoutEntry>,
+}
+
+/// A `GPUBindGroupLayoutEntry` as the API takes it; `visibilityNames` and `samplerDescriptor`
+/// are Nimbus's (the API ignores members it does not know).
+#[derive(Serialize, JsonSchema)]
+#[serde(rename_all = "camelCase")]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct GpuLayoutEntry {
+    pub binding: u32,
+    /// `GPUShaderStage` flags: VERTEX 1, FRAGMENT 2, COMPUTE 4.
+    pub visibility: u32,
+    pub visibility_names: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub buffer: Option<GpuBufferLayout>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texture: Option<GpuTextureLayout>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampler: Option<GpuSamplerLayout>,
+    /// The `GPUSamplerDescriptor` to create the sampler with.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampler_descriptor: Option<SamplerDescriptor>,
+}
+
+#[derive(Serialize, JsonSchema)]
+#[serde(rename_all = "camelCase")]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct GpuBufferLayout {
+    /// `uniform`, `storage` or `read-only-storage`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_binding_size: Option<u64>,
+}
+
+#[derive(Serialize, JsonSchema)]
+#[serde(rename_all = "camelCase")]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct GpuTextureLayout {
+    /// `float`, or `unfilterable-float` for the engine's depth.
+    pub sample_type: String,
+    /// `2d` or `3d`.
+    pub view_dimension: String,
+}
+
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct GpuSamplerLayout {
+    /// `filtering`.
+    #[serde(rename = "type")]
+    pub kind: String,
+}
+
+/// A sampler's state in WebGPU's spelling (`GPUSamplerDescriptor`); Vulkan's modes are the same.
+#[derive(Serialize, JsonSchema)]
+#[serde(rename_all = "camelCase")]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct SamplerDescriptor {
+    pub address_mode_u: String,
+    pub address_mode_v: String,
+    pub address_mode_w: String,
+    pub mag_filter: String,
+    pub min_filter: String,
+    pub mipmap_filter: String,
+}
+
+/// A Vulkan descriptor-set layout.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct DescriptorSetLayout {
+    pub set: u32,
+    pub bindings: Vec<VulkanLayoutBinding>,
+}
+
+/// A `VkDescriptorSetLayoutBinding`; `stageFlagNames` and `sampler` are Nimbus's.
+#[derive(Serialize, JsonSchema)]
+#[serde(rename_all = "camelCase")]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct VulkanLayoutBinding {
+    pub binding: u32,
+    /// `VK_DESCRIPTOR_TYPE_*`.
+    pub descriptor_type: String,
+    pub descriptor_count: u32,
+    /// `VkShaderStageFlags`: VERTEX 0x1, FRAGMENT 0x10, COMPUTE 0x20.
+    pub stage_flags: u32,
+    pub stage_flag_names: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampler: Option<SamplerDescriptor>,
+}
+
+/// A uniform file (`uniforms/*.json`): one block's bytes and its members.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct UniformBlockFile {
+    /// The schema of this file, at the package's root.
+    #[serde(rename = "$schema")]
+    pub schema: String,
+    /// Bytes, a multiple of 16.
+    pub size: usize,
+    /// How the members are laid out, in words.
+    pub layout: String,
+    /// The whole block, two hex digits a byte.
+    pub bytes_hex: String,
+    pub members: Vec<BlockMember>,
+    /// The pair, for a pair's cloud block.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pair: Option<String>,
+    /// The scene the values are for, for a pair's cloud block.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene: Option<String>,
+}
+
+/// One leaf member of a uniform block.
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct BlockMember {
+    /// Dotted path with array indices (`groups[1].min_height`).
+    pub member: String,
+    /// Bytes from the block's start.
+    pub offset: u32,
+    /// Its WGSL type.
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// Its scalar components (matrices column by column).
+    pub value: Vec<f64>,
+    /// When a host sets it, where that is not never.
+    pub set: Option<String>,
+}
+
+/// The schema files of a package: `(file, pretty JSON)`.
+pub(crate) fn schema_files() -> Vec<(&'static str, Vec<u8>)> {
+    [
+        (
+            PACKAGE_SCHEMA_FILE,
+            schemars::schema_for!(PackageDescription),
+        ),
+        (
+            UNIFORMS_SCHEMA_FILE,
+            schemars::schema_for!(UniformBlockFile),
+        ),
+    ]
+    .into_iter()
+    .map(|(file, schema)| (file, pretty(&schema)))
+    .collect()
+}
+
+/// Pretty JSON with a trailing newline.
+pub(crate) fn pretty<T: Serialize>(v: &T) -> Vec<u8> {
+    let mut s = serde_json::to_string_pretty(v).unwrap_or_else(|e| format!("\"{e}\""));
+    s.push('\n');
+    s.into_bytes()
+}
