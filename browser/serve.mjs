@@ -94,7 +94,7 @@ export async function report(page, logs, outPng, timeout = 120000) {
   const result = await page.evaluate(() => window.nimbus);
   const problems = [...result.messages, ...logs.filter((l) => !expected(l))];
   if (result.error) problems.push(`error: ${result.error}`);
-  const log = { renderer: result.renderer, ms: result.ms, times: result.times, problems };
+  const log = { renderer: result.renderer, ms: result.ms, times: result.times, problems, values: result.values };
   await writeFile(`${outPng}.log.json`, JSON.stringify(log, null, 2));
   if (result.png) await writeFile(outPng, Buffer.from(result.png.split(',')[1], 'base64'));
   console.log(`renderer: ${result.renderer}`);

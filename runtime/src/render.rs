@@ -1307,6 +1307,41 @@ impl<'g> Renderer<'g> {
         }
     }
 
+    /// The clouds' shadow on the scene of the last frame (the `scene_shadow` pass): per pixel of
+    /// its depth buffer, the sun's light through the clouds at the surface there (red, green and
+    /// blue alike; 1 where the scene has no surface), read from the last frame's shadow atlas.
+    /// `None` unless the last frame had a [`Frame::scene_depth`] and its key a shadow atlas.
+    pub fn scene_shadow(&mut self) -> Result<Option<Image>, RuntimeError> {
+        let Some((_, depth)) = &self.scene else {
+            return Ok(None);
+        };
+        if self.shadow.is_none() || self.clouds.is_none() {
+            return Ok(None);
+        }
+        let (width, height) = (depth.texture.width(), depth.texture.height());
+        let key = ShaderKey::SceneShadow;
+        self.prepare(key)?;
+        let clouds = self.clouds.as_ref().ok_or_else(missing)?;
+        let group = self.cloud_group(key, &clouds.uniform)?;
+        let out = target(self.gpu, "scene shadow", width, height);
+        let mut encoder = self
+            .gpu
+            .device()
+            .create_command_encoder(&Default::default());
+        let pipeline = self.pipelines.get(&key)?;
+        draw(
+            &mut encoder,
+            "scene shadow",
+            &out.view,
+            &pipeline.pipeline,
+            &group,
+            None,
+        );
+        self.gpu.queue().submit([encoder.finish()]);
+        self.ensure_readback(width, height);
+        Ok(Some(self.read_back(&out)?))
+    }
+
     /// Renders `frame`.
     pub fn render(&mut self, frame: &Frame) -> Result<Image, RuntimeError> {
         self.render_with_progress(frame, &mut |_, _| {})

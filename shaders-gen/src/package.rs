@@ -243,6 +243,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         }
     }
     keys.extend([ShaderKey::Resolve, ShaderKey::Display]);
+    if table.iter().any(casts_scene_shadow) {
+        keys.push(ShaderKey::SceneShadow);
+    }
     if engine.sun_kernel() {
         keys.push(ShaderKey::SunLight);
     }
@@ -286,6 +289,11 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             && let Some(g) = shader(ShaderKey::Shadow(k))
         {
             passes.push(pass_description(Pass::Shadow, g, engine)?);
+        }
+        if casts_scene_shadow(a)
+            && let Some(g) = shader(ShaderKey::SceneShadow)
+        {
+            passes.push(pass_description(Pass::SceneShadow, g, engine)?);
         }
         if let Some(g) = shader(ShaderKey::Clouds(a.clouds)) {
             passes.push(pass_description(Pass::Clouds, g, engine)?);
@@ -482,12 +490,21 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     })
 }
 
+/// Whether `a`'s clouds shadow the engine's objects: its key reads the engine's depth through a
+/// perspective camera and has a shadow atlas to read the shadow from.
+fn casts_scene_shadow(a: &Assignment) -> bool {
+    let f = a.clouds.features;
+    f.scene_depth && !f.orthographic && a.shadow.is_some()
+}
+
 /// What a host binds at a pass's slot: the [`Resource`] the pass's binding enum declares there.
 fn resource_at(pass: Pass, b: &BindingInfo) -> Option<Resource> {
     let (group, binding) = (b.group, b.binding);
     match pass {
         Pass::SunLight => SunLightBinding::at(group, binding).map(SunLightBinding::resource),
-        Pass::Shadow | Pass::Clouds => CloudBinding::at(group, binding).map(CloudBinding::resource),
+        Pass::Shadow | Pass::SceneShadow | Pass::Clouds => {
+            CloudBinding::at(group, binding).map(CloudBinding::resource)
+        }
         Pass::Resolve => ResolveBinding::at(group, binding).map(ResolveBinding::resource),
         Pass::Display => DisplayBinding::at(group, binding).map(DisplayBinding::resource),
     }
@@ -729,6 +746,10 @@ fn frame_order(engine: Engine) -> Vec<&'static str> {
         "shadow: draw into shadow_atlas when the pair has one and the sun, the layers or any \
          media member (weather offset, wind drift, coverage) changed since it was last drawn \
          (Nimbus's runtime caches it; drawing it every frame is correct too)",
+        "scene_shadow (pairs that read the engine's depth and have a shadow atlas): after the \
+         engine's depth and the shadow atlas, draw into scene_shadow (the depth buffer's size): \
+         per pixel, the sun's light through the clouds at the engine's surface (1 where it drew \
+         nothing); the engine's materials scale their direct sunlight by it",
         "clouds: draw into clouds_hdr every frame (full size, or a quarter of each side when \
          upscaling: then set pixel_scale = 4 and pixel_offset to the frame's Bayer offset)",
         "resolve: when upscaling or accumulating, draw into the history target not read this \
@@ -755,6 +776,10 @@ fn targets() -> Targets {
             ..hdr("the pair's shadow_atlas width × height (cascades side by side)")
         },
         clouds_hdr: hdr("the output size, or ceil(width / 4) × ceil(height / 4) when upscaling"),
+        scene_shadow: hdr(
+            "the engine's depth buffer's size (pairs with a scene_shadow pass); sampled one texel \
+             per pixel by the engine's materials",
+        ),
         history_a: hdr("the output size"),
         history_b: hdr("the output size"),
         screen: Target {

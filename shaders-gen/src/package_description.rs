@@ -86,6 +86,7 @@ impl ResourceEntry {
 pub(crate) struct Targets {
     pub shadow_atlas: Target,
     pub clouds_hdr: Target,
+    pub scene_shadow: Target,
     pub history_a: Target,
     pub history_b: Target,
     pub screen: Target,
@@ -177,6 +178,8 @@ pub(crate) struct Pair {
 pub(crate) enum Pass {
     SunLight,
     Shadow,
+    /// The clouds' shadow on the engine's objects.
+    SceneShadow,
     Clouds,
     Resolve,
     Display,

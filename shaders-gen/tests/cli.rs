@@ -81,10 +81,11 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
-    // 2 previews + resolve + display + sun light + 20 cloud keys + 12 shadow keys, for 11
+    // 2 previews + resolve + display + sun light + scene shadow + 20 cloud keys + 12 shadow
+    // keys, for 11
     // genera × 4 presets (genera with their own weather or shape functions have their own).
     assert!(
-        s.contains("37 shader(s),") && s.contains("0 failure(s)"),
+        s.contains("38 shader(s),") && s.contains("0 failure(s)"),
         "{s}"
     );
     assert!(

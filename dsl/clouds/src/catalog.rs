@@ -32,6 +32,9 @@ pub enum ShaderKey {
     /// The kernel that completes the cloud block for a moved sun, for engine hosts without
     /// JavaScript (one for every key).
     SunLight,
+    /// The clouds' shadow on the engine's objects, per pixel of its depth buffer (one for every
+    /// key that reads the engine's depth and has a shadow atlas).
+    SceneShadow,
 }
 
 impl ShaderKey {
@@ -44,6 +47,7 @@ impl ShaderKey {
             ShaderKey::Resolve => "temporal".into(),
             ShaderKey::Display => "aces-srgb".into(),
             ShaderKey::SunLight => "light".into(),
+            ShaderKey::SceneShadow => "sun".into(),
         }
     }
 
@@ -56,6 +60,7 @@ impl ShaderKey {
             ShaderKey::Resolve => 3,
             ShaderKey::Display => 4,
             ShaderKey::SunLight => 5,
+            ShaderKey::SceneShadow => 6,
         };
         (m, self.key_name())
     }
@@ -70,6 +75,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Resolve => "resolve",
             ShaderKey::Display => "display",
             ShaderKey::SunLight => "sun",
+            ShaderKey::SceneShadow => "scene_shadow",
         }
     }
 
@@ -85,6 +91,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Resolve => resolve_module(),
             ShaderKey::Display => display_module(),
             ShaderKey::SunLight => crate::model::sun::sun_light_module(),
+            ShaderKey::SceneShadow => crate::model::scene_shadow::scene_shadow_module(),
         }
     }
 }
@@ -144,6 +151,9 @@ fn describe(key: &ShaderKey) -> String {
             "temporal upscaling and accumulation, reprojection, history clipping".into()
         }
         ShaderKey::Display => "display transform: exposure, ACES, sRGB".into(),
+        ShaderKey::SceneShadow => {
+            "the clouds' shadow on the engine's objects, per pixel of its depth buffer".into()
+        }
         ShaderKey::SunLight => {
             "sun and sky irradiance and shadow cascades for a moved sun, written into the \
              cloud block (engine hosts without JavaScript)"
@@ -157,7 +167,12 @@ pub fn catalog() -> Vec<CatalogEntry> {
     PhaseModel::ALL
         .iter()
         .map(|m| ShaderKey::Preview(*m))
-        .chain([ShaderKey::Resolve, ShaderKey::Display, ShaderKey::SunLight])
+        .chain([
+            ShaderKey::Resolve,
+            ShaderKey::Display,
+            ShaderKey::SunLight,
+            ShaderKey::SceneShadow,
+        ])
         .map(|key| CatalogEntry {
             description: describe(&key),
             key,

@@ -24,6 +24,11 @@
 // The wind's velocity and the weather's ramp are the JavaScript twins of Nimbus's own shader
 // functions (nimbus-wind.js, used through nimbus-timeline.js). In an EffectComposer, use
 // `NimbusCloudsPass` from './nimbus-clouds-pass.js'.
+//
+// In the engine's own scene (a package built with --enable scene-depth; see tower.html): draw
+// the scene's depth, `clouds.renderSceneShadow(renderer, { scene })` for the clouds' shadow on
+// its objects (materials made with `clouds.shadowMaterial(material)` take it), the scene, then
+// `clouds.render(renderer, null, { scene })` over it.
 
 import * as THREE from 'three';
 import { NimbusHost, loadPackage } from './nimbus-host.js';
@@ -116,6 +121,10 @@ export class NimbusClouds extends NimbusHost {
       ? hdrTarget(pair.shadow_atlas.width, pair.shadow_atlas.height, THREE.RepeatWrapping)
       : null;
     this.cloudTarget = hdrTarget(1, 1, THREE.ClampToEdgeWrapping);
+    // The clouds' shadow on the engine's objects, one texel per pixel of its depth buffer.
+    this.sceneShadowTarget = pair.passes.some((p) => p.pass === 'scene_shadow')
+      ? hdrTarget(1, 1, THREE.ClampToEdgeWrapping)
+      : null;
     // Temporal upscaling and accumulation: two full-size history targets, written in turn.
     this.history = [hdrTarget(1, 1, THREE.ClampToEdgeWrapping), hdrTarget(1, 1, THREE.ClampToEdgeWrapping)];
     this.latest = 0;
@@ -281,33 +290,10 @@ export class NimbusClouds extends NimbusHost {
    */
   render(renderer, target = null, options = {}) {
     const depth = options.depth ?? options.scene?.depthTexture ?? null;
-    if (this.readsDepth) {
-      if (!depth) {
-        throw new Error(
-          `render: the pair ${this.pair.pair} reads the engine's depth (built with --enable scene-depth): ` +
-            'pass { scene: aRenderTargetWithADepthTexture } or { depth: aDepthTexture }',
-        );
-      }
-      // WebGL's depth range: NDC z in [-1, 1]; its textures' first row is the bottom one.
-      this.setDepthEncoding({
-        // three writes a logarithmic depth for perspective cameras only.
-        logarithmic: Boolean(renderer.capabilities?.logarithmicDepthBuffer) && this.pair.camera !== 'orthographic',
-        depthScale: 2,
-        depthOffset: -1,
-        width: depth.image.width,
-        height: depth.image.height,
-        flipY: true,
-      });
-      for (const d of this.dynamic) if (d.holds === 'scene_depth') d.uniform.value = depth;
-    } else if (depth) {
-      throw new Error(`render: the pair ${this.pair.pair} was built without --enable scene-depth; it cannot read a depth buffer`);
-    }
+    this.useDepth(renderer, depth, 'render');
     const index = this.beginFrame();
     const previous = renderer.getRenderTarget();
-    if (this.passes.shadow && this.shadowDirty) {
-      this.draw(renderer, this.passes.shadow, this.shadowTarget);
-      this.shadowDirty = false;
-    }
+    this.drawShadowAtlas(renderer);
     this.draw(renderer, this.passes.clouds, this.cloudTarget);
     let shown = this.cloudTarget;
     if (this.temporal) {
@@ -342,8 +328,105 @@ export class NimbusClouds extends NimbusHost {
     this.endFrame();
   }
 
+  /** The engine's depth texture for this frame's passes, checked against the pair's key. */
+  useDepth(renderer, depth, caller) {
+    if (this.readsDepth) {
+      if (!depth) {
+        throw new Error(
+          `${caller}: the pair ${this.pair.pair} reads the engine's depth (built with --enable scene-depth): ` +
+            'pass { scene: aRenderTargetWithADepthTexture } or { depth: aDepthTexture }',
+        );
+      }
+      // WebGL's depth range: NDC z in [-1, 1]; its textures' first row is the bottom one.
+      this.setDepthEncoding({
+        // three writes a logarithmic depth for perspective cameras only.
+        logarithmic: Boolean(renderer.capabilities?.logarithmicDepthBuffer) && this.pair.camera !== 'orthographic',
+        depthScale: 2,
+        depthOffset: -1,
+        width: depth.image.width,
+        height: depth.image.height,
+        flipY: true,
+      });
+      for (const d of this.dynamic) if (d.holds === 'scene_depth') d.uniform.value = depth;
+    } else if (depth) {
+      throw new Error(`${caller}: the pair ${this.pair.pair} was built without --enable scene-depth; it cannot read a depth buffer`);
+    }
+  }
+
+  /** Redraws the shadow atlas when the sun, the camera's place or the clouds moved. */
+  drawShadowAtlas(renderer) {
+    if (this.passes.shadow && this.shadowDirty) {
+      this.draw(renderer, this.passes.shadow, this.shadowTarget);
+      this.shadowDirty = false;
+    }
+  }
+
+  /**
+   * The clouds' shadow on the engine's objects, for this frame: call it after the engine's
+   * depth is drawn (`options.scene`, a render target with a depthTexture, or `options.depth`)
+   * and before the scene is lit; materials given to `shadowMaterial` then take it. Per pixel
+   * of the depth buffer it is the sun's light through the clouds at the surface there (the
+   * package's scene_shadow pass). Returns the texture it drew.
+   */
+  renderSceneShadow(renderer, options = {}) {
+    if (!this.sceneShadowTarget) {
+      throw new Error(
+        `renderSceneShadow: the pair ${this.pair.pair} has no scene_shadow pass (it needs --enable scene-depth, ` +
+          'a perspective camera and a shadow atlas)',
+      );
+    }
+    const depth = options.depth ?? options.scene?.depthTexture ?? null;
+    this.useDepth(renderer, depth, 'renderSceneShadow');
+    const { width, height } = depth.image;
+    if (this.sceneShadowTarget.width !== width || this.sceneShadowTarget.height !== height) {
+      this.sceneShadowTarget.setSize(width, height);
+    }
+    const previous = renderer.getRenderTarget();
+    this.drawShadowAtlas(renderer);
+    this.draw(renderer, this.passes.scene_shadow, this.sceneShadowTarget);
+    renderer.setRenderTarget(previous);
+    return this.sceneShadowTarget.texture;
+  }
+
+  /**
+   * Makes `material` (three's lit materials: MeshStandardMaterial, MeshPhysicalMaterial,
+   * MeshLambertMaterial, MeshPhongMaterial) take the clouds' shadow drawn by
+   * `renderSceneShadow`: its direct light is scaled by the sun's light through the clouds in
+   * its pixel, its ambient and environment light left as they are. The scene's sun should be
+   * its only direct light, and the scene drawn at the depth buffer's size (one texel per
+   * pixel). Returns the material.
+   */
+  shadowMaterial(material) {
+    if (!this.sceneShadowTarget) {
+      throw new Error(`shadowMaterial: the pair ${this.pair.pair} has no scene_shadow pass`);
+    }
+    const shadow = { value: this.sceneShadowTarget.texture };
+    const previous = material.onBeforeCompile;
+    material.onBeforeCompile = (shader, renderer) => {
+      previous?.call(material, shader, renderer);
+      shader.uniforms.nimbusSceneShadow = shadow;
+      shader.fragmentShader = `uniform sampler2D nimbusSceneShadow;\n${shader.fragmentShader.replace(
+        '#include <lights_fragment_end>',
+        `#include <lights_fragment_end>
+        {
+          // The pass wrote its rows top first; gl_FragCoord counts them from the bottom.
+          ivec2 nimbusSize = textureSize(nimbusSceneShadow, 0);
+          ivec2 nimbusTexel = ivec2(int(gl_FragCoord.x), int(float(nimbusSize.y) - gl_FragCoord.y));
+          float nimbusSun = texelFetch(nimbusSceneShadow, nimbusTexel, 0).r;
+          reflectedLight.directDiffuse *= nimbusSun;
+          reflectedLight.directSpecular *= nimbusSun;
+        }`,
+      )}`;
+    };
+    const key = material.customProgramCacheKey?.bind(material);
+    material.customProgramCacheKey = () => `nimbus-scene-shadow ${key ? key() : ''}`;
+    material.needsUpdate = true;
+    return material;
+  }
+
   dispose() {
     this.geometry.dispose();
+    if (this.sceneShadowTarget) this.sceneShadowTarget.dispose();
     if (this.sceneCopy) {
       this.sceneCopy.geometry.dispose();
       this.sceneCopy.material.dispose();

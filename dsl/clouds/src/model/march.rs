@@ -24,10 +24,11 @@ use super::noise::interleaved_gradient_noise;
 use super::orthographic::orthographic_fragment;
 use super::phase::{approximate_mie, dual_lobe_hg, henyey_greenstein, isotropic_phase};
 use super::scene_depth::{composite_over_scene, scene_distance};
+use super::scene_shadow::sun_through_clouds;
 use super::shadow::{ShadowParams, shadow_texel};
 use super::shell::{ground_hit, ray_shell};
 use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
-use super::transmission::{DROPLET_ASYMMETRY, slab_diffuse_transmittance, slab_transmittance};
+use super::transmission::{DROPLET_ASYMMETRY, slab_diffuse_transmittance};
 
 /// March settings for one quality preset (uniforms: changing them needs no new pipeline).
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
@@ -844,10 +845,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         let mut sky_through = 1.0f32;
         if gate(key, SHADOWS) {
             let ground = direction * -behind;
-            let mu = sun.y.max(0.01);
-            let texel = shadow_texel(ground);
-            let tau = shadow_optical_depth(texel, u.march.shadow_top_height / mu, 0.0) * mu;
-            sun_through = slab_transmittance(tau, mu, DROPLET_ASYMMETRY);
+            sun_through = sun_through_clouds(ground);
             // The sky's light comes from the whole dome: what dims it is the cloud overhead,
             // not the cloud on the way to the sun. With the sun's path for both, the ground in
             // the shadow of a storm tower 20 km away went black.

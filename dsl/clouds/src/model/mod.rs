@@ -19,6 +19,7 @@ pub mod profile;
 pub mod resolve;
 pub mod resource;
 pub mod scene_depth;
+pub mod scene_shadow;
 pub mod shadow;
 pub mod shell;
 pub mod sky;

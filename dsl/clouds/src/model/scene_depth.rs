@@ -113,7 +113,6 @@ pub fn forward_distance(depth: f32) -> f32 {
 /// ray from the camera's plane, which an orthographic ray leaves from.
 #[shader_fn]
 pub fn scene_distance(direction: Vec3, #[spec] key: CloudKey) -> f32 {
-    let s = SCENE.get();
     // A point of the ray projects onto its pixel: one metre along it, from the camera or, with
     // an orthographic camera, from the ray's own origin.
     let point = if gate(key, ORTHOGRAPHIC) {
@@ -121,6 +120,15 @@ pub fn scene_distance(direction: Vec3, #[spec] key: CloudKey) -> f32 {
     } else {
         direction
     };
+    surface_distance(point, direction)
+}
+
+/// Distance (m) along the unit ray `direction` through the camera-relative `point` to the
+/// engine's opaque surface in the pixel `point` projects onto, or [`NO_SURFACE`]: measured as
+/// the forward distance's along the ray from the camera's plane.
+#[shader_fn]
+pub fn surface_distance(point: Vec3, direction: Vec3) -> f32 {
+    let s = SCENE.get();
     let clip = s.view_projection * point.extend(1.0);
     let ndc = vec2(clip.x, clip.y) / clip.w;
     let top_down = vec2(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
