@@ -69,7 +69,7 @@ pub fn scene_shadow_module() -> Result<Module, DslError> {
                 "fs_scene_shadow",
                 "The sun's light through the clouds at one pixel's surface.",
                 loc!(),
-                |frag_coord| scene_shadow_fragment::shader(frag_coord),
+                scene_shadow_fragment::shader,
             );
         },
     )
