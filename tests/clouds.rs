@@ -402,3 +402,44 @@ fn more_than_four_layers_use_a_second_lane_group() {
         four.wgsl
     );
 }
+
+/// The engine's depth is loaded texel by texel, never sampled: its binding is declared
+/// unfilterable (so a WebGPU `depth32float` texture and an `r32float` one without
+/// FLOAT32_FILTERABLE bind), and every texture the march samples stays filterable.
+#[test]
+fn the_engine_depth_is_the_one_unfilterable_texture() {
+    let lib = library();
+    let mut features = Quality::High.features();
+    features.scene_depth = true;
+    let g = build(&lib, "cumulus", Quality::High, features);
+    let mut seen = 0;
+    for b in &g.bindings {
+        if let nimbus_codegen::BindingKind::Texture { filterable, .. } = b.kind {
+            seen += 1;
+            assert_eq!(
+                filterable,
+                b.name != "scene_depth_texture",
+                "{}: filterable {filterable}",
+                b.name
+            );
+        }
+    }
+    assert!(seen >= 4, "{seen} textures");
+    assert!(
+        g.wgsl.contains("textureLoad(scene_depth_texture"),
+        "the depth is loaded"
+    );
+    // GLSL names the loaded texture as a combined sampler with no sampler (texelFetch).
+    let es = g
+        .files
+        .iter()
+        .find(|f| f.file_name.ends_with(".es300.frag"))
+        .and_then(|f| f.manifest.as_ref())
+        .expect("a GLSL ES fragment manifest");
+    let depth = es
+        .combined_samplers
+        .iter()
+        .find(|c| c.texture == "scene_depth_texture")
+        .expect("the depth's combined sampler");
+    assert_eq!(depth.sampler, None);
+}

@@ -22,8 +22,12 @@ pub enum BindingKind {
     Uniform { struct_name: String, size: u32 },
     /// A storage buffer of scalars.
     Storage { read_write: bool },
-    /// A filterable float texture.
-    Texture { dimension: TextureDimension },
+    /// A float texture; `filterable` when some entry point samples it, else it is only loaded
+    /// by texel (`textureLoad`) and binds unfilterable textures too (an engine's depth).
+    Texture {
+        dimension: TextureDimension,
+        filterable: bool,
+    },
     /// A filtering sampler with its declared state.
     Sampler(SamplerDesc),
 }
@@ -59,6 +63,25 @@ impl BindingInfo {
     pub fn visible_in(&self, stage: Stage) -> bool {
         self.visibility.contains(&stage)
     }
+}
+
+/// Whether any function of `naga` samples the texture `global` (rather than only loading it).
+fn sampled(naga: &naga::Module, global: naga::Handle<naga::GlobalVariable>) -> bool {
+    let functions = naga
+        .functions
+        .iter()
+        .map(|(_, f)| f)
+        .chain(naga.entry_points.iter().map(|e| &e.function));
+    for f in functions {
+        for (_, e) in f.expressions.iter() {
+            if let naga::Expression::ImageSample { image, .. } = e
+                && matches!(f.expressions[*image], naga::Expression::GlobalVariable(g) if g == global)
+            {
+                return true;
+            }
+        }
+    }
+    false
 }
 
 /// The bindings of a specialised, validated module, in (group, binding) order. Only bindings
@@ -100,9 +123,11 @@ pub(crate) fn describe(dsl: &Module, validated: &Validated) -> Vec<BindingInfo> 
             }
             (GlobalKind::Handle { .. }, Type::Texture3d) => BindingKind::Texture {
                 dimension: TextureDimension::D3,
+                filterable: handle.is_none_or(|h| sampled(naga, h)),
             },
             (GlobalKind::Handle { .. }, _) => BindingKind::Texture {
                 dimension: TextureDimension::D2,
+                filterable: handle.is_none_or(|h| sampled(naga, h)),
             },
             (GlobalKind::Override { .. } | GlobalKind::Const { .. } | GlobalKind::Private, _) => {
                 continue;

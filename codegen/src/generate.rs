@@ -137,7 +137,10 @@ fn count(module: &Module) -> (usize, usize) {
     let (mut samples, mut loops) = (0, 0);
     for f in &module.functions {
         walk_block(f, &f.body, &mut |id| {
-            if matches!(f.expr(id).kind, ExprKind::Sample { .. }) {
+            if matches!(
+                f.expr(id).kind,
+                ExprKind::Sample { .. } | ExprKind::Load { .. }
+            ) {
                 samples += 1;
             }
         });

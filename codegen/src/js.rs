@@ -405,8 +405,8 @@ impl Printer<'_> {
                     format!("nb.zip3({fa}, {tr}, {c}, (f, t, c) => (c ? t : f))")
                 }
             }
-            ExprKind::Sample { .. } => {
-                return Err(host_error(&f.name, "samples a texture"));
+            ExprKind::Sample { .. } | ExprKind::Load { .. } => {
+                return Err(host_error(&f.name, "reads a texture"));
             }
         })
     }

@@ -38,9 +38,10 @@ pub struct ManifestSampler {
 pub struct CombinedSampler {
     /// The name in the GLSL source, as naga wrote it.
     pub name: String,
-    /// The WGSL names of the texture and the sampler it combines.
+    /// The WGSL names of the texture and the sampler it combines (none for a texture the
+    /// entry point only loads by texel, with `texelFetch`).
     pub texture: String,
-    pub sampler: String,
+    pub sampler: Option<String>,
     pub address_mode: &'static str,
     pub filter: &'static str,
 }

@@ -544,6 +544,16 @@ impl Printer<'_> {
                     SampleKind::Implicit => format!("textureSample({t}, {s}, {c})"),
                 }
             }
+            ExprKind::Load {
+                texture,
+                texel,
+                level,
+            } => format!(
+                "textureLoad({}, {}, {})",
+                self.expr(f, *texture)?,
+                self.expr(f, *texel)?,
+                self.expr(f, *level)?
+            ),
         })
     }
 }

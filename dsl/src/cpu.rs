@@ -85,6 +85,14 @@ impl Texture2d {
     pub fn sample(&self, sampler: &Sampler, uv: Vec2) -> Vec4 {
         self.sample_level(sampler, uv, 0.0)
     }
+
+    /// The texel at `texel` (level 0, the only one); coordinates outside the texture, which
+    /// WGSL leaves undefined, read the nearest edge texel.
+    pub fn load(&self, texel: glam::IVec2, _level: i32) -> Vec4 {
+        let x = wrap(i64::from(texel.x), self.size[0], AddressMode::ClampToEdge);
+        let y = wrap(i64::from(texel.y), self.size[1], AddressMode::ClampToEdge);
+        self.texels[y * self.size[0] as usize + x]
+    }
 }
 
 /// An RGBA f32 3D texture.
@@ -116,5 +124,26 @@ impl Texture3d {
     /// Implicit-derivative sample: on the CPU there is one level, so this is `sample_level(.., 0)`.
     pub fn sample(&self, sampler: &Sampler, uvw: Vec3) -> Vec4 {
         self.sample_level(sampler, uvw, 0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn load_reads_the_texel_itself_and_clamps_outside() {
+        let t = Texture2d {
+            size: [3, 2],
+            texels: (0..6).map(|i| Vec4::splat(i as f32)).collect(),
+        };
+        assert_eq!(t.load(glam::IVec2::new(2, 1), 0), Vec4::splat(5.0));
+        assert_eq!(t.load(glam::IVec2::new(1, 0), 0), Vec4::splat(1.0));
+        // Outside the texture (undefined in WGSL): the nearest edge texel, never a panic.
+        assert_eq!(t.load(glam::IVec2::new(-4, 9), 0), Vec4::splat(3.0));
+        assert_eq!(
+            t.load(glam::IVec2::new(i32::MAX, i32::MIN), 0),
+            Vec4::splat(2.0)
+        );
     }
 }

@@ -86,8 +86,13 @@ fn layout_entry(b: &BindingInfo) -> wgpu::BindGroupLayoutEntry {
             has_dynamic_offset: false,
             min_binding_size: None,
         },
-        BindingKind::Texture { dimension } => wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+        BindingKind::Texture {
+            dimension,
+            filterable,
+        } => wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float {
+                filterable: *filterable,
+            },
             view_dimension: match dimension {
                 TextureDimension::D2 => wgpu::TextureViewDimension::D2,
                 TextureDimension::D3 => wgpu::TextureViewDimension::D3,

@@ -59,12 +59,10 @@ impl SceneDepth {
 }
 
 impl Gpu {
-    /// The depth texels as a texture the cloud pass samples (red channel): 32-bit float where
-    /// the adapter filters it (lavapipe does), half float elsewhere. Half floats round every
-    /// depth above 1 − 2⁻¹¹ to 1, the clear value: with a perspective buffer and a 1 m near
-    /// plane, surfaces beyond about 2 km then vanish; give such adapters a logarithmic buffer.
+    /// The depth texels as a texture the passes load texel by texel: one 32-bit float each, as
+    /// an engine's depth buffer holds them. The passes never filter it (its binding is
+    /// unfilterable), so every adapter takes it at full precision.
     pub fn scene_depth_texture(&self, depth: &SceneDepth) -> GpuTexture {
-        let format = self.accumulation_format();
         let size = wgpu::Extent3d {
             width: depth.width,
             height: depth.height,
@@ -76,28 +74,16 @@ impl Gpu {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format,
+            format: wgpu::TextureFormat::R32Float,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         };
-        // Depth in red; the texel layout the format asks for.
-        let texel = |d: f32| [d, 0.0, 0.0, 1.0];
-        let bytes: Vec<u8> = if format == wgpu::TextureFormat::Rgba32Float {
-            let data: Vec<f32> = depth.texels.iter().flat_map(|&d| texel(d)).collect();
-            bytemuck::cast_slice(&data).to_vec()
-        } else {
-            let data: Vec<u16> = depth
-                .texels
-                .iter()
-                .flat_map(|&d| texel(d).map(crate::gpu::f16_bits))
-                .collect();
-            bytemuck::cast_slice(&data).to_vec()
-        };
+        let bytes: &[u8] = bytemuck::cast_slice(&depth.texels);
         let texture = self.device().create_texture_with_data(
             self.queue(),
             &desc,
             wgpu::util::TextureDataOrder::LayerMajor,
-            &bytes,
+            bytes,
         );
         let view = texture.create_view(&Default::default());
         GpuTexture {

@@ -555,7 +555,7 @@ fn pass_description(
             in_files.extend(
                 m.combined_samplers
                     .iter()
-                    .filter(|c| c.texture == b.name || c.sampler == b.name)
+                    .filter(|c| c.texture == b.name || c.sampler.as_ref() == Some(&b.name))
                     .map(|c| NameInFile {
                         stage: m.stage.clone(),
                         name: None,
@@ -656,9 +656,18 @@ fn bind_group_layout(g: &Generated) -> BindGroupLayout {
                         min_binding_size: None,
                     })
                 }
-                BindingKind::Texture { dimension } => {
+                BindingKind::Texture {
+                    dimension,
+                    filterable,
+                } => {
                     entry.texture = Some(GpuTextureLayout {
-                        sample_type: "float".into(),
+                        // Loaded by texel only (the engine's depth): a depth texture binds here.
+                        sample_type: if *filterable {
+                            "float"
+                        } else {
+                            "unfilterable-float"
+                        }
+                        .into(),
                         view_dimension: match dimension {
                             TextureDimension::D2 => "2d",
                             TextureDimension::D3 => "3d",

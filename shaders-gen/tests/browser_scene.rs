@@ -185,7 +185,7 @@ fn reference(
     altitude: f32,
     orthographic: Option<f32>,
     pitch: f32,
-) -> (RgbImage, Vec<Class>) {
+) -> (RgbImage, Vec<Class>, Option<Vec<f32>>) {
     let mut f = frame(altitude, orthographic, pitch);
     let (depth, classes) = tower_depth(&f);
     let tower: Vec<bool> = depth.texels.iter().map(|&d| d < 1.0).collect();
@@ -193,6 +193,11 @@ fn reference(
     f.frames = frames_for(orthographic);
     let mut r = Renderer::new(gpu, TextureSizes::default());
     let img = r.render(&f).expect("renders");
+    // The clouds' shadow on the tower (perspective keys with a shadow atlas).
+    let shadow = r
+        .scene_shadow()
+        .expect("the scene shadow pass runs")
+        .map(|m| m.pixels.iter().map(|p| p[0]).collect());
     let rgb = RgbImage::from_fn(W, H, |x, y| {
         let i = (y * W + x) as usize;
         let p = img.pixels[i];
@@ -205,7 +210,7 @@ fn reference(
         let c = (shown + Vec3::splat(behind * (1.0 - p[3]))) * 255.0;
         image::Rgb([c.x, c.y, c.z].map(|v| v.round().clamp(0.0, 255.0) as u8))
     });
-    (rgb, classes)
+    (rgb, classes, shadow)
 }
 
 /// The scene as a scene file (for `nimbus emit --scene`).
@@ -228,12 +233,16 @@ fn scene_file(dir: &Path) -> PathBuf {
 }
 
 fn emit(dir: &Path, name: &str, toggles: &[&str]) -> PathBuf {
+    emit_for("three", dir, name, toggles)
+}
+
+fn emit_for(engine: &str, dir: &Path, name: &str, toggles: &[&str]) -> PathBuf {
     let package = dir.join(name);
     let scene = scene_file(dir);
     let mut args = vec![
         "emit",
         "--engine",
-        "three",
+        engine,
         "--scene",
         scene.to_str().expect("utf-8"),
         "-o",
@@ -248,8 +257,14 @@ fn emit(dir: &Path, name: &str, toggles: &[&str]) -> PathBuf {
 }
 
 fn browser(package: &Path, png: &Path, extra: &[String]) -> RgbImage {
+    browser_page("scene", package, png, extra)
+}
+
+/// The tower scene on `page`: `scene` (three.js) or `webgpu` (the WebGPU host module, the
+/// page drawing the tower with WebGPU itself).
+fn browser_page(page: &str, package: &Path, png: &Path, extra: &[String]) -> RgbImage {
     let mut args = vec![
-        "page=scene".to_string(),
+        format!("page={page}"),
         format!("width={W}"),
         format!("height={H}"),
         format!("fov={FOV}"),
@@ -337,7 +352,7 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
     let mut references = Vec::new();
     let mut failures = Vec::new();
     for (name, altitude, log, ortho, pitch) in cases {
-        let (want, classes) = reference(&gpu, altitude, ortho, pitch);
+        let (want, classes, shadow) = reference(&gpu, altitude, ortho, pitch);
         want.save(out.join(format!("{name}-nimbus.png")))
             .expect("saves");
         let mut extra = vec![
@@ -372,7 +387,7 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
                 ));
             }
         }
-        references.push((want, classes, got));
+        references.push((want, classes, got, shadow));
     }
     assert!(
         failures.is_empty(),
@@ -406,6 +421,85 @@ fn clouds_stand_in_a_three_js_scene_as_nimbus_draws_them() {
             .iter()
             .any(|(_, _, mean)| *mean > MAX_MEAN * 4.0),
         "the comparison cannot tell a tower from clouds drawn over it: {control:?}"
+    );
+    // The WebGPU host module draws the same scene: the page draws the tower with WebGPU into
+    // its target and a depth32float buffer, and the package reads that depth.
+    let webgpu = emit_for("webgpu", &out, "package-webgpu-depth", &["scene-depth"]);
+    let ground_case = [
+        format!("frames={FRAMES}"),
+        format!("pitch={PITCH}"),
+        "altitude=2".to_string(),
+        sun.clone(),
+    ];
+    let mut with_shadow = ground_case.to_vec();
+    with_shadow.push("shadow=1".to_string());
+    let png = out.join("webgpu-chromium.png");
+    let drawn = browser_page("webgpu", &webgpu, &png, &with_shadow);
+    let by = by_class(&references[0].0, &drawn, &references[0].1);
+    println!(
+        "webgpu: mean difference {:.2}/255; by class {by:?}",
+        mean_difference(&references[0].0, &drawn)
+    );
+    for (class, count, mean) in &by {
+        assert!(
+            *count == 0 || *mean <= MAX_MEAN,
+            "webgpu: {class:?} ({count} pixels) differs by {mean:.2}/255"
+        );
+    }
+    // And the clouds' shadow on the tower, from its own host's scene_shadow pass, against the
+    // runtime's: over the tower's pixels (their edges left out); the control, no shadow at all.
+    let log: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(format!("{}.log.json", png.display())).expect("the page's log"),
+    )
+    .expect("JSON");
+    let mask: Vec<f32> = log["values"]["mask"]
+        .as_array()
+        .expect("the page published the shadow")
+        .iter()
+        .map(|v| v.as_f64().unwrap_or(f64::NAN) as f32)
+        .collect();
+    let expected = references[0]
+        .3
+        .as_ref()
+        .expect("the runtime's scene shadow");
+    let tower: Vec<usize> = (0..mask.len())
+        .filter(|&i| {
+            matches!(
+                references[0].1[i],
+                Class::TowerBelow | Class::TowerInside | Class::TowerAbove
+            )
+        })
+        .collect();
+    let mean = |of: &dyn Fn(usize) -> f32| -> f32 {
+        tower.iter().map(|&i| (mask[i] - of(i)).abs()).sum::<f32>() / tower.len() as f32
+    };
+    let against_runtime = mean(&|i| expected[i]);
+    let against_none = mean(&|_| 1.0);
+    let shade: f32 = tower.iter().map(|&i| expected[i]).sum::<f32>() / tower.len() as f32;
+    println!(
+        "webgpu scene shadow over {} tower pixels (mean light {shade:.3}): against the runtime \
+         {against_runtime:.4}; against no shadow {against_none:.3}",
+        tower.len()
+    );
+    assert!(against_runtime < 0.02, "{against_runtime}");
+    assert!(against_none > 0.05, "the control: {against_none}");
+    // Its control: the same page with the depth left out draws over the tower.
+    let webgpu_plain = emit_for("webgpu", &out, "package-webgpu", &[]);
+    let mut no_depth = ground_case.to_vec();
+    no_depth.push("depth=0".to_string());
+    let erased = browser_page(
+        "webgpu",
+        &webgpu_plain,
+        &out.join("webgpu-no-depth-chromium.png"),
+        &no_depth,
+    );
+    let control = by_class(&references[0].0, &erased, &references[0].1);
+    println!("webgpu control (no scene depth): {control:?}");
+    assert!(
+        control[1..]
+            .iter()
+            .any(|(_, _, mean)| *mean > MAX_MEAN * 4.0),
+        "webgpu: the comparison cannot tell a tower from clouds drawn over it: {control:?}"
     );
     // Control 2: the climb changes the picture: the frame at 2,200 m is not the ground's.
     let moved = mean_difference(&references[0].0, &references[2].2);

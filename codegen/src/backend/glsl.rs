@@ -9,7 +9,7 @@ use super::{Baked, Contents, TargetNames, naga_stage};
 use crate::target::Target;
 
 /// One combined sampler naga wrote: (GLSL name, WGSL texture name, WGSL sampler name).
-pub(super) type Combined = (String, String, String);
+pub(super) type Combined = (String, String, Option<String>);
 
 pub(super) fn write(
     baked: &Baked,
@@ -78,8 +78,9 @@ pub(super) fn write(
         let sampler = mapping
             .sampler
             .and_then(|s| baked.module.global_variables[s].name.clone());
-        if let (Some(t), Some(s)) = (texture, sampler) {
-            combined.push((name.clone(), t, s));
+        // A texture only loaded by texel (`texelFetch`) is a combined sampler with no sampler.
+        if let Some(t) = texture {
+            combined.push((name.clone(), t, sampler));
         }
     }
     combined.sort();

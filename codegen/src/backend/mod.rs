@@ -137,12 +137,16 @@ pub(crate) fn translate(
     manifest.combined_samplers = combined
         .into_iter()
         .map(|(name, texture, sampler)| {
-            let desc = dsl
-                .globals
-                .iter()
-                .find(|g| g.name == sampler)
-                .and_then(|g| g.sampler)
-                .unwrap_or(SamplerDesc::LINEAR_REPEAT);
+            // A texture loaded by texel reads no sampler state: nearest, clamped, says the same.
+            let desc = match &sampler {
+                Some(sampler) => dsl
+                    .globals
+                    .iter()
+                    .find(|g| &g.name == sampler)
+                    .and_then(|g| g.sampler)
+                    .unwrap_or(SamplerDesc::LINEAR_REPEAT),
+                None => SamplerDesc::NEAREST_CLAMP,
+            };
             CombinedSampler {
                 name,
                 texture,

@@ -271,6 +271,13 @@ pub enum ExprKind {
         coords: ExprId,
         kind: SampleKind,
     },
+    /// `textureLoad(texture, texel, level)`: one texel by its integer coordinates, no sampler
+    /// (the texture may be unfilterable: an engine's depth buffer).
+    Load {
+        texture: ExprId,
+        texel: ExprId,
+        level: ExprId,
+    },
 }
 
 impl ExprKind {
@@ -312,6 +319,15 @@ impl ExprKind {
                     visit(*l);
                 }
             }
+            ExprKind::Load {
+                texture,
+                texel,
+                level,
+            } => {
+                visit(*texture);
+                visit(*texel);
+                visit(*level);
+            }
         }
     }
 
@@ -352,6 +368,15 @@ impl ExprKind {
                 if let SampleKind::Level(l) = kind {
                     visit(l);
                 }
+            }
+            ExprKind::Load {
+                texture,
+                texel,
+                level,
+            } => {
+                visit(texture);
+                visit(texel);
+                visit(level);
             }
         }
     }

@@ -1,6 +1,6 @@
 //! Textures, samplers and storage buffers. Their CPU twins live in [`crate::cpu`].
 
-use super::{F32, I32, ShaderType, U32, Value, Vec2, Vec3, Vec4};
+use super::{F32, I32, IVec2, ShaderType, U32, Value, Vec2, Vec3, Vec4};
 use crate::ir::{ExprId, ExprKind, SampleKind, Stmt, Type};
 use crate::record::{push_expr, push_stmt};
 
@@ -66,6 +66,19 @@ impl Texture2d {
     /// `textureSample`: implicit derivatives, so only valid in fragment shaders.
     pub fn sample(self, sampler: Sampler, uv: impl Into<Vec2>) -> Vec4 {
         sample(self.0, sampler, uv.into().id(), SampleKind::Implicit)
+    }
+
+    /// `textureLoad`: the texel at integer coordinates `texel` of mip `level`, with no sampler,
+    /// so the texture may be unfilterable (a binding only loaded from is declared so).
+    pub fn load(self, texel: impl Into<IVec2>, level: impl Into<I32>) -> Vec4 {
+        Vec4::from_id(push_expr(
+            ExprKind::Load {
+                texture: self.0,
+                texel: texel.into().id(),
+                level: level.into().id(),
+            },
+            Vec4::TYPE,
+        ))
     }
 }
 

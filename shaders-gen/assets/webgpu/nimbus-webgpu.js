@@ -16,6 +16,12 @@
 //                                                     // translation, column-major); [x, y, z] m
 //   clouds.setSun(30, 150);                           // degrees: elevation, azimuth from north
 //   clouds.render(context.getCurrentTexture().createView());
+//
+// In the engine's own scene (a package built with --enable scene-depth): setCamera also takes
+// the camera's `projection`, `forward`, `far` and `reversed`; draw the scene's depth, then
+// `clouds.renderSceneShadow({ depth })` for the clouds' shadow on its objects (red: the sun's
+// light through the clouds at each pixel's surface), the scene, and `clouds.render(view,
+// { depth })` over it.
 
 import { NimbusHost, loadPackage } from './nimbus-host.js';
 
@@ -58,9 +64,6 @@ export class NimbusWebGPU extends NimbusHost {
     if (pair.camera === 'orthographic') {
       throw new Error(`the pair ${pair.pair} has an orthographic camera, which the WebGPU host does not draw yet`);
     }
-    if (blocks.scene) {
-      throw new Error(`the pair ${pair.pair} reads an engine's depth (--enable scene-depth), which the WebGPU host does not draw yet`);
-    }
     const textures = {};
     for (const t of pkg.textures) textures[t.name] = await loadTexture(device, get, t);
     const modules = {};
@@ -88,6 +91,14 @@ export class NimbusWebGPU extends NimbusHost {
     }
     const atlas = pair.shadow_atlas;
     this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height) : null;
+    // The clouds' shadow on the engine's objects (pairs with a scene_shadow pass), sized to
+    // the engine's depth when it is first drawn.
+    this.sceneShadowTarget = null;
+    this.depthView = null;
+    if (this.readsDepth) {
+      // Over the engine's picture: premultiplied clouds, the picture's alpha kept.
+      blocks.display.setFloats('keep_alpha', [1]);
+    }
     this.cloudTarget = null;
     this.history = [null, null];
     this.latest = 0;
@@ -95,7 +106,14 @@ export class NimbusWebGPU extends NimbusHost {
     this.passes = {};
     for (const pass of pair.passes) {
       const layout = device.createBindGroupLayout({ label: pass.pass, entries: pass.bind_group_layout.entries });
-      const target = pass.pass === 'display' ? format : HDR;
+      const display = pass.pass === 'display';
+      // The clouds go over the engine's picture premultiplied; elsewhere every pass replaces.
+      const over = display && this.readsDepth
+        ? {
+          color: { srcFactor: 'one', dstFactor: 'one-minus-src-alpha' },
+          alpha: { srcFactor: 'zero', dstFactor: 'one' },
+        }
+        : undefined;
       const pipeline = device.createRenderPipeline({
         label: pass.shader,
         layout: device.createPipelineLayout({ bindGroupLayouts: [layout] }),
@@ -103,7 +121,7 @@ export class NimbusWebGPU extends NimbusHost {
         fragment: {
           module: modules[pass.pass],
           entryPoint: pass.entry_points.fragment,
-          targets: [{ format: target }],
+          targets: [{ format: display ? format : HDR, blend: over }],
         },
         primitive: { topology: 'triangle-list' },
       });
@@ -111,12 +129,12 @@ export class NimbusWebGPU extends NimbusHost {
     }
   }
 
-  target(label, width, height) {
+  target(label, width, height, usage = 0) {
     return this.device.createTexture({
       label,
       size: [width, height],
       format: HDR,
-      usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.TEXTURE_BINDING,
+      usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.TEXTURE_BINDING | usage,
     });
   }
 
@@ -132,9 +150,74 @@ export class NimbusWebGPU extends NimbusHost {
    * Where the clouds are seen from: `viewProjection`, the camera's projection × its view
    * without translation (16 numbers, column by column: a WebGPU projection, depth 0..1), and
    * `position`, its place in the world (y up, metres: y is its altitude; x east, −z north).
+   * A pair that reads the engine's depth also needs `projection` (the camera's 16 numbers),
+   * `forward` (its unit view direction), `far` and `reversed` (a reversed-Z buffer, depth 1 at
+   * the near plane): how the depth buffer encodes distance.
    */
-  setCamera({ viewProjection, position }) {
-    this.setView({ viewProjection, position });
+  setCamera({ viewProjection, position, projection, forward, far, reversed }) {
+    if (this.readsDepth && !(projection && forward)) {
+      throw new Error(`setCamera: the pair ${this.pair.pair} reads the engine's depth: give projection and forward too`);
+    }
+    this.setView({ viewProjection, position, projection, forward, far, reversed });
+  }
+
+  /**
+   * The engine's depth for this frame: a GPUTexture (`depth32float`, `depth24plus` or
+   * `r32float`, one texel per output pixel, first row at the top as WebGPU has it), read
+   * through a depth-only view for depth formats; or `{ texture, view }` with a view of your
+   * own.
+   */
+  useDepth(depth, caller) {
+    if (!this.readsDepth) {
+      if (depth) throw new Error(`${caller}: the pair ${this.pair.pair} was built without --enable scene-depth; it cannot read a depth buffer`);
+      return;
+    }
+    if (!depth) {
+      throw new Error(`${caller}: the pair ${this.pair.pair} reads the engine's depth (built with --enable scene-depth): pass { depth: aGPUTexture }`);
+    }
+    const texture = depth.texture ?? depth;
+    const view = depth.texture ? depth.view : depth.createView(
+      texture.format.startsWith('depth') ? { aspect: 'depth-only' } : {},
+    );
+    // WebGPU's depth range: NDC z in [0, 1]; its textures' first row is the top one.
+    this.setDepthEncoding({ depthScale: 1, depthOffset: 0, width: texture.width, height: texture.height, flipY: false });
+    this.depthView = view;
+    this.depthSize = [texture.width, texture.height];
+  }
+
+  /**
+   * The clouds' shadow on the engine's objects for this frame (pairs with a scene_shadow
+   * pass): call it after the engine's depth is drawn (`options.depth`, as `render` takes it)
+   * and before its materials are lit. Per pixel of the depth buffer, the red channel is the
+   * sun's light through the clouds at the surface there; the engine's materials scale their
+   * direct sunlight by it. Returns the GPUTexture (`rgba16float`).
+   */
+  renderSceneShadow(options = {}) {
+    if (!this.passes.scene_shadow) {
+      throw new Error(`renderSceneShadow: the pair ${this.pair.pair} has no scene_shadow pass (it needs --enable scene-depth, a perspective camera and a shadow atlas)`);
+    }
+    this.useDepth(options.depth, 'renderSceneShadow');
+    const [w, h] = this.depthSize;
+    if (!this.sceneShadowTarget || this.sceneShadowTarget.width !== w || this.sceneShadowTarget.height !== h) {
+      this.sceneShadowTarget?.destroy();
+      // Copyable too: an engine may keep it with its own lighting inputs.
+      this.sceneShadowTarget = this.target('scene shadow', w, h, GPUTextureUsage.COPY_SRC);
+    }
+    const queue = this.device.queue;
+    const encoder = this.device.createCommandEncoder({ label: 'nimbus scene shadow' });
+    for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
+    this.drawShadowAtlas(encoder);
+    this.draw(encoder, 'scene_shadow', this.sceneShadowTarget.createView());
+    queue.submit([encoder.finish()]);
+    return this.sceneShadowTarget;
+  }
+
+  /** Redraws the shadow atlas when the sun, the camera's place or the clouds moved. */
+  drawShadowAtlas(encoder) {
+    if (this.passes.shadow && this.shadowDirty) {
+      this.draw(encoder, 'shadow', this.shadowTarget.createView());
+      this.shadowDirty = false;
+    }
   }
 
   /** A sampler as the pass's layout describes it, made once. */
@@ -163,6 +246,7 @@ export class NimbusWebGPU extends NimbusHost {
       else if (kind === 'uniform block' && this.buffers[id]) resource = { buffer: this.buffers[id] };
       else if (kind === 'texture' && this.textures[id]) resource = this.textures[id].createView();
       else if (kind === 'target' && targets[id]) resource = targets[id].createView();
+      else if (kind === 'engine depth' && this.depthView) resource = this.depthView;
       else throw new Error(`${pass.pass}: nothing to bind to ${b.name} (${kind} ${id})`);
       return { binding: b.binding, resource };
     });
@@ -171,9 +255,11 @@ export class NimbusWebGPU extends NimbusHost {
 
   draw(encoder, name, view, shown = null, historyRead = null) {
     const p = this.passes[name];
+    // Over the engine's picture the display pass blends onto what the view holds.
+    const keep = name === 'display' && this.readsDepth;
     const pass = encoder.beginRenderPass({
       label: name,
-      colorAttachments: [{ view, loadOp: 'clear', storeOp: 'store', clearValue: [0, 0, 0, 0] }],
+      colorAttachments: [{ view, loadOp: keep ? 'load' : 'clear', storeOp: 'store', clearValue: [0, 0, 0, 0] }],
     });
     pass.setPipeline(p.pipeline);
     pass.setBindGroup(0, this.bindGroup(p, shown, historyRead));
@@ -181,8 +267,13 @@ export class NimbusWebGPU extends NimbusHost {
     pass.end();
   }
 
-  /** Draws one frame into `view` (a GPUTextureView of `options.format`, e.g. the canvas's). */
-  render(view) {
+  /**
+   * Draws one frame into `view` (a GPUTextureView of `options.format`, e.g. the canvas's). A
+   * pair built with `--enable scene-depth` draws the clouds over what `view` holds (the
+   * engine's picture), stopped by `options.depth` (the engine's depth texture, see useDepth).
+   */
+  render(view, options = {}) {
+    this.useDepth(options.depth, 'render');
     const index = this.beginFrame();
     const queue = this.device.queue;
     const encoder = this.device.createCommandEncoder({ label: 'nimbus frame' });
@@ -194,10 +285,7 @@ export class NimbusWebGPU extends NimbusHost {
       shown = this.history[1 - this.latest];
     }
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
-    if (this.passes.shadow && this.shadowDirty) {
-      this.draw(encoder, 'shadow', this.shadowTarget.createView());
-      this.shadowDirty = false;
-    }
+    this.drawShadowAtlas(encoder);
     this.draw(encoder, 'clouds', this.cloudTarget.createView());
     if (this.temporal) {
       this.draw(encoder, 'resolve', shown.createView(), null, read);
@@ -209,7 +297,7 @@ export class NimbusWebGPU extends NimbusHost {
   }
 
   dispose() {
-    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget]) t?.destroy();
+    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.sceneShadowTarget]) t?.destroy();
     for (const t of Object.values(this.textures)) t.destroy();
     for (const b of Object.values(this.buffers)) b.destroy();
   }

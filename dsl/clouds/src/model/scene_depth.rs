@@ -11,11 +11,11 @@
 //! reversed-Z and logarithmic buffers (three.js's `logarithmicDepthBuffer`) need no
 //! conversion pass: [`SceneDepthParams`] holds the projection's z row and the encoding.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4, ivec2};
 
 use nimbus_dsl::prelude::*;
 
-use super::bindings::{CLOUDS, LINEAR_REPEAT, SCENE, SCENE_DEPTH};
+use super::bindings::{CLOUDS, SCENE, SCENE_DEPTH};
 use super::choices::{HAZE, ORTHOGRAPHIC, gate};
 use super::march::{MarchResult, clouds_through_air, composite, haze_light, haze_opacity};
 use super::orthographic::ray_origin;
@@ -132,13 +132,15 @@ pub fn surface_distance(point: Vec3, direction: Vec3) -> f32 {
     let clip = s.view_projection * point.extend(1.0);
     let ndc = vec2(clip.x, clip.y) / clip.w;
     let top_down = vec2(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    // The texel's centre, where a linear sampler returns the texel itself.
-    let texel = (top_down * s.resolution).floor() + Vec2::splat(0.5);
-    let row = texel.y + (s.resolution.y - 2.0 * texel.y) * s.flip_y;
-    let uv = vec2(texel.x, row) / s.resolution;
+    // The texel under the point, loaded as it is: an engine's depth texture is unfilterable
+    // (a WebGPU `depth32float` binds as `unfilterable-float`), and depths must not be blended.
+    let cell = (top_down * s.resolution)
+        .floor()
+        .clamp(Vec2::ZERO, s.resolution - Vec2::ONE);
+    let row = cell.y + (s.resolution.y - 1.0 - 2.0 * cell.y) * s.flip_y;
     let depth = SCENE_DEPTH
         .get()
-        .sample_level(&LINEAR_REPEAT.get(), uv, 0.0)
+        .load(ivec2(cell.x as i32, row as i32), 0)
         .x;
     // The marker is kept as it is: divided by a cosine a hair over 1 it would read as a surface.
     let forward = forward_distance(depth);
