@@ -93,13 +93,17 @@ const HOST_MODULES: [(&str, &str); 4] = [
     ),
 ];
 
-/// The three.js files a three package ships: the renderer of the package, an EffectComposer
-/// pass around it, and an example page where the sun moves (`npx serve DIR`, open
-/// `example.html`).
-const THREE_MODULES: [(&str, &str); 3] = [
+/// The three.js files a three package ships: the renderer of the package (with its TypeScript
+/// declarations), an EffectComposer pass around it, and an example page where the sun moves
+/// (`npx serve DIR`, open `example.html`).
+const THREE_MODULES: [(&str, &str); 4] = [
     (
         "nimbus-clouds.js",
         include_str!("../assets/three/nimbus-clouds.js"),
+    ),
+    (
+        "nimbus-clouds.d.ts",
+        include_str!("../assets/three/nimbus-clouds.d.ts"),
     ),
     (
         "nimbus-clouds-pass.js",
@@ -108,11 +112,18 @@ const THREE_MODULES: [(&str, &str); 3] = [
     ("example.html", include_str!("../assets/three/example.html")),
 ];
 
-/// The WebGPU host: draws a webgpu package with the API alone (`NimbusWebGPU`).
-const WEBGPU_MODULE: (&str, &str) = (
-    "nimbus-webgpu.js",
-    include_str!("../assets/webgpu/nimbus-webgpu.js"),
-);
+/// The WebGPU host: draws a webgpu package with the API alone (`NimbusWebGPU`), and its
+/// TypeScript declarations.
+const WEBGPU_MODULES: [(&str, &str); 2] = [
+    (
+        "nimbus-webgpu.js",
+        include_str!("../assets/webgpu/nimbus-webgpu.js"),
+    ),
+    (
+        "nimbus-webgpu.d.ts",
+        include_str!("../assets/webgpu/nimbus-webgpu.d.ts"),
+    ),
+];
 
 /// A page of the README: a tower of the user's scene standing in the clouds (three packages
 /// built with `--enable scene-depth`).
@@ -462,10 +473,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     }
     if engine == Engine::Webgpu {
         // The ES module that draws the package with the WebGPU API alone.
-        files.push((
-            WEBGPU_MODULE.0.to_string(),
-            WEBGPU_MODULE.1.as_bytes().to_vec(),
-        ));
+        for (name, text) in WEBGPU_MODULES {
+            files.push((name.to_string(), text.as_bytes().to_vec()));
+        }
     }
     if engine == Engine::Three {
         // The ES modules that draw the package with three.js alone.

@@ -1,8 +1,10 @@
 //! The JavaScript hosts' typings: the `.d.ts` printed beside each host module (`nimbus-frame.js`,
-//! `nimbus-sun.js`, `nimbus-wind.js`: what the JavaScript twins take and return) and those of the
-//! shared host state (`nimbus-host.js`, `nimbus-timeline.js`). TypeScript's own checker
-//! (`tsc --strict`, from browser/node_modules) accepts a host written against them, and refuses
-//! the same host with a call missing an argument and two results misread (the control).
+//! `nimbus-sun.js`, `nimbus-wind.js`: what the JavaScript twins take and return), those of the
+//! shared host state (`nimbus-host.js`, `nimbus-timeline.js`) and of the engine hosts
+//! (`NimbusClouds` against three's own types, `NimbusWebGPU` against the WebGPU types).
+//! TypeScript's own checker (`tsc --strict`, from browser/node_modules) accepts a host written
+//! against them, and refuses the same host with a call missing an argument, results misread and
+//! arguments of the wrong kind (the control).
 //!
 //! Needs node and `browser/node_modules` (`npm ci` in browser/).
 
@@ -48,13 +50,36 @@ fn host(broken: bool) -> String {
            const coverage: number = new NimbusTimeline(0.3).at(60).coverage;\n\
            return index + coverage + host.lowWidth + blocks.pair.float('media.coverage');\n\
          }\n\
-         export const used = [jitter, offset, shift, at, cascades, wind, block.march.max_height];\n",
+         export const used = [jitter, offset, shift, at, cascades, wind, block.march.max_height];\n\
+         import * as THREE from 'three';\n\
+         import { NimbusClouds } from './pkg3/nimbus-clouds.js';\n\
+         export async function three(renderer: THREE.WebGLRenderer, camera: THREE.PerspectiveCamera): Promise<number> {\n\
+           const clouds = await NimbusClouds.load(new URL('https://example.invalid/'));\n\
+           const target = new THREE.WebGLRenderTarget(4, 4, { depthTexture: new THREE.DepthTexture(4, 4) });\n\
+           clouds.setSize(4, 4);\n\
+           clouds.setCamera(camera);\n\
+           const shadow: THREE.Texture = clouds.renderSceneShadow(renderer, { scene: target });\n\
+           const ground = clouds.shadowMaterial(new THREE.MeshStandardMaterial());\n\
+           clouds.render(renderer, null, { scene: target });\n\
+           return ground.roughness + shadow.id + (clouds.readsDepth ? 1 : 0);\n\
+         }\n\
+         import { NimbusWebGPU } from './pkg/nimbus-webgpu.js';\n\
+         export async function webgpu(device: GPUDevice, view: GPUTextureView, depth: GPUTexture): Promise<GPUTexture> {\n\
+           const clouds = await NimbusWebGPU.load('https://example.invalid/', device, { format: 'rgba8unorm' });\n\
+           clouds.setSize(4, 4);\n\
+           clouds.setCamera({ viewProjection: new Float32Array(16), position: [0, 2, 0], projection: new Float32Array(16), forward: [0, 0, -1], far: 1e6 });\n\
+           clouds.render(view, { depth });\n\
+           return clouds.renderSceneShadow({ depth });\n\
+         }\n",
     );
     if broken {
         ts.push_str(
             "export const missing = cloud_frame(3, 7);\n\
              export const misread: string = resolve.variance_gamma;\n\
-             export const wrong: string = new NimbusTimeline(0.3).coverageAt(1);\n",
+             export const wrong: string = new NimbusTimeline(0.3).coverageAt(1);\n\
+             export const notATarget = (r: THREE.WebGLRenderer, c: NimbusClouds) => c.render(r, 'canvas');\n\
+             export const notANumber = (c: NimbusClouds): string => c.shadowMaterial(new THREE.MeshStandardMaterial()).roughness;\n\
+             export const notADepth = (c: NimbusWebGPU, v: GPUTextureView) => c.render(v, { depth: 3 });\n",
         );
     }
     ts
@@ -72,9 +97,21 @@ fn the_host_modules_typings_check_a_typescript_host() {
     ) {
         return;
     }
-    let dir = tempfile::tempdir().expect("temp dir");
+    // Inside browser/, so that `three` and the WebGPU types resolve from its node_modules as
+    // they would in a user's project.
+    let dir = tempfile::Builder::new()
+        .prefix(".typings-")
+        .tempdir_in(browser_dir())
+        .expect("temp dir");
     let package = dir.path().join("pkg");
-    emit_package("webgpu", "cumulus", "low", &[], &package);
+    emit_package("webgpu", "cumulus", "low", &["scene-depth"], &package);
+    emit_package(
+        "three",
+        "cumulus",
+        "medium",
+        &["scene-depth"],
+        &dir.path().join("pkg3"),
+    );
     for module in ["nimbus-frame", "nimbus-sun", "nimbus-wind"] {
         assert!(
             package.join(format!("{module}.d.ts")).is_file(),
@@ -111,10 +148,10 @@ fn the_host_modules_typings_check_a_typescript_host() {
     println!("the control, as tsc reports it:\n{log}");
     assert!(
         !ok,
-        "tsc accepted a host with a missing argument and a misread field"
+        "tsc accepted a host with a missing argument, misread fields and wrong arguments"
     );
     assert!(
-        log.contains("broken.ts") && log.matches("error TS").count() >= 3,
+        log.contains("broken.ts") && log.matches("error TS").count() >= 6,
         "{log}"
     );
 }

@@ -88,6 +88,8 @@ export declare class NimbusHost {
   constructor(pkg: unknown, pair: PackagePair, blocks: Blocks);
   readonly pair: PackagePair;
   readonly blocks: Blocks;
+  /** Whether the pair reads the engine's depth (built with --enable scene-depth). */
+  readonly readsDepth: boolean;
   readonly timeline: NimbusTimeline;
   readonly width: number;
   readonly height: number;
