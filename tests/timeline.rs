@@ -286,3 +286,43 @@ fn weather_changes_without_popping() {
         );
     }
 }
+
+/// `over` starts a state's transition that many seconds before its time, as a JavaScript
+/// host's `setWeather(c, { at, over })` does (both call `weather_progress`); without it the
+/// transition spans the whole interval from the state before. A negative `over` is refused,
+/// naming the field.
+#[test]
+fn a_weather_state_can_be_reached_over_its_last_seconds() {
+    let coverage = |states: &str, t: f64| -> f32 {
+        let s = scene(states);
+        let layers = s.at(t, &|_| 0.35).layers;
+        assert_eq!(layers.len(), 1, "one genus");
+        layers[0].coverage
+    };
+    let whole = "[[weather]]\nat = 7200.0\ncoverage = 0.75\n";
+    let last = "[[weather]]\nat = 7200.0\ncoverage = 0.75\nover = 600.0\n";
+    // Halfway through the whole interval the ramp is halfway; with `over` nothing has moved.
+    assert!((coverage(whole, 3600.0) - 0.5).abs() < 1e-6);
+    assert_eq!(coverage(last, 3600.0), 0.25);
+    assert_eq!(coverage(last, 6600.0), 0.25);
+    // Halfway through the last 600 s: halfway (smoothstep is 0.5 at 0.5).
+    assert!(
+        (coverage(last, 6900.0) - 0.5).abs() < 1e-6,
+        "{}",
+        coverage(last, 6900.0)
+    );
+    assert_eq!(coverage(last, 7200.0), 0.75);
+    // The control: `over` longer than the interval is the whole interval.
+    let long = "[[weather]]\nat = 7200.0\ncoverage = 0.75\nover = 9000.0\n";
+    assert_eq!(coverage(long, 3600.0), coverage(whole, 3600.0));
+    // Refused with the field named.
+    let text = "name = \"t\"\ndescription = \"\"\ngenus = \"cumulus\"\n\
+                [[weather]]\nat = 60.0\ncoverage = 0.5\nover = -5.0\n";
+    let err = parse_scene(Path::new("t.toml"), text)
+        .expect_err("a negative over")
+        .to_string();
+    assert!(
+        err.contains("weather[].over") && err.contains("-5"),
+        "{err}"
+    );
+}

@@ -62,9 +62,11 @@ const FRAME_EXPORTS: [&str; 3] = ["cloud_frame", "resolve_frame", "drift_at"];
 const SUN_EXPORTS: [&str; 2] = ["sun_direction", "sun_light"];
 
 /// What `WIND_MODULE` exports: the functions and the altitude of a scene's top wind.
-const WIND_EXPORTS: [&str; 5] = [
+const WIND_EXPORTS: [&str; 7] = [
     "wind_velocity",
     "wind_velocity_at",
+    "wind_drift",
+    "weather_progress",
     "weather_coverage",
     "facing_altitude",
     "TOP_ALTITUDE",

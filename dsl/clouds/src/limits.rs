@@ -315,6 +315,14 @@ pub const WEATHER_AT: Limit = Limit {
            f32 on the GPU, and 100 m/s for longer would step the 5 m detail noise by metres",
 };
 
+pub const WEATHER_OVER: Limit = Limit {
+    field: "weather[].over",
+    flag: "(scene files only)",
+    hint: "seconds before the state's time its transition starts; the whole interval from the \
+           state before when left out",
+    ..WEATHER_AT
+};
+
 pub const TIME: Limit = Limit {
     field: "time",
     flag: "--time",

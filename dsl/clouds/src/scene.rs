@@ -194,6 +194,9 @@ impl ScenePreset {
             if let Some(c) = state.coverage {
                 check(&limits::COVERAGE, c)?;
             }
+            if let Some(over) = state.over {
+                limits::WEATHER_OVER.check(over, origin(&limits::WEATHER_OVER))?;
+            }
         }
         Ok(())
     }

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::clock::SunPosition;
 use crate::scene::ScenePreset;
-use crate::wind::{Drift, wind_velocity, wind_velocity_at};
+use crate::wind::{Drift, wind_drift, wind_velocity, wind_velocity_at};
 
 /// One weather state: by `at` seconds the weather has become this. What it does not name it
 /// keeps from the state before it (the scene itself before the first).
@@ -28,6 +28,10 @@ pub struct WeatherState {
     /// Coverage of this state; when absent the previous state's, or the genus' own where the
     /// genus changes.
     pub coverage: Option<f32>,
+    /// Seconds before `at` the transition into this state starts; from the state before it
+    /// (second 0 for the first) when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub over: Option<f64>,
 }
 
 /// What one picture of the scene at a time is made of: a genus and its coverage, and the
@@ -55,6 +59,17 @@ pub fn weather_ramp(progress: f32) -> f32 {
     smoothstep(0.0, 1.0, progress)
 }
 
+/// How far through the transition into a weather state reached at `to_at` (s) the timeline is
+/// at `seconds`: the transition starts at `from_at`, the time of the state before (0 for the
+/// first), or `over` seconds before `to_at` when `over` ≥ 0 and that is later. 0 before it
+/// starts (the ramp clamps), 1 once reached, and 1 for a cut (no time between the two).
+#[shader_fn]
+pub fn weather_progress(seconds: f32, from_at: f32, to_at: f32, over: f32) -> f32 {
+    let start = select(from_at, from_at.max(to_at - over), over >= 0.0);
+    let span = to_at - start;
+    select(1.0, (seconds - start) / span.max(1e-6), span > 0.0)
+}
+
 /// The coverage `progress` of the way through a transition from `from` to `to` within one
 /// genus: what `media.coverage` holds while the weather changes.
 #[shader_fn]
@@ -63,8 +78,9 @@ pub fn weather_coverage(from: f32, to: f32, progress: f32) -> f32 {
 }
 
 /// A module holding what a host computes as the scene runs — the wind's velocity
-/// ([`wind_velocity`], [`wind_velocity_at`] and its [`TOP_ALTITUDE`](crate::wind::TOP_ALTITUDE))
-/// the weather's ramp ([`weather_coverage`]) and the altitude the temporal resolve moves with
+/// ([`wind_velocity`], [`wind_velocity_at`] and its [`TOP_ALTITUDE`](crate::wind::TOP_ALTITUDE)),
+/// the drift it makes ([`wind_drift`]), the weather's ramp ([`weather_progress`],
+/// [`weather_coverage`]) and the altitude the temporal resolve moves with
 /// the wind ([`crate::model::resolve::facing_altitude`]) — for printing their JavaScript twins
 /// (`nimbus-wind.js` in engine packages with a JavaScript host).
 pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
@@ -79,6 +95,8 @@ pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
             m.host(host_fn!(wind_velocity), loc!());
             m.host(host_fn!(wind_velocity_at), loc!());
             m.host(host_fn!(weather_coverage), loc!());
+            m.host(host_fn!(weather_progress), loc!());
+            m.host(host_fn!(wind_drift), loc!());
             m.host(host_fn!(facing_altitude), loc!());
         },
     )
@@ -134,22 +152,23 @@ impl ScenePreset {
         }
         // Before the first state the scene's own weather holds and leads into it from 0.
         let next = resolved.iter().position(|(at, _)| *at > seconds);
-        let (from, from_at, (to_at, to_layer)) = match next {
+        let (from, from_at, (to_at, to_layer), over) = match next {
             None => return vec![resolved.last().map_or(own, |(_, l)| l.clone())],
-            Some(0) => (own, 0.0, resolved[0].clone()),
+            Some(0) => (own, 0.0, resolved[0].clone(), self.weather[0].over),
             Some(i) => (
                 resolved[i - 1].1.clone(),
                 resolved[i - 1].0,
                 resolved[i].clone(),
+                self.weather[i].over,
             ),
         };
-        let span = to_at - from_at;
-        // The fraction of the interval gone by, in f64 (a day of seconds), then rounded once.
-        let progress = if span > 0.0 {
-            ((seconds - from_at) / span) as f32
-        } else {
-            1.0
-        };
+        // The same function a JavaScript host's timeline calls (`nimbus-wind.js`).
+        let progress = weather_progress(
+            seconds as f32,
+            from_at as f32,
+            to_at as f32,
+            over.map_or(-1.0, |o| o as f32),
+        );
         if from.genus == to_layer.genus {
             // One genus: interpolate the coverage; the picture's one pipeline stays.
             return vec![Layer {

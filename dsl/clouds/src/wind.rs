@@ -10,7 +10,7 @@
 //! three.js package, printed by [`nimbus_codegen::print_js`] from
 //! [`crate::timeline::host_module`]) with its JavaScript twin, so the formula exists once.
 
-use glam::Vec2;
+use glam::{Vec2, Vec4};
 use nimbus_dsl::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -56,6 +56,17 @@ pub struct Drift {
     pub per_metre: Vec2,
 }
 
+/// How far the clouds have drifted `seconds` after the start of a wind whose velocity is
+/// `ground` near the ground and `top` at [`TOP_ALTITUDE`]: x, y the displacement at the ground
+/// (m, local x and z; `media.wind_drift`), z, w how much farther per metre of altitude
+/// (`media.wind_shear_drift`) — the packing `frame_sequence::drift_at` reads.
+#[shader_fn]
+pub fn wind_drift(ground: Vec2, top: Vec2, seconds: f32) -> Vec4 {
+    let at_ground = ground * seconds;
+    let per_metre = (top - ground) * (seconds / TOP_ALTITUDE);
+    vec4(at_ground.x, at_ground.y, per_metre.x, per_metre.y)
+}
+
 impl Wind {
     /// The velocity at `altitude` (m): linear in altitude through the ground's and
     /// [`TOP_ALTITUDE`]'s, continued above (the shader's drift is the same line).
@@ -68,15 +79,18 @@ impl Wind {
         wind_velocity_at(low, high, altitude)
     }
 
-    /// The drift after `seconds` (in f64, then rounded once: an f32 time would step by a
-    /// second after a few days of timeline). A JavaScript host computes the same from the
-    /// JavaScript twins of [`wind_velocity`] (`NimbusTimeline` in a three.js package).
+    /// The drift after `seconds`, by [`wind_drift`]: the function a JavaScript host's timeline
+    /// calls too (`NimbusTimeline`, through `nimbus-wind.js`). Timelines stop at about a day
+    /// (`limits::WEATHER_AT`), where an f32 time still steps by 8 ms.
     pub fn drift(&self, seconds: f64) -> Drift {
-        let low = self.velocity_at(0.0).as_dvec2();
-        let high = self.velocity_at(TOP_ALTITUDE).as_dvec2();
+        let d = wind_drift(
+            self.velocity_at(0.0),
+            self.velocity_at(TOP_ALTITUDE),
+            seconds as f32,
+        );
         Drift {
-            ground: (low * seconds).as_vec2(),
-            per_metre: ((high - low) * (seconds / f64::from(TOP_ALTITUDE))).as_vec2(),
+            ground: Vec2::new(d.x, d.y),
+            per_metre: Vec2::new(d.z, d.w),
         }
     }
 }

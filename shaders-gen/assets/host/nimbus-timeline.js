@@ -8,10 +8,12 @@
 //   timeline.setWeather(0.35, { at: 7200 });               // reached by second 7200
 //   const { wind_drift, wind_shear_drift, coverage } = timeline.at(9000);
 //
-// The wind's velocity, the altitude of the top wind and the weather's ramp are the JavaScript
-// twins of Nimbus's own `#[shader_fn]`s (nimbus-wind.js, generated): no formula is typed twice.
+// The wind's velocity and the drift it makes, and the weather's progress and ramp, are the
+// JavaScript twins of Nimbus's own `#[shader_fn]`s (nimbus-wind.js, generated): no formula is
+// typed twice. What is here is the bookkeeping: the states in time order, and which two the
+// time falls between.
 
-import { TOP_ALTITUDE, weather_coverage, wind_velocity } from './nimbus-wind.js';
+import { weather_coverage, weather_progress, wind_drift, wind_velocity } from './nimbus-wind.js';
 
 export class NimbusTimeline {
   /** A still timeline whose coverage is `coverage` (0..1) until a weather state changes it. */
@@ -64,9 +66,7 @@ export class NimbusTimeline {
     if (next === -1) return this.states.length ? this.states[this.states.length - 1].coverage : this.coverage;
     const from = next === 0 ? { at: 0, coverage: this.coverage } : this.states[next - 1];
     const to = this.states[next];
-    const start = to.over === undefined ? from.at : Math.max(from.at, to.at - to.over);
-    const span = to.at - start;
-    const progress = span > 0 ? (seconds - start) / span : 1;
+    const progress = weather_progress(seconds, from.at, to.at, to.over ?? -1);
     return weather_coverage(from.coverage, to.coverage, progress);
   }
 
@@ -74,17 +74,17 @@ export class NimbusTimeline {
    * The drift `seconds` after the start: `wind_drift`, how far the air near the ground has
    * travelled (m, x east, z south), and `wind_shear_drift`, how much farther per metre of
    * altitude — the cloud block's `media.wind_drift` and `media.wind_shear_drift`. Zero without
-   * a wind. In double precision, rounded once when written into the block.
+   * a wind.
    */
   driftAt(seconds) {
     if (!this.wind) return { wind_drift: [0, 0], wind_shear_drift: [0, 0] };
     const w = this.wind;
-    const low = wind_velocity(w.speed, w.directionDeg);
-    const high = wind_velocity(w.topSpeed, w.topDirectionDeg);
-    return {
-      wind_drift: low.map((v) => v * seconds),
-      wind_shear_drift: high.map((v, i) => (v - low[i]) * (seconds / TOP_ALTITUDE)),
-    };
+    const [x, z, shearX, shearZ] = wind_drift(
+      wind_velocity(w.speed, w.directionDeg),
+      wind_velocity(w.topSpeed, w.topDirectionDeg),
+      seconds,
+    );
+    return { wind_drift: [x, z], wind_shear_drift: [shearX, shearZ] };
   }
 
   /** The uniforms `seconds` after the start: `wind_drift`, `wind_shear_drift` and `coverage`. */
