@@ -11,6 +11,7 @@
 //! Textures are made on first use, and only those the variant's shader binds: a variant
 //! without shape detail never creates the detail texture.
 
+use nimbus_clouds::view_defaults::VIEW_DEFAULTS;
 use std::collections::{BTreeMap, HashMap};
 
 use glam::{Mat4, Vec2, Vec3};
@@ -130,21 +131,23 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// A frame of `genus` at `quality` with the preset's toggles, from 2 m above the ground
+    /// A frame of `genus` at `quality` with the preset's toggles, seen as
+    /// [`VIEW_DEFAULTS`] says (the defaults of a scene file too): from 2 m above the ground
     /// looking 12° up, sun 35° high.
     pub fn new(genus: Genus, quality: Quality, width: u32, height: u32) -> Frame {
+        let d = VIEW_DEFAULTS;
         Frame {
             width,
             height,
             genus,
             quality,
             features: quality.features(),
-            sun_elevation_deg: 35.0,
-            sun_azimuth_deg: 150.0,
-            camera_altitude: 2.0,
-            camera_pitch_deg: 12.0,
-            camera_yaw_deg: 0.0,
-            fov_deg: 60.0,
+            sun_elevation_deg: d.sun_elevation_deg,
+            sun_azimuth_deg: d.sun_azimuth_deg,
+            camera_altitude: d.camera_altitude,
+            camera_pitch_deg: d.camera_pitch_deg,
+            camera_yaw_deg: d.camera_yaw_deg,
+            fov_deg: d.fov_deg,
             frames: 1,
             upscale: false,
             continue_history: false,
@@ -152,8 +155,8 @@ impl Frame {
             weather_offset: Vec2::ZERO,
             wind: Drift::default(),
             reproject_wind: true,
-            haze_density: 3e-5,
-            turbulence_displacement: 350.0,
+            haze_density: d.haze_density,
+            turbulence_displacement: d.turbulence_displacement,
             output: PixelOutput::Composite,
             verification: false,
             composite: CompositeParams::ALL,

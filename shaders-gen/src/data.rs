@@ -1,5 +1,6 @@
 //! Where the genus and scene files come from, and how command-line flags pick a variant.
 
+use nimbus_clouds::view_defaults::VIEW_DEFAULTS;
 use std::path::{Path, PathBuf};
 
 use crate::data_folder::DataFolder;
@@ -52,10 +53,11 @@ pub(crate) struct Resolved {
     pub uniforms: Vec<CloudUniforms>,
 }
 
-/// The uniform values of `genus` at `quality`, lit and seen as `Frame::new` sets them up (sun
-/// 35° high at azimuth 150°, camera 2 m above the ground, 640×360).
+/// The uniform values of `genus` at `quality`, lit and seen as the view defaults say
+/// (`VIEW_DEFAULTS`, as `Frame::new` sets them up).
 pub(crate) fn pair_uniforms(genus: &Genus, quality: Quality) -> CloudUniforms {
-    Renderer::uniforms(&Frame::new(genus.clone(), quality, 640, 360))
+    let d = VIEW_DEFAULTS;
+    Renderer::uniforms(&Frame::new(genus.clone(), quality, d.width, d.height))
 }
 
 /// The uniform values of every row of `table` whose genus is in `lib`.
@@ -93,7 +95,7 @@ pub(crate) fn keys_json(r: &Resolved) -> String {
         })
         .collect();
     let doc = serde_json::json!({
-        "about": "Each genus × quality preset: the shaders (by key) it runs and the values of the `clouds` uniform block, member by member in layout order. Sun, camera and image members hold Frame::new's defaults (sun 35° high at azimuth 150°, camera 2 m, 640×360): a host sets those per frame.",
+        "about": format!("Each genus × quality preset: the shaders (by key) it runs and the values of the `clouds` uniform block, member by member in layout order. Sun, camera and image members hold the view defaults ({}): a host sets those per frame.", VIEW_DEFAULTS.describe()),
         "pairs": pairs,
     });
     let mut s = serde_json::to_string_pretty(&doc).unwrap_or_default();

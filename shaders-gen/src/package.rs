@@ -5,6 +5,7 @@
 //! `nimbus-package.json`: the pass graph (order, targets, formats, what each binding slot
 //! holds, how the engine names it) and the conventions that make the first frame right.
 
+use nimbus_clouds::view_defaults::VIEW_DEFAULTS;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -342,10 +343,13 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         previous_view_projection: glam::Mat4::IDENTITY,
         cloud_shift: glam::Vec3::ZERO,
         cloud_altitude: 1500.0,
-        camera_altitude: 2.0,
+        camera_altitude: VIEW_DEFAULTS.camera_altitude,
         planet_radius: nimbus_clouds::model::shell::EARTH_RADIUS,
-        resolution: glam::Vec2::new(640.0, 360.0),
-        low_resolution: glam::Vec2::new(160.0, 90.0),
+        resolution: glam::Vec2::new(VIEW_DEFAULTS.width as f32, VIEW_DEFAULTS.height as f32),
+        low_resolution: glam::Vec2::new(
+            VIEW_DEFAULTS.width.div_ceil(4) as f32,
+            VIEW_DEFAULTS.height.div_ceil(4) as f32,
+        ),
         pixel_offset: glam::Vec2::ZERO,
         pixel_scale: 4.0,
         current_weight: 1.0,
@@ -379,12 +383,18 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     if table.iter().any(|a| a.clouds.features.scene_depth) {
         // The engine's depth encoding: an OpenGL-style perspective buffer until the host says
         // otherwise.
+        let d = VIEW_DEFAULTS;
         let scene = SceneDepthParams::opengl(
-            glam::Mat4::perspective_rh_gl(1.0, 16.0 / 9.0, 1.0, 1e6),
+            glam::Mat4::perspective_rh_gl(
+                d.fov_deg.to_radians(),
+                d.width as f32 / d.height as f32,
+                1.0,
+                1e6,
+            ),
             glam::Mat4::IDENTITY,
             -glam::Vec3::Z,
-            640,
-            360,
+            d.width,
+            d.height,
         );
         files.push((
             "uniforms/scene.json".to_string(),
@@ -1040,11 +1050,10 @@ fn block_file(ty: Type, bytes: &[u8], notes: &[(&str, &str)]) -> UniformBlockFil
 fn uniform_file(a: &Assignment, u: &CloudUniforms) -> UniformBlockFile {
     UniformBlockFile {
         pair: Some(a.name()),
-        scene: Some(
-            "values for the pair's scene: sun 35° high at azimuth 150°, camera 2 m above the \
-             ground looking 12° up, 640 × 360 (a scene file's own values with --scene)"
-                .into(),
-        ),
+        scene: Some(format!(
+            "values for the pair's scene: {} (a scene file's own values with --scene)",
+            VIEW_DEFAULTS.describe()
+        )),
         ..block_file(
             CloudUniforms::shader_type(),
             &u.to_uniform_bytes(),

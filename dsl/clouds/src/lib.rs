@@ -22,6 +22,7 @@ pub mod model;
 mod quality;
 mod scene;
 pub mod timeline;
+pub mod view_defaults;
 pub mod wind;
 
 pub use analysis::{Analysis, analyse};

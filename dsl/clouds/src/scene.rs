@@ -12,6 +12,7 @@ use super::features::FeatureOverrides;
 use super::formation::Formation;
 use super::quality::Quality;
 use super::timeline::WeatherState;
+use super::view_defaults::VIEW_DEFAULTS;
 use super::wind::Wind;
 
 /// A scene preset file.
@@ -29,7 +30,7 @@ pub struct ScenePreset {
     #[serde(default = "default_sun_elevation")]
     pub sun_elevation_deg: f32,
     /// Sun azimuth, degrees clockwise from north.
-    #[serde(default)]
+    #[serde(default = "default_sun_azimuth")]
     pub sun_azimuth_deg: f32,
     /// Camera altitude above the ground, metres.
     #[serde(default = "default_camera_altitude")]
@@ -38,7 +39,7 @@ pub struct ScenePreset {
     #[serde(default = "default_camera_pitch")]
     pub camera_pitch_deg: f32,
     /// Camera heading, degrees clockwise from north.
-    #[serde(default)]
+    #[serde(default = "default_camera_yaw")]
     pub camera_yaw_deg: f32,
     /// Vertical field of view, degrees.
     #[serde(default = "default_fov")]
@@ -84,28 +85,37 @@ fn exactly_two<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f32; 2], D::Er
     })
 }
 
+// What a scene file leaves out: the one set of defaults (`VIEW_DEFAULTS`).
 fn default_sun_elevation() -> f32 {
-    45.0
+    VIEW_DEFAULTS.sun_elevation_deg
+}
+
+fn default_sun_azimuth() -> f32 {
+    VIEW_DEFAULTS.sun_azimuth_deg
 }
 
 fn default_camera_altitude() -> f32 {
-    2.0
+    VIEW_DEFAULTS.camera_altitude
 }
 
 fn default_haze_density() -> f32 {
-    3e-5
+    VIEW_DEFAULTS.haze_density
 }
 
 fn default_turbulence_displacement() -> f32 {
-    350.0
+    VIEW_DEFAULTS.turbulence_displacement
 }
 
 fn default_camera_pitch() -> f32 {
-    10.0
+    VIEW_DEFAULTS.camera_pitch_deg
+}
+
+fn default_camera_yaw() -> f32 {
+    VIEW_DEFAULTS.camera_yaw_deg
 }
 
 fn default_fov() -> f32 {
-    60.0
+    VIEW_DEFAULTS.fov_deg
 }
 
 impl ScenePreset {
