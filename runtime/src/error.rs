@@ -38,6 +38,10 @@ pub enum RuntimeError {
     /// A frame value outside its accepted range.
     #[error(transparent)]
     Value(#[from] nimbus_clouds::DataError),
+    /// A frame that cannot be drawn (`Frame::validate`); its numbers out of range are
+    /// [`RuntimeError::Value`], as everywhere else.
+    #[error(transparent)]
+    Frame(nimbus_clouds::frame::FrameError),
     #[error("Frame::genus `{genus}`: {field}: {reason}")]
     Genus {
         genus: String,
@@ -48,4 +52,13 @@ pub enum RuntimeError {
     Region { field: &'static str, reason: String },
     #[error("parity kernel: {0}")]
     Kernel(String),
+}
+
+impl From<nimbus_clouds::frame::FrameError> for RuntimeError {
+    fn from(e: nimbus_clouds::frame::FrameError) -> Self {
+        match e {
+            nimbus_clouds::frame::FrameError::Value(v) => RuntimeError::Value(v),
+            other => RuntimeError::Frame(other),
+        }
+    }
 }

@@ -8,9 +8,11 @@
 pub mod analysis;
 pub mod catalog;
 pub mod clock;
+pub mod engine_depth;
 mod error;
 mod features;
 pub mod formation;
+pub mod frame;
 pub mod frame_sequence;
 pub mod functions;
 mod genus;
