@@ -2,6 +2,7 @@
 // publishes the result (a PNG data URL) and every shader message three logged on `window`.
 import * as THREE from 'three';
 import { publish } from './publish.mjs';
+import { canvasRenderer } from './renderer.mjs';
 import { height, number, placeCamera, q, width } from './query.mjs';
 import { timeFrames } from './timing.mjs';
 
@@ -11,15 +12,7 @@ async function run(result) {
   const { messages } = result;
   const base = new URL(q.get('pkg') ?? '/pkg/', location.href);
   const { NimbusClouds } = await import(new URL('nimbus-clouds.js', base).href);
-  const canvas = document.createElement('canvas');
-  document.body.appendChild(canvas);
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(1);
-  renderer.setSize(width, height, false);
-  renderer.debug.checkShaderErrors = true;
-  renderer.debug.onShaderError = (gl, program, vs, fs) => {
-    messages.push(`shader error: ${gl.getProgramInfoLog(program)} ${gl.getShaderInfoLog(vs)} ${gl.getShaderInfoLog(fs)}`);
-  };
+  const { canvas, renderer } = canvasRenderer(result);
   const clouds = await NimbusClouds.load(base, { pair: q.get('pair') ?? undefined });
   clouds.upscale = q.get('upscale') === '1';
   clouds.accumulate = !clouds.upscale && number('frames', 1) > 1;

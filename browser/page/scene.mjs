@@ -5,6 +5,7 @@
 // everything (the control). Publishes the frame like main.mjs.
 import * as THREE from 'three';
 import { publish } from './publish.mjs';
+import { canvasRenderer } from './renderer.mjs';
 import { height, number, placeCamera, q, width } from './query.mjs';
 
 
@@ -12,20 +13,7 @@ async function run(result) {
   const { messages } = result;
   const base = new URL(q.get('pkg') ?? '/pkg/', location.href);
   const { NimbusClouds } = await import(new URL('nimbus-clouds.js', base).href);
-  const canvas = document.createElement('canvas');
-  document.body.appendChild(canvas);
-  const renderer = new THREE.WebGLRenderer({
-    canvas,
-    antialias: false,
-    preserveDrawingBuffer: true,
-    logarithmicDepthBuffer: q.get('log') === '1',
-  });
-  renderer.setPixelRatio(1);
-  renderer.setSize(width, height, false);
-  renderer.debug.checkShaderErrors = true;
-  renderer.debug.onShaderError = (gl, program, vs, fs) => {
-    messages.push(`shader error: ${gl.getProgramInfoLog(program)} ${gl.getShaderInfoLog(vs)} ${gl.getShaderInfoLog(fs)}`);
-  };
+  const { canvas, renderer } = canvasRenderer(result, { logarithmicDepthBuffer: q.get('log') === '1' });
 
   // The user's scene: a tower, and the camera that sees it.
   const scene = new THREE.Scene();

@@ -9,6 +9,7 @@
 // in the `lit` render too (the control).
 import * as THREE from 'three';
 import { publish } from './publish.mjs';
+import { canvasRenderer } from './renderer.mjs';
 import { height, number, placeCamera, q, width } from './query.mjs';
 
 /** The red channel of a float render target, as WebGL reads it (first row the bottom one). */
@@ -25,15 +26,7 @@ function floatTarget(options = {}) {
 async function run(result) {
   const base = new URL(q.get('pkg') ?? '/pkg/', location.href);
   const { NimbusClouds } = await import(new URL('nimbus-clouds.js', base).href);
-  const canvas = document.createElement('canvas');
-  document.body.appendChild(canvas);
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(1);
-  renderer.setSize(width, height, false);
-  renderer.debug.checkShaderErrors = true;
-  renderer.debug.onShaderError = (gl, program, vs, fs) => {
-    result.messages.push(`shader error: ${gl.getProgramInfoLog(program)} ${gl.getShaderInfoLog(vs)} ${gl.getShaderInfoLog(fs)}`);
-  };
+  const { canvas, renderer } = canvasRenderer(result);
 
   const clouds = await NimbusClouds.load(base);
   clouds.setSize(width, height);

@@ -12,6 +12,7 @@
 // (no ground disc), albedo=R,G,B (the ground's), clouds=0 (no CloudsEffect: a diagnostic).
 import * as THREE from 'three';
 import { publish } from './publish.mjs';
+import { canvasRenderer } from './renderer.mjs';
 import { timeFrames } from './timing.mjs';
 import { EffectComposer, EffectPass, NormalPass, RenderPass, ToneMappingEffect, ToneMappingMode } from 'postprocessing';
 import { AerialPerspectiveEffect, PrecomputedTexturesLoader } from '@takram/three-atmosphere';
@@ -53,17 +54,9 @@ const shapeLoader = (size) => new DataTextureLoader(THREE.Data3DTexture, parseUi
 
 async function run(result) {
   const { messages } = result;
-  const canvas = document.createElement('canvas');
-  document.body.appendChild(canvas);
-  const renderer = new THREE.WebGLRenderer({ canvas, depth: false, antialias: false, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(1);
-  renderer.setSize(width, height, false);
+  const { canvas, renderer } = canvasRenderer(result, { depth: false });
   renderer.toneMapping = THREE.NoToneMapping;
   renderer.toneMappingExposure = number('exposure', 10);
-  renderer.debug.checkShaderErrors = true;
-  renderer.debug.onShaderError = (gl, program, vs, fs) => {
-    messages.push(`shader error: ${gl.getProgramInfoLog(program)} ${gl.getShaderInfoLog(vs)} ${gl.getShaderInfoLog(fs)}`);
-  };
 
   // Assets, all from this server. The precomputed atmosphere comes as the .bin files (half
   // floats); the loader's default format, 'exr', would go through three's EXRLoader.

@@ -26,7 +26,8 @@ use nimbus_runtime::scene_depth::SceneDepth;
 use nimbus_testkit::skip::browser_tools_present;
 
 use common::{
-    browser_dir, emit_package, have_gpu, mean_difference, missing_browser, nimbus, rgb, text,
+    browser_dir, emit_package, have_gpu, mean_difference, missing_browser, nimbus, render_page,
+    rgb, text,
 };
 
 const W: u32 = 160;
@@ -272,22 +273,7 @@ fn browser_page(page: &str, package: &Path, png: &Path, extra: &[String]) -> Rgb
         format!("color={TOWER_GREY:02x}{TOWER_GREY:02x}{TOWER_GREY:02x}"),
     ];
     args.extend(extra.iter().cloned());
-    let o = Command::new("node")
-        .current_dir(browser_dir())
-        .arg("render.mjs")
-        .arg(package)
-        .arg(png)
-        .args(&args)
-        .output()
-        .expect("runs node");
-    let log = std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
-    assert!(
-        o.status.success(),
-        "{}: the page failed or logged: {}{}\n{log}",
-        png.display(),
-        text(&o.stdout),
-        text(&o.stderr)
-    );
+    render_page(package, png, &args);
     rgb(png)
 }
 

@@ -13,7 +13,6 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
 use glam::{Mat4, Vec2, Vec4};
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
@@ -24,7 +23,7 @@ use nimbus_runtime::scene_depth::SceneDepth;
 use nimbus_testkit::skip::browser_tools_present;
 use serde_json::Value;
 
-use common::{browser_dir, emit_package, have_gpu, missing_browser, text};
+use common::{emit_package, have_gpu, missing_browser, render_page};
 
 const W: u32 = 160;
 const H: u32 = 90;
@@ -124,22 +123,7 @@ fn page(package: &Path, out: &Path, name: &str, extra: &[&str]) -> PageValues {
         format!("sun={},{}", SUN.0, SUN.1),
     ];
     args.extend(extra.iter().map(|s| s.to_string()));
-    let o = Command::new("node")
-        .current_dir(browser_dir())
-        .arg("render.mjs")
-        .arg(package)
-        .arg(&png)
-        .args(&args)
-        .output()
-        .expect("runs node");
-    let log = std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
-    assert!(
-        o.status.success(),
-        "{name}: the page failed or logged: {}{}\n{log}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
-    println!("{name}: {}", text(&o.stdout).trim());
+    let log = render_page(package, &png, &args);
     let log: Value = serde_json::from_str(&log).expect("the page's log is JSON");
     let values = &log["values"];
     let floats = |key: &str| -> Vec<f32> {

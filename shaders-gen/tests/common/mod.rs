@@ -162,3 +162,27 @@ pub fn emit_package(engine: &str, genus: &str, quality: &str, toggles: &[&str], 
     let o = nimbus(&args);
     assert!(o.status.success(), "emit: {}", text(&o.stderr));
 }
+
+/// Renders `package` in Chromium through `browser/render.mjs` with the page's `args`
+/// (`key=value`) into `png`, asserting the page ran and logged nothing; returns the page's log
+/// (`<png>.log.json`: renderer, problems and any published values).
+pub fn render_page(package: &Path, png: &Path, args: &[String]) -> String {
+    let o = Command::new("node")
+        .current_dir(browser_dir())
+        .arg("render.mjs")
+        .arg(package)
+        .arg(png)
+        .args(args)
+        .output()
+        .expect("runs node");
+    let log = std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
+    assert!(
+        o.status.success(),
+        "{}: the page failed or logged: {}{}\n{log}",
+        png.display(),
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    println!("{}: {}", png.display(), text(&o.stdout).trim());
+    log
+}
