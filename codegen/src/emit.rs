@@ -3,8 +3,9 @@
 //! Everything is generated and validated in memory first. Files are then written into a fresh
 //! temporary folder beside the destination, which replaces it only when every write succeeded
 //! ([`nimbus_output::replace_folder`]), so a failure or a crash never leaves a partial folder.
-//! An existing destination is replaced only if it is empty or was written by Nimbus (it holds
-//! [`MARKER_FILE`]), or the user forced it, so a typo in `-o` cannot wipe someone's folder.
+//! An existing destination is replaced only if it is empty or holds exactly what Nimbus wrote
+//! there (its [`nimbus_output::OWNERSHIP_FILE`] lists every file), or the user forced it, so a
+//! typo in `-o` cannot wipe someone's folder.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -14,7 +15,7 @@ use nimbus_output::{Overwrite, replace_folder};
 use crate::error::CodegenError;
 use crate::generate::Generated;
 
-/// The manifest written last into every output folder; its presence marks a complete emit.
+/// The manifest of every output folder: one line per shader (what `nimbus diff` compares).
 pub const MARKER_FILE: &str = "nimbus-manifest.txt";
 
 /// What was written.
@@ -44,17 +45,15 @@ pub struct EmitExtras {
 }
 
 /// Writes every file of `variants`, and `extras`, into `dir`, replacing the folder whole
-/// (see [`nimbus_output::replace_folder`]): a folder Nimbus did not write (one that is not
-/// empty and has no [`MARKER_FILE`]) is replaced only when `overwrite` is forced.
+/// (see [`nimbus_output::replace_folder`]): a folder holding anything Nimbus did not write is
+/// replaced only when `overwrite` is forced.
 pub fn emit(
     variants: &[Generated],
     extras: &EmitExtras,
     dir: &Path,
     overwrite: Overwrite,
 ) -> Result<EmitReport, CodegenError> {
-    let files = replace_folder(dir, MARKER_FILE, overwrite, |tmp| {
-        write_all(variants, extras, tmp)
-    })?;
+    let files = replace_folder(dir, overwrite, |tmp| write_all(variants, extras, tmp))?;
     Ok(EmitReport {
         dir: dir.to_path_buf(),
         files,

@@ -13,6 +13,29 @@ pub enum OutputError {
     )]
     NotOurs { path: PathBuf, why: String },
 
+    #[error(
+        "{}: is a symbolic link to {}{state}; Nimbus writes a complete file beside it and renames \
+         it into place, which would replace the link, not what it points to: give the target's \
+         own path, or remove the link",
+        path.display(),
+        target.display()
+    )]
+    IsLink {
+        path: PathBuf,
+        target: PathBuf,
+        state: &'static str,
+    },
+
+    #[error("{}: is {kind}, not a file Nimbus can replace; give the path of a plain file", path.display())]
+    NotPlain { path: PathBuf, kind: &'static str },
+
+    #[error(
+        "{}: {} is a file, not a folder; give a path inside a folder",
+        path.display(),
+        folder.display()
+    )]
+    NotAFolder { path: PathBuf, folder: PathBuf },
+
     #[error("{}: is a folder; give the path of a file", path.display())]
     IsFolder { path: PathBuf },
 

@@ -3,6 +3,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use crate::destination::{Found, existing_folder, found_at};
 use crate::error::OutputError;
 use crate::leftovers::{alive, pid_of_file};
 use crate::{Overwrite, Signature};
@@ -28,18 +29,13 @@ pub fn check_file(
     signature: Signature,
     overwrite: Overwrite,
 ) -> Result<(), OutputError> {
-    if path.is_dir() {
+    let found = found_at(path)?;
+    if found == Found::Folder {
         return Err(OutputError::IsFolder {
             path: path.to_path_buf(),
         });
     }
-    let folder = folder_of(path);
-    if !folder.is_dir() {
-        return Err(OutputError::NoFolder {
-            path: path.to_path_buf(),
-            folder,
-        });
-    }
+    let folder = existing_folder(path, &folder_of(path), true)?;
     // Writable: the same kind of temporary file the write will make.
     tempfile::Builder::new()
         .prefix(&temp_prefix())
@@ -50,7 +46,7 @@ pub fn check_file(
             folder: folder.clone(),
             reason: e.to_string(),
         })?;
-    if path.exists() && overwrite != Overwrite::Force {
+    if found == Found::File && overwrite != Overwrite::Force {
         signature
             .recognises(path)
             .map_err(|why| OutputError::NotOurs {
@@ -72,7 +68,7 @@ pub fn write_file(
     bytes: &[u8],
 ) -> Result<(), OutputError> {
     check_file(path, signature, overwrite)?;
-    let existed = path.exists();
+    let existed = found_at(path)? == Found::File;
     let folder = folder_of(path);
     remove_dead_temporaries(&folder);
     let prefix = temp_prefix();

@@ -4,22 +4,26 @@
 //! outputs is replaced the same way, the old one moved aside only once the new one is
 //! complete. A file or folder Nimbus did not write is never replaced unless the user says
 //! `--force`: each file carries a signature Nimbus recognises ([`Signature`]), each folder a
-//! marker file. Leftovers of an interrupted run are recognised by name and cleaned up.
+//! record of every file Nimbus wrote into it ([`OWNERSHIP_FILE`]). Leftovers of an interrupted run are recognised by name and cleaned up.
 //!
 //! Destinations are checked ([`check_file`], [`check_folder`]) before any work starts, so a
-//! bad `-o` fails in a second, not after a long render.
+//! bad `-o` fails in a second, not after a long render. A link, FIFO or device as a
+//! destination is refused there too.
 
+mod destination;
 mod error;
 mod exr_image;
 mod file;
 mod folder;
 mod leftovers;
+mod ownership;
 mod signature;
 
 pub use error::OutputError;
 pub use exr_image::{ExrChannel, signed_exr};
 pub use file::{check_file, write_exr, write_file, write_png};
 pub use folder::{check_folder, replace_folder};
+pub use ownership::OWNERSHIP_FILE;
 pub use signature::{Signature, TEXT_MARKER, signed_png};
 
 /// Whether an existing output Nimbus did not write may be replaced (`--force`).

@@ -17,7 +17,7 @@ use serde_json::json;
 
 use crate::error::CliError;
 
-/// Written last into the output folder; its presence marks a folder Nimbus wrote.
+/// The index of the output folder.
 const INDEX: &str = "animation.json";
 const GIF: &str = "animation.gif";
 const MP4: &str = "animation.mp4";
@@ -127,7 +127,7 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
         pictures.push((t, frames));
     }
     let gpu = Gpu::new()?;
-    println!("adapter: {}", gpu.info());
+    say!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     // Clouds forming and dissolving: the automaton advances with the pictures.
     let mut formation = match scene.formation {
@@ -137,7 +137,7 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
     let start = Instant::now();
     let video = ffmpeg_available();
     let overwrite = Overwrite::forced(a.force);
-    replace_folder(&a.out, INDEX, overwrite, |tmp| {
+    replace_folder(&a.out, overwrite, |tmp| {
         let gif_file = std::fs::File::create(tmp.join(GIF)).map_err(|e| CliError::Unknown {
             kind: "animation file",
             given: format!("{} ({e})", tmp.join(GIF).display()),
@@ -163,7 +163,7 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
                 delay,
             ))?;
             let first = &frames[0].0;
-            println!(
+            say!(
                 "{file}: t {t:>8.1} s, sun {:>5.1}° at {:>5.1}°, {}",
                 first.sun_elevation_deg,
                 first.sun_azimuth_deg,
@@ -198,10 +198,10 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
             if status.is_ok_and(|s| s.success()) {
                 outputs.push(MP4);
             } else {
-                println!("ffmpeg failed: wrote the frames and the GIF only");
+                say!("ffmpeg failed: wrote the frames and the GIF only");
             }
         } else {
-            println!("ffmpeg is not installed: wrote the frames and the GIF (no MP4)");
+            say!("ffmpeg is not installed: wrote the frames and the GIF (no MP4)");
         }
         let description = json!({
             "scene": a.scene.display().to_string(),
@@ -222,7 +222,7 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
         })?;
         Ok::<_, Box<dyn std::error::Error>>(())
     })?;
-    println!(
+    say!(
         "{count} pictures in {:.1} s; wrote {}/{INDEX}",
         start.elapsed().as_secs_f64(),
         a.out.display()

@@ -54,14 +54,14 @@ pub(crate) fn run(data: Option<&Path>, iterations: u32, reachable: bool) -> Resu
     } else {
         "release"
     };
-    println!("nimbus bench: median of {iterations} runs, {profile} build, times in ms");
+    say!("nimbus bench: median of {iterations} runs, {profile} build, times in ms");
     let mut header = format!("| {:<20} |", "variant");
     for t in Target::ALL {
         header.push_str(&format!(" {:>10} |", t.name()));
     }
     header.push_str(&format!(" {:>10} |", "all six"));
-    println!("{header}");
-    println!("|{}|", ["---"; 8].join("|"));
+    say!("{header}");
+    say!("|{}|", ["---"; 8].join("|"));
     let _ = &lib;
     for source in &rows {
         let mut row = format!("| {:<20} |", source.id());
@@ -71,7 +71,7 @@ pub(crate) fn run(data: Option<&Path>, iterations: u32, reachable: bool) -> Resu
         }
         let d = time(iterations, || Ok(generate_variant(source, &Target::ALL)?))?;
         row.push_str(&format!(" {:>10} |", ms(d)));
-        println!("{row}");
+        say!("{row}");
     }
     let mut all = catalog();
     all.extend(clouds);
@@ -81,12 +81,12 @@ pub(crate) fn run(data: Option<&Path>, iterations: u32, reachable: bool) -> Resu
         }
         Ok(())
     })?;
-    println!(
+    say!(
         "every distinct shader ({} x 6 targets, naga validation, no external tools): {} ms",
         all.len(),
         ms(whole)
     );
-    println!(
+    say!(
         "(the wgsl column is record + specialise + print + naga parse/validate; other columns add one backend)"
     );
     if reachable {
@@ -134,7 +134,7 @@ fn every_reachable_key() -> Result<(), CliError> {
                 .collect()
         });
         let secs = start.elapsed().as_secs_f64();
-        println!(
+        say!(
             "every reachable key ({} keys, {what}, {threads} thread(s)): {secs:.1} s, {:.2} ms per key per core, {} failure(s)",
             keys.len(),
             secs * 1e3 * threads as f64 / keys.len() as f64,

@@ -48,10 +48,13 @@ pub(crate) fn run(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let base = frame(data, args)?;
     let gpu = Gpu::new()?;
-    println!("adapter: {}", gpu.info());
-    println!(
+    say!("adapter: {}", gpu.info());
+    say!(
         "scene: genus {}, {}x{}, {} timed frames per row (median)",
-        base.genus.name, base.width, base.height, iterations
+        base.genus.name,
+        base.width,
+        base.height,
+        iterations
     );
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     let mut rows = Vec::new();
@@ -69,14 +72,12 @@ pub(crate) fn run(
         ms_of(&rows, Quality::High, false),
         ms_of(&rows, Quality::High, true),
     );
-    println!();
-    println!(
-        "| preset | full res ms/frame | ×high | upscaled ms/frame | ×high | upscaling speed-up |"
-    );
-    println!("|---|---:|---:|---:|---:|---:|");
+    say!();
+    say!("| preset | full res ms/frame | ×high | upscaled ms/frame | ×high | upscaling speed-up |");
+    say!("|---|---:|---:|---:|---:|---:|");
     for q in Quality::ALL {
         let (full, up) = (ms_of(&rows, q, false), ms_of(&rows, q, true));
-        println!(
+        say!(
             "| {} | {full:.1} | {:.2} | {up:.1} | {:.2} | {:.2}× |",
             q.name(),
             full / high_full,
@@ -124,12 +125,12 @@ fn compare_uber(
         rows.push((quality, time_frames(renderer, &f, iterations)?));
     }
     renderer.set_uber_shader(false);
-    println!();
-    println!("| preset | specialised ms/frame | uber-shader ms/frame | uber / specialised |");
-    println!("|---|---:|---:|---:|");
+    say!();
+    say!("| preset | specialised ms/frame | uber-shader ms/frame | uber / specialised |");
+    say!("|---|---:|---:|---:|");
     for (q, uber) in rows {
         let spec = specialised(q);
-        println!(
+        say!(
             "| {} | {spec:.1} | {uber:.1} | {:.2}× |",
             q.name(),
             uber / spec
@@ -147,14 +148,15 @@ pub(crate) fn run_scenes(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let lib = crate::data::load(data)?;
     let gpu = Gpu::new()?;
-    println!("adapter: {}", gpu.info());
-    println!(
+    say!("adapter: {}", gpu.info());
+    say!(
         "{}x{}, one full-resolution frame per render call, median of {iterations}",
-        resolution.0, resolution.1
+        resolution.0,
+        resolution.1
     );
-    println!();
-    println!("| scene | derived variant | derived ms | all-effects ms | derived / all |");
-    println!("|---|---|---:|---:|---:|");
+    say!();
+    say!("| scene | derived variant | derived ms | all-effects ms | derived / all |");
+    say!("|---|---|---:|---:|---:|");
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     for (name, (_, scene)) in &lib.scenes {
         let genus = lib
@@ -166,7 +168,7 @@ pub(crate) fn run_scenes(
         all.features.octaves = derived.features.octaves;
         let d = time_frames(&mut renderer, &derived, iterations)?;
         let a = time_frames(&mut renderer, &all, iterations)?;
-        println!(
+        say!(
             "| {name} | {} | {d:.1} | {a:.1} | {:.2} |",
             derived.variant().name(),
             d / a

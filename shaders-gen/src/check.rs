@@ -67,21 +67,21 @@ pub(crate) fn run(
                         }
                     }
                 }
-                println!("ok   {}", g.stats.manifest_line(&g.id()));
+                say!("ok   {}", g.stats.manifest_line(&g.id()));
             }
         }
     }
     for tool in &missing {
-        println!("skipped external validation with {tool}: not installed");
+        say!("skipped external validation with {tool}: not installed");
     }
-    println!();
-    println!(
+    say!();
+    say!(
         "distinct shaders ({} genus × preset pair(s)):",
         resolved.table.len()
     );
     print_sharing(sources);
-    println!();
-    println!(
+    say!();
+    say!(
         "{} shader(s), {files} file(s) validated by naga, {external_passed} also by external tools; {failures} failure(s)",
         sources.len()
     );

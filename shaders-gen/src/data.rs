@@ -217,12 +217,12 @@ pub(crate) fn print_sharing(entries: &[CatalogEntry]) {
     modules.dedup();
     for m in modules {
         let of: Vec<&CatalogEntry> = entries.iter().filter(|e| e.module() == m).collect();
-        println!("  {m}: {} distinct shader(s)", of.len());
+        say!("  {m}: {} distinct shader(s)", of.len());
         for e in of {
             if e.users.is_empty() {
-                println!("    {}", e.id());
+                say!("    {}", e.id());
             } else {
-                println!(
+                say!(
                     "    {} ← {} pair(s): {}",
                     e.id(),
                     e.users.len(),

@@ -149,7 +149,7 @@ pub(crate) fn run(old: &Path, new: &Path, quiet: bool) -> Result<(), Box<dyn std
             }
         }
     }
-    println!(
+    say!(
         "{} shader(s) compared: {} changed, {} added, {} removed",
         ids.len(),
         changed.len(),
@@ -158,23 +158,23 @@ pub(crate) fn run(old: &Path, new: &Path, quiet: bool) -> Result<(), Box<dyn std
     );
     let table = |d: &Path| std::fs::read(d.join(KEYS_FILE)).ok();
     if table(&old_dir) != table(&new_dir) {
-        println!("the genus × preset table ({KEYS_FILE}: keys and uniform values) changed");
+        say!("the genus × preset table ({KEYS_FILE}: keys and uniform values) changed");
     }
     for id in &added {
-        println!("added    {id}");
+        say!("added    {id}");
     }
     for id in &removed {
-        println!("removed  {id}");
+        say!("removed  {id}");
     }
     for (id, targets, _, _) in &changed {
-        println!("changed  {id}  [{}]", targets.join(", "));
+        say!("changed  {id}  [{}]", targets.join(", "));
     }
     if !quiet {
         for (id, _, x, y) in &changed {
             let (Some(x), Some(y)) = (x, y) else { continue };
             let (x, y) = (String::from_utf8_lossy(x), String::from_utf8_lossy(y));
-            println!();
-            print!(
+            say!();
+            say_part!(
                 "{}",
                 TextDiff::from_lines(x.as_ref(), y.as_ref())
                     .unified_diff()

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use nimbus_codegen::{EmitExtras, MARKER_FILE, Target, emit, generate_variant};
+use nimbus_codegen::{EmitExtras, Target, emit, generate_variant};
 use nimbus_output::{Overwrite, check_folder};
 
 use crate::data::{Resolved, Selection, keys_json, load, resolve, table_text};
@@ -18,7 +18,7 @@ pub(crate) fn run(
     targets: &[Target],
     (out, overwrite): (&Path, Overwrite),
 ) -> Result<(), Box<dyn std::error::Error>> {
-    check_folder(out, MARKER_FILE, overwrite)?;
+    check_folder(out, overwrite)?;
     let resolved = match scene {
         Some(file) => crate::explain::resolved(data, file, sel)?,
         None => resolve(sel, &load(data)?)?,
@@ -38,9 +38,9 @@ pub(crate) fn run(
     };
     let report = emit(&generated, &extras, out, overwrite)?;
     for g in &generated {
-        println!("{}", g.stats.manifest_line(&g.id()));
+        say!("{}", g.stats.manifest_line(&g.id()));
     }
-    println!(
+    say!(
         "wrote {} files for {} shader(s) ({} genus × preset pair(s)) to {}",
         report.files.len(),
         generated.len(),

@@ -63,7 +63,7 @@ pub(crate) fn run(
     scene_file: &Path,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let (scene, variant, analysis) = derive(data, scene_file)?;
-    println!(
+    say!(
         "scene {} ({}): genus `{}`, quality `{}`, sun {}°, camera {} m",
         scene.name,
         scene_file.display(),
@@ -72,16 +72,16 @@ pub(crate) fn run(
         scene.sun_elevation_deg,
         scene.camera_altitude
     );
-    println!();
+    say!();
     for d in &analysis.decisions {
-        println!(
+        say!(
             "  {:<24} {:<4} {}",
             d.toggle.name(),
             if d.included { "in" } else { "out" },
             d.reason
         );
     }
-    println!(
+    say!(
         "  {:<24} {:<4} {} layer(s) in {} lane group(s){}",
         "layer-packing",
         if analysis.layer_groups > 1 {
@@ -97,7 +97,7 @@ pub(crate) fn run(
             ": one vec4 group, the second is never sampled"
         }
     );
-    println!(
+    say!(
         "  {:<24} {:<4} {}",
         "shadow-map-pass",
         if variant.key.uses_shadow_map() {
@@ -119,7 +119,7 @@ pub(crate) fn run(
             .custom()
             .iter()
             .any(|(s, _)| *s == slot);
-        println!(
+        say!(
             "  {:<24} {:<4} {name}{}: {about}",
             format!("{slot}-function"),
             if own { "own" } else { "std" },
@@ -130,14 +130,14 @@ pub(crate) fn run(
             },
         );
     }
-    println!();
-    println!("variant: {}", variant.name());
-    println!(
+    say!();
+    say!("variant: {}", variant.name());
+    say!(
         "shader: {}",
         nimbus_clouds::catalog::ShaderKey::Clouds(variant.key).id()
     );
     if let Some(k) = variant.key.shadow_key() {
-        println!(
+        say!(
             "shadow pass: {}",
             nimbus_clouds::catalog::ShaderKey::Shadow(k).id()
         );

@@ -171,7 +171,7 @@ pub(crate) fn run(
     let mean = grid.values.iter().map(|v| f64::from(*v)).sum::<f64>() / grid.values.len() as f64;
     let cloudy = grid.values.iter().filter(|v| **v > 0.0).count();
     let voxel = grid.voxel();
-    println!(
+    say!(
         "wrote {}: {}x{}x{} voxels of σt (1/m) over [{}] .. [{}] m, each {:.1} x {:.1} x {:.1} m, averaged over {}³ samples",
         a.out.display(),
         size[0],
@@ -184,7 +184,7 @@ pub(crate) fn run(
         voxel.z,
         grid.filter
     );
-    println!(
+    say!(
         "variant {}; σt max {max:.4} /m, mean {mean:.5} /m; {cloudy} of {} voxels cloudy; albedo {}",
         frame.variant().name(),
         grid.values.len(),
@@ -208,14 +208,14 @@ pub(crate) fn run(
                 overwrite,
                 xml.as_bytes(),
             )?;
-            println!(
+            say!(
                 "wrote {}: Mitsuba 3 scene (camera, sun of irradiance 1, phase function, the grid in place); \
                  `mitsuba {}` renders single scattering",
                 x.display(),
                 x.display()
             );
         }
-        None => println!(
+        None => say!(
             "Mitsuba 3: {{'type': 'heterogeneous', 'albedo': {}, 'scale': 1.0, 'sigma_t': {{'type': 'gridvolume', 'filename': '{}'}}}}, lengths in metres; --mitsuba FILE.xml writes the whole scene",
             grid.albedo,
             a.out.display()

@@ -15,7 +15,7 @@ use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
 use crate::error::CliError;
 
-/// The index written last into the gallery folder; its presence marks a folder Nimbus wrote.
+/// The index of the gallery folder (a Markdown grid of the pictures).
 const INDEX: &str = "gallery.md";
 
 /// Every genus in one picture, in the index's grid.
@@ -102,11 +102,11 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
     }
     frames.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.name.cmp(&y.1.name)));
     let gpu = Gpu::new()?;
-    println!("adapter: {}", gpu.info());
+    say!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     let overwrite = Overwrite::forced(a.force);
     let start = Instant::now();
-    let tiles = replace_folder(&a.out, INDEX, overwrite, |tmp| {
+    let tiles = replace_folder(&a.out, overwrite, |tmp| {
         let mut tiles = Vec::new();
         let cols = a.columns.min(frames.len().max(1)) as u32;
         let rows = frames.len().div_ceil(cols as usize) as u32;
@@ -132,7 +132,7 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
                 i64::from(x),
                 i64::from(y),
             );
-            println!(
+            say!(
                 "{:>14}: {} ({:.1} s)",
                 scene.name,
                 frame.variant().name(),
@@ -165,7 +165,7 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
         })?;
         Ok::<_, Box<dyn std::error::Error>>(tiles)
     })?;
-    println!(
+    say!(
         "{} genera in {:.1} s; wrote {}/{INDEX}",
         tiles.len(),
         start.elapsed().as_secs_f64(),

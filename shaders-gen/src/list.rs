@@ -14,22 +14,22 @@ use crate::data_folder::DataFolder;
 pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
     let folder = DataFolder::find(data)?;
     let lib = load_dir(&folder.dir)?;
-    println!(
+    say!(
         "genera ({}, from {}):",
         folder.dir.join("genera").display(),
         folder.source
     );
     for (name, (_, g)) in &lib.genera {
-        println!(
+        say!(
             "  {name:<16} {} layer(s), coverage {:.2}: {}",
             g.layers.len(),
             g.coverage,
             g.description
         );
     }
-    println!("scene presets:");
+    say!("scene presets:");
     for (name, (_, s)) in &lib.scenes {
-        println!(
+        say!(
             "  {name:<16} {} at {} quality, sun {}°: {}",
             s.genus,
             s.quality.name(),
@@ -37,7 +37,7 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
             s.description
         );
     }
-    println!("quality presets:");
+    say!("quality presets:");
     for q in Quality::ALL {
         let st = q.settings();
         let off: Vec<&str> = Toggle::ALL
@@ -46,7 +46,7 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
             .filter(|t| !t.get(&q.features()))
             .map(|t| t.name())
             .collect();
-        println!(
+        say!(
             "  {:<16} {} steps ≥ {} m, sun {} / ground {} secondary steps, shadow map {}²; off: {}",
             q.name(),
             st.max_iteration_count,
@@ -61,21 +61,21 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
             }
         );
     }
-    println!("toggles (--enable / --disable; tag in shader keys):");
+    say!("toggles (--enable / --disable; tag in shader keys):");
     for t in Toggle::ALL {
-        println!("  {:<26} {:<8} {}", t.name(), t.tag(), t.doc());
+        say!("  {:<26} {:<8} {}", t.name(), t.tag(), t.doc());
     }
     let mut entries = catalog();
     let clouds = cloud_catalog(&lib);
     entries.extend(clouds);
-    println!(
+    say!(
         "shaders, one per key ({} genera × {} presets = {} pairs):",
         lib.genera.len(),
         Quality::ALL.len(),
         lib.genera.len() * Quality::ALL.len()
     );
     crate::data::print_sharing(&entries);
-    println!("targets:");
+    say!("targets:");
     for t in Target::ALL {
         let what = match t {
             Target::Wgsl => "WGSL (wgpu, Bevy, WebGPU); overrides kept",
@@ -85,7 +85,7 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
             Target::Msl => "Metal Shading Language 2.1, explicit slots",
             Target::SpirV => "SPIR-V 1.0 (Vulkan)",
         };
-        println!("  {:<24} {what}", t.name());
+        say!("  {:<24} {what}", t.name());
     }
     Ok(())
 }

@@ -1,5 +1,9 @@
 //! `nimbus`: emit, check, list and benchmark the generated shaders, and render scenes.
 
+// First, so that every module below can print through its macros.
+#[macro_use]
+mod stdout;
+
 mod animate;
 mod bench;
 mod bench_frames;
@@ -296,7 +300,9 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            // Not `eprintln!`: a closed stderr must not turn an error into a panic.
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "error: {e}");
             ExitCode::FAILURE
         }
     }

@@ -20,8 +20,7 @@ use nimbus_clouds::model::resource::Resource;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{
-    BindingInfo, EmitExtras, Generated, MARKER_FILE, emit, flatten_uniform_blocks, generate,
-    print_dts, print_js,
+    BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_dts, print_js,
 };
 use nimbus_codegen::{BindingKind, TextureDimension};
 use nimbus_dsl::ShaderVariant;
@@ -142,7 +141,7 @@ pub(crate) fn run(
     engine: Engine,
     (out, overwrite): (&Path, Overwrite),
 ) -> Result<(), Box<dyn std::error::Error>> {
-    check_folder(out, MARKER_FILE, overwrite)?;
+    check_folder(out, overwrite)?;
     let resolved = match scene {
         Some(file) => crate::explain::resolved(data, file, sel)?,
         None => resolve(sel, &load(data)?)?,
@@ -162,7 +161,7 @@ pub(crate) fn run(
                 .into());
             }
             ExternalCheck::ToolMissing { tool } => {
-                println!("not checked by {tool}: it is not installed here")
+                say!("not checked by {tool}: it is not installed here")
             }
             ExternalCheck::NotApplicable => {}
         }
@@ -172,8 +171,8 @@ pub(crate) fn run(
         None => format!("naga; {}", engine.unchecked_note()),
     };
     let report = emit(&package.shaders, &package.extras, out, overwrite)?;
-    println!("validated by {validated_by}");
-    println!(
+    say!("validated by {validated_by}");
+    say!(
         "{} package: {} pass shader(s) for {} genus × preset pair(s), {} texture(s) from {}",
         engine.name(),
         package.shaders.len(),
@@ -181,7 +180,7 @@ pub(crate) fn run(
         package.texture_count,
         package.textures_from
     );
-    println!(
+    say!(
         "wrote {} files to {} (start with {PACKAGE_FILE} and README.md)",
         report.files.len(),
         report.dir.display()

@@ -432,7 +432,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
         .into());
     }
     let gpu = Gpu::new()?;
-    println!("adapter: {}", gpu.info());
+    say!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     for (kind, flag, t) in &user {
         let t = gpu.upload_texture(t).map_err(|source| CliError::Texture {
@@ -444,14 +444,14 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     if let Some(f) = formation {
         let mut sim = FormationSim::new(&gpu, f, TextureSizes::default().weather)?;
         sim.apply(&mut renderer, a.time.unwrap_or(0.0))?;
-        println!(
+        say!(
             "formation: step {} of the automaton ({} s per step)",
             sim.step().saturating_sub(1),
             f.step_seconds
         );
     }
     let variant = frame.variant();
-    println!(
+    say!(
         "variant: {}{} ({}x{}, {} frame{}{})",
         variant.name(),
         if frame.verification {
@@ -465,7 +465,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
         if frame.frames == 1 { "" } else { "s" },
         if frame.upscale { ", upscaled 1/16" } else { "" }
     );
-    println!(
+    say!(
         "shader: {}",
         nimbus_dsl::ShaderVariant::id(&nimbus_clouds::catalog::ShaderKey::Clouds(variant.key))
     );
@@ -479,9 +479,10 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     let mut progress = |done: u32, _| bar.set_position(u64::from(done));
     if frames.len() > 1 {
         for (f, w) in &frames {
-            println!(
+            say!(
                 "  blending {} (coverage {:.3}) with weight {w:.3}",
-                f.genus.name, f.genus.coverage
+                f.genus.name,
+                f.genus.coverage
             );
         }
     }
@@ -521,7 +522,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
         }
     }
     let passes: Vec<String> = passes.iter().map(|(n, c)| format!("{n} ×{c}")).collect();
-    println!(
+    say!(
         "rendered in {:.2} s (passes: {}); wrote {}",
         start.elapsed().as_secs_f64(),
         passes.join(", "),

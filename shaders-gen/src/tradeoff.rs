@@ -178,7 +178,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         repeats: a.repeats,
     };
     let gpu = Gpu::new()?;
-    println!("adapter: {}", gpu.info());
+    say!("adapter: {}", gpu.info());
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     let flat_spec = RowSpec {
         label: "high, flat high layer".into(),
@@ -285,8 +285,8 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
         &front,
     )?;
     write_file(&svg, text, overwrite, plot.as_bytes())?;
-    print!("{report}");
-    println!("wrote {} and {}", md.display(), svg.display());
+    say_part!("{report}");
+    say!("wrote {} and {}", md.display(), svg.display());
     Ok(())
 }
 
