@@ -21,6 +21,15 @@ pub enum RuntimeError {
     Dsl(#[from] nimbus_dsl::DslError),
     #[error("this adapter cannot: {0}")]
     Limit(String),
+    /// A picture (or texture) larger than the device holds, found before any work.
+    #[error("{what} needs {needs}, beyond the {allows} of this adapter ({adapter}); {way_out}")]
+    DeviceLimit {
+        what: String,
+        needs: String,
+        allows: String,
+        adapter: String,
+        way_out: String,
+    },
     #[error("cannot use texture {file}: {reason}")]
     Texture {
         file: std::path::PathBuf,

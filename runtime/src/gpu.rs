@@ -41,6 +41,27 @@ pub struct ResourceCounts {
     pub bind_groups: u64,
 }
 
+/// A hardware adapter of `instance` if there is one, else a software (fallback) one.
+async fn any_adapter(instance: &wgpu::Instance) -> Option<wgpu::Adapter> {
+    for (power_preference, force_fallback_adapter) in [
+        (wgpu::PowerPreference::HighPerformance, false),
+        (wgpu::PowerPreference::None, true),
+    ] {
+        let found = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference,
+                force_fallback_adapter,
+                compatible_surface: None,
+                ..Default::default()
+            })
+            .await;
+        if let Ok(a) = found {
+            return Some(a);
+        }
+    }
+    None
+}
+
 /// A device and queue.
 pub struct Gpu {
     device: wgpu::Device,
@@ -56,30 +77,24 @@ impl Gpu {
     }
 
     async fn new_async() -> Result<Gpu, RuntimeError> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        if std::env::var_os("WGPU_BACKEND").is_none() {
-            desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
-        }
-        let instance = wgpu::Instance::new(desc);
-        let mut adapter = instance
-            .request_adapter(&wgpu::RequestAdapterOptions {
-                power_preference: wgpu::PowerPreference::HighPerformance,
-                force_fallback_adapter: false,
-                compatible_surface: None,
-                ..Default::default()
-            })
-            .await
-            .ok();
-        if adapter.is_none() {
-            adapter = instance
-                .request_adapter(&wgpu::RequestAdapterOptions {
-                    power_preference: wgpu::PowerPreference::None,
-                    force_fallback_adapter: true,
-                    compatible_surface: None,
-                    ..Default::default()
-                })
-                .await
-                .ok();
+        // Vulkan alone first, GL only where Vulkan has no adapter: GL's EGL probes the display
+        // servers (Wayland, X11), which on a machine without a desktop session print errors of
+        // their own ("XDG_RUNTIME_DIR is invalid") on every run.
+        let choices = if std::env::var_os("WGPU_BACKEND").is_some() {
+            vec![None]
+        } else {
+            vec![Some(wgpu::Backends::VULKAN), Some(wgpu::Backends::GL)]
+        };
+        let mut adapter = None;
+        for backends in choices {
+            let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+            if let Some(b) = backends {
+                desc.backends = b;
+            }
+            adapter = any_adapter(&wgpu::Instance::new(desc)).await;
+            if adapter.is_some() {
+                break;
+            }
         }
         let adapter = adapter.ok_or(RuntimeError::NoAdapter)?;
         let ai = adapter.get_info();

@@ -7,6 +7,7 @@
 //! compute kernels (the noise textures; the parity harness of `nimbus-testkit`).
 
 pub mod density_export;
+mod device_limits;
 mod error;
 pub mod formation;
 mod gpu;

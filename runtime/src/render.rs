@@ -414,14 +414,7 @@ impl<'g> Renderer<'g> {
     }
 
     fn check_size(&self, what: &str, width: u32, height: u32) -> Result<(), RuntimeError> {
-        let max = self.gpu.device().limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(RuntimeError::Limit(format!(
-                "{what} of {width}x{height} is outside 1..={max} texels per side on {}",
-                self.gpu.info()
-            )));
-        }
-        Ok(())
+        self.gpu.check_picture(what, width, height)
     }
 
     /// Builds the pipeline of `key`, the textures and samplers its bindings name.

@@ -112,6 +112,8 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
         .into());
     }
     let count = intervals as u64 + 1;
+    // The destination first: a folder that is not Nimbus's fails now, not after the work.
+    nimbus_output::check_folder(&a.out, Overwrite::forced(a.force))?;
     let lib = crate::render::library_for(data, Some(&a.scene))?;
     let scene = load_scene(&a.scene)?;
     let genus_of = |name: &str| crate::render::genus_of(&lib, name).ok();
@@ -128,6 +130,7 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
     }
     let gpu = Gpu::new()?;
     say!("adapter: {}", gpu.info());
+    gpu.check_picture("each picture", width, height)?;
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     // Clouds forming and dissolving: the automaton advances with the pictures.
     let mut formation = match scene.formation {

@@ -49,6 +49,7 @@ pub(crate) fn run(
     let base = frame(data, args)?;
     let gpu = Gpu::new()?;
     say!("adapter: {}", gpu.info());
+    gpu.check_picture("the image", base.width, base.height)?;
     say!(
         "scene: genus {}, {}x{}, {} timed frames per row (median)",
         base.genus.name,
@@ -149,6 +150,7 @@ pub(crate) fn run_scenes(
     let lib = crate::data::load(data)?;
     let gpu = Gpu::new()?;
     say!("adapter: {}", gpu.info());
+    gpu.check_picture("the image", resolution.0, resolution.1)?;
     say!(
         "{}x{}, one full-resolution frame per render call, median of {iterations}",
         resolution.0,

@@ -121,20 +121,37 @@ fn write_examples(dir: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
+/// The private copy of the examples this run wrote (no home folder), removed when it ends.
+static PRIVATE: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+
+/// Removes the private copy of the examples this run wrote, if any: called as `main` returns.
+pub(crate) fn remove_private_examples() {
+    if let Some(dir) = PRIVATE.get() {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
 /// The embedded examples as a folder, written on first use: into a temporary folder beside
 /// it (named after this process, so a killed run's is recognised and removed), then renamed
 /// into place. A concurrent first use that renamed first wins; the other copy is dropped (the
 /// contents are the same: the name is their hash). Without a home folder, a private temporary
-/// folder is written for this run alone.
+/// folder (a random name, so no other user can plant it) is written once for this run and
+/// removed when it ends; a killed run's is removed by the next.
 fn extract_embedded() -> Result<PathBuf, CliError> {
     let Some(data) = user_data_dir() else {
+        if let Some(dir) = PRIVATE.get() {
+            return Ok(dir.clone());
+        }
+        let temp = std::env::temp_dir();
+        remove_dead_extractions(&temp, "nimbus-examples-");
         let tmp = tempfile::Builder::new()
-            .prefix("nimbus-examples-")
+            .prefix(&format!("nimbus-examples-{}-", std::process::id()))
             .tempdir()
-            .map_err(|e| io(&std::env::temp_dir(), e))?;
+            .map_err(|e| io(&temp, e))?;
         write_examples(tmp.path())?;
-        // Kept for the rest of this run; the system's temporary folder is cleaned by it.
-        return Ok(tmp.keep());
+        let dir = tmp.keep();
+        let _ = PRIVATE.set(dir.clone());
+        return Ok(dir);
     };
     let dir = data.join(format!(
         "nimbus/examples-{}-{:016x}",
@@ -146,7 +163,7 @@ fn extract_embedded() -> Result<PathBuf, CliError> {
     }
     let parent = dir.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
-    remove_dead_extractions(parent);
+    remove_dead_extractions(parent, ".nimbus-examples-");
     let tmp = parent.join(format!(".nimbus-examples-{}", std::process::id()));
     if tmp.exists() {
         std::fs::remove_dir_all(&tmp).map_err(|e| io(&tmp, e))?;
@@ -161,21 +178,26 @@ fn extract_embedded() -> Result<PathBuf, CliError> {
     moved.map(|()| dir)
 }
 
-/// Removes `.nimbus-examples-<pid>` folders of processes that are no longer running (where
-/// `/proc` tells; elsewhere they are left).
-fn remove_dead_extractions(parent: &Path) {
+/// Removes `<prefix><pid>` and `<prefix><pid>-…` folders of processes that are no longer
+/// running (where `/proc` tells; elsewhere they are left).
+fn remove_dead_extractions(parent: &Path, prefix: &str) {
     let Ok(entries) = std::fs::read_dir(parent) else {
         return;
     };
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let Some(pid) = name
-            .strip_prefix(".nimbus-examples-")
+            .strip_prefix(prefix)
+            .and_then(|p| p.split('-').next())
             .and_then(|p| p.parse::<u32>().ok())
         else {
             continue;
         };
-        if Path::new("/proc").is_dir() && !Path::new("/proc").join(pid.to_string()).exists() {
+        let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+        if is_dir
+            && Path::new("/proc").is_dir()
+            && !Path::new("/proc").join(pid.to_string()).exists()
+        {
             let _ = std::fs::remove_dir_all(e.path());
         }
     }

@@ -64,6 +64,8 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
         }
         .into());
     }
+    // The destination first: a folder that is not Nimbus's fails now, not after the work.
+    nimbus_output::check_folder(&a.out, Overwrite::forced(a.force))?;
     let dir = crate::data::data_dir(data)?;
     let lib = crate::data::load(data)?;
     let scenes_dir = dir.join("gallery");
@@ -103,6 +105,9 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
     frames.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.name.cmp(&y.1.name)));
     let gpu = Gpu::new()?;
     say!("adapter: {}", gpu.info());
+    for (_, _, f) in &frames {
+        gpu.check_picture("each picture", f.width, f.height)?;
+    }
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     let overwrite = Overwrite::forced(a.force);
     let start = Instant::now();

@@ -23,6 +23,7 @@ mod package_description;
 mod package_textures;
 mod plot;
 mod render;
+mod session;
 mod tradeoff;
 
 use std::path::PathBuf;
@@ -239,6 +240,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    session::quiet_display_probes();
     let cli = Cli::parse();
     let data = cli.data.as_deref();
     let result: Result<(), Box<dyn std::error::Error>> = match &cli.command {
@@ -297,6 +299,7 @@ fn main() -> ExitCode {
             reachable,
         } => bench::run(data, (*iterations).max(1), *reachable).map_err(Into::into),
     };
+    data_folder::remove_private_examples();
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

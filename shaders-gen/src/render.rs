@@ -433,6 +433,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     }
     let gpu = Gpu::new()?;
     say!("adapter: {}", gpu.info());
+    gpu.check_picture("the image", frame.width, frame.height)?;
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     for (kind, flag, t) in &user {
         let t = gpu.upload_texture(t).map_err(|source| CliError::Texture {

@@ -179,6 +179,7 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     };
     let gpu = Gpu::new()?;
     say!("adapter: {}", gpu.info());
+    gpu.check_picture("each view", width, height)?;
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     let flat_spec = RowSpec {
         label: "high, flat high layer".into(),
