@@ -46,7 +46,7 @@ fn vol_file_holds_the_models_extinction_at_voxel_centres() {
         max: Vec3::new(40_000.0, 2200.0, 40_000.0),
     };
     let size = [12u32, 6, 10];
-    let grid = density_grid(&f, region, size, 1, &t).expect("grid");
+    let grid = density_grid(&f, region, size, 1, &t, &|| {}).expect("grid");
     let dir = tempfile::tempdir().expect("tmp");
     let path = dir.path().join("clouds.vol");
     grid.save_mitsuba_vol(&path, nimbus_output::Overwrite::OwnOnly)
@@ -134,7 +134,7 @@ fn bad_regions_are_refused_naming_the_field() {
         ),
     ];
     for filter in [0, 9] {
-        match density_grid(&f, ok, [4, 4, 4], filter, &t) {
+        match density_grid(&f, ok, [4, 4, 4], filter, &t, &|| {}) {
             Err(RuntimeError::Region {
                 field: "filter", ..
             }) => {}
@@ -142,7 +142,7 @@ fn bad_regions_are_refused_naming_the_field() {
         }
     }
     for (region, size, field) in cases {
-        match density_grid(&f, region, size, 1, &t) {
+        match density_grid(&f, region, size, 1, &t, &|| {}) {
             Err(e @ RuntimeError::Region { field: f, .. }) => {
                 assert_eq!(f, field, "{e}");
                 println!("refused: {e}");
@@ -164,8 +164,8 @@ fn box_filtered_voxels_average_the_density_over_the_voxel() {
         max: Vec3::new(3_000.0, 2100.0, 3_000.0),
     };
     let size = [10u32, 4, 8];
-    let filtered = density_grid(&f, region, size, 3, &t).expect("grid");
-    let point = density_grid(&f, region, size, 1, &t).expect("grid");
+    let filtered = density_grid(&f, region, size, 3, &t, &|| {}).expect("grid");
+    let point = density_grid(&f, region, size, 1, &t, &|| {}).expect("grid");
     let u = Renderer::uniforms(&f);
     let key = f.variant().key;
     let sigma = u.light.scattering_coefficient + u.light.absorption_coefficient;

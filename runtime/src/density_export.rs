@@ -94,28 +94,26 @@ pub fn generate_cpu_textures(sizes: TextureSizes) -> CloudTextures {
     }
 }
 
-/// The density of `frame`'s clouds over `region`, each voxel the average of `filter`³ samples
-/// spread evenly over it (a box filter: `filter = 1` is the voxel centre alone, which aliases
-/// shapes smaller than a voxel). The slabs of the grid are shared among the CPU's threads.
-pub fn density_grid(
-    frame: &Frame,
-    region: Region,
-    size: [u32; 3],
-    filter: u32,
-    textures: &CloudTextures,
-) -> Result<DensityGrid, RuntimeError> {
-    frame.validate()?;
+/// The most voxels per axis of a grid.
+pub const MAX_VOXELS_PER_AXIS: u32 = 1024;
+
+/// The most samples per axis of a voxel's box filter.
+pub const MAX_FILTER: u32 = 8;
+
+/// Checks a grid's region, voxels per axis and filter before any work; the error names the
+/// flag-like field and the accepted range.
+pub fn check_grid(region: Region, size: [u32; 3], filter: u32) -> Result<(), RuntimeError> {
     let bad = |field, reason| RuntimeError::Region { field, reason };
-    if size.iter().any(|n| *n == 0 || *n > 1024) {
+    if size.iter().any(|n| *n == 0 || *n > MAX_VOXELS_PER_AXIS) {
         return Err(bad(
             "resolution",
-            format!("{size:?} must be 1..=1024 voxels per axis"),
+            format!("{size:?} must be 1..={MAX_VOXELS_PER_AXIS} voxels per axis"),
         ));
     }
-    if !(1..=8).contains(&filter) {
+    if !(1..=MAX_FILTER).contains(&filter) {
         return Err(bad(
             "filter",
-            format!("{filter} samples per axis must be 1..=8"),
+            format!("{filter} samples per axis must be 1..={MAX_FILTER}"),
         ));
     }
     if !(region.min.is_finite() && region.max.is_finite()) || region.min.cmpge(region.max).any() {
@@ -133,6 +131,28 @@ pub fn density_grid(
             format!("starts {} m below the ground", -region.min.y),
         ));
     }
+    Ok(())
+}
+
+/// Density samples a grid of `size` voxels filtered by `filter`³ takes: the work to estimate.
+pub fn grid_samples(size: [u32; 3], filter: u32) -> u64 {
+    size.iter().map(|n| u64::from(*n)).product::<u64>() * u64::from(filter).pow(3)
+}
+
+/// The density of `frame`'s clouds over `region`, each voxel the average of `filter`³ samples
+/// spread evenly over it (a box filter: `filter = 1` is the voxel centre alone, which aliases
+/// shapes smaller than a voxel). The slabs of the grid are shared among the CPU's threads;
+/// `slab_done` hears of each of the `size[2]` slabs finished (for a progress bar).
+pub fn density_grid(
+    frame: &Frame,
+    region: Region,
+    size: [u32; 3],
+    filter: u32,
+    textures: &CloudTextures,
+    slab_done: &(dyn Fn() + Sync),
+) -> Result<DensityGrid, RuntimeError> {
+    frame.validate()?;
+    check_grid(region, size, filter)?;
     let u = Renderer::uniforms(frame);
     let key = frame.variant().key;
     let extent = region.max - region.min;
@@ -172,7 +192,11 @@ pub fn density_grid(
                 s.spawn(move || {
                     (t..nz)
                         .step_by(threads as usize)
-                        .map(|z| (z, slab(z)))
+                        .map(|z| {
+                            let values = slab(z);
+                            slab_done();
+                            (z, values)
+                        })
                         .collect::<Vec<_>>()
                 })
             })

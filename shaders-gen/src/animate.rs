@@ -7,15 +7,14 @@ use std::time::Instant;
 
 use clap::Args;
 use nimbus_clouds::limits::{self, Origin};
-use nimbus_clouds::load_scene;
 use nimbus_output::{Overwrite, replace_folder};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::formation::FormationSim;
 use nimbus_runtime::render::{Renderer, TextureSizes};
-use nimbus_runtime::scene_time::frames_at;
 use serde_json::json;
 
 use crate::error::CliError;
+use crate::scene_input::SceneInput;
 
 /// The index of the output folder.
 const INDEX: &str = "animation.json";
@@ -114,17 +113,17 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
     let count = intervals as u64 + 1;
     // The destination first: a folder that is not Nimbus's fails now, not after the work.
     nimbus_output::check_folder(&a.out, Overwrite::forced(a.force))?;
-    let lib = crate::render::library_for(data, Some(&a.scene))?;
-    let scene = load_scene(&a.scene)?;
-    let genus_of = |name: &str| crate::render::genus_of(&lib, name).ok();
+    let input = SceneInput::load(data, &a.scene, None)?;
     // Every picture's frames are built (and checked) before any GPU work.
     let mut pictures = Vec::with_capacity(count as usize);
     for k in 0..count {
         let t = a.from + k as f64 * step;
-        let mut frames = frames_at(&scene, &genus_of, t, width, height)?;
-        for (f, _) in &mut frames {
+        let mut frames = Vec::new();
+        for state in input.at(t)? {
+            let mut f = state.frame(width, height);
             f.frames = a.frames;
             f.validate()?;
+            frames.push((f, state.weight));
         }
         pictures.push((t, frames));
     }
@@ -133,7 +132,7 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
     gpu.check_picture("each picture", width, height)?;
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     // Clouds forming and dissolving: the automaton advances with the pictures.
-    let mut formation = match scene.formation {
+    let mut formation = match input.scene.formation {
         Some(f) => Some(FormationSim::new(&gpu, f, TextureSizes::default().weather)?),
         None => None,
     };

@@ -14,13 +14,13 @@ pub(crate) const KEYS_FILE: &str = "nimbus-keys.json";
 pub(crate) fn run(
     data: Option<&Path>,
     sel: &Selection<'_>,
-    scene: Option<&Path>,
+    scene: Option<(&Path, f64)>,
     targets: &[Target],
     (out, overwrite): (&Path, Overwrite),
 ) -> Result<(), Box<dyn std::error::Error>> {
     check_folder(out, overwrite)?;
     let resolved = match scene {
-        Some(file) => crate::explain::resolved(data, file, sel)?,
+        Some((file, seconds)) => crate::explain::resolved(data, file, sel, seconds)?,
         None => resolve(sel, &load(data)?)?,
     };
     let Resolved { entries, table, .. } = &resolved;

@@ -68,6 +68,15 @@ pub(crate) enum CliError {
     #[error("the package's noise textures could not be made: {0}")]
     Textures(String),
 
+    /// A value that is well-formed but not accepted here: what gave it, the value, and what
+    /// would be.
+    #[error("{what}: {given}; {accepted}")]
+    Refused {
+        what: &'static str,
+        given: String,
+        accepted: String,
+    },
+
     #[error("unknown {kind} `{given}`; known: {known}")]
     Unknown {
         kind: &'static str,

@@ -3,57 +3,62 @@
 use std::path::Path;
 
 use nimbus_clouds::catalog::{Assignment, assign, distinct};
+use nimbus_clouds::limits::{self, Origin};
 use nimbus_clouds::model::clouds::CloudVariant;
-use nimbus_clouds::{Analysis, CloudLibrary, ScenePreset, analyse, load_scene};
+use nimbus_clouds::{Analysis, analyse};
+use nimbus_runtime::render::Frame;
 
 use nimbus_dsl::ShaderVariant;
 
-use crate::render::{library_for, scene_genus};
+use crate::scene_input::{SceneInput, SceneState};
 
-/// The scene file, its genus and the derived variant.
+/// The scene at `seconds` (one state, or two while one genus gives way to another), each with
+/// its derived variant and the analysis that chose it.
 pub(crate) fn derive(
     data: Option<&Path>,
     scene_file: &Path,
-) -> Result<(ScenePreset, CloudVariant, Analysis), Box<dyn std::error::Error>> {
-    let lib: CloudLibrary = library_for(data, Some(scene_file))?;
-    let scene = load_scene(scene_file)?;
-    let mut genus = scene_genus(&lib, scene_file, &scene)?;
-    if let Some(c) = scene.coverage {
-        genus.coverage = c;
+    seconds: f64,
+) -> Result<Vec<(SceneState, CloudVariant, Analysis)>, Box<dyn std::error::Error>> {
+    limits::TIME.check(seconds, Origin::Flag(limits::TIME.flag))?;
+    let input = SceneInput::load(data, scene_file, None)?;
+    let mut out = Vec::new();
+    for state in input.at(seconds)? {
+        let analysis = analyse(&state.scene, &state.genus);
+        let variant = CloudVariant::new(&state.genus, state.scene.quality, analysis.features);
+        out.push((state, variant, analysis));
     }
-    let analysis = analyse(&scene, &genus);
-    let variant = CloudVariant::new(&genus, scene.quality, analysis.features);
-    Ok((scene, variant, analysis))
+    Ok(out)
 }
 
-/// The shaders of the scene's derived key, for `emit --scene`.
-/// The pair a scene derives, with `--enable`/`--disable` applied over the analysis (an engine
-/// integration such as `scene-depth` is the host's choice, not the scene's).
+/// The pairs a scene derives at `seconds` (one, or two while one genus gives way to another),
+/// with `--enable`/`--disable` applied over the analysis (an engine integration such as
+/// `scene-depth` is the host's choice, not the scene's), for `emit --scene`.
 pub(crate) fn resolved(
     data: Option<&Path>,
     scene_file: &Path,
     sel: &crate::data::Selection<'_>,
+    seconds: f64,
 ) -> Result<crate::data::Resolved, Box<dyn std::error::Error>> {
-    let lib: CloudLibrary = library_for(data, Some(scene_file))?;
-    let scene = load_scene(scene_file)?;
-    let mut genus = scene_genus(&lib, scene_file, &scene)?;
-    if let Some(c) = scene.coverage {
-        genus.coverage = c;
+    let mut table: Vec<Assignment> = Vec::new();
+    let mut uniforms = Vec::new();
+    for (state, _, analysis) in derive(data, scene_file, seconds)? {
+        let mut features = analysis.features;
+        for t in sel.enable {
+            t.set(&mut features, true);
+        }
+        for t in sel.disable {
+            t.set(&mut features, false);
+        }
+        table.push(assign(&state.genus, state.scene.quality, features));
+        // The scene's own sun, camera, weather offset and haze at that time, as `render` sets
+        // them up.
+        let mut frame = Frame::from_scene(&state.scene, &state.genus, 640, 360);
+        frame.wind = state.drift;
+        uniforms.push(nimbus_runtime::render::Renderer::uniforms(&frame));
     }
-    let mut features = analyse(&scene, &genus).features;
-    for t in sel.enable {
-        t.set(&mut features, true);
-    }
-    for t in sel.disable {
-        t.set(&mut features, false);
-    }
-    let table: Vec<Assignment> = vec![assign(&genus, scene.quality, features)];
     Ok(crate::data::Resolved {
         entries: distinct(&table),
-        // The scene's own sun, camera, weather offset and haze, as `render` sets them up.
-        uniforms: vec![nimbus_runtime::render::Renderer::uniforms(
-            &nimbus_runtime::render::Frame::from_scene(&scene, &genus, 640, 360),
-        )],
+        uniforms,
         table,
     })
 }
@@ -61,16 +66,51 @@ pub(crate) fn resolved(
 pub(crate) fn run(
     data: Option<&Path>,
     scene_file: &Path,
+    seconds: f64,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let (scene, variant, analysis) = derive(data, scene_file)?;
+    let states = derive(data, scene_file, seconds)?;
+    for (i, (state, variant, analysis)) in states.iter().enumerate() {
+        if i > 0 {
+            say!();
+        }
+        explain_state(
+            scene_file,
+            seconds,
+            states.len() > 1,
+            state,
+            variant,
+            analysis,
+        );
+    }
+    Ok(())
+}
+
+/// One state of the scene: its decisions, variant and shaders.
+fn explain_state(
+    scene_file: &Path,
+    seconds: f64,
+    blended: bool,
+    state: &SceneState,
+    variant: &CloudVariant,
+    analysis: &Analysis,
+) {
+    let scene = &state.scene;
     say!(
-        "scene {} ({}): genus `{}`, quality `{}`, sun {}°, camera {} m",
+        "scene {} ({}) at second {seconds}: genus `{}` (coverage {:.3}), quality `{}`, sun {:.1}° \
+         at {:.1}°, camera {} m{}",
         scene.name,
         scene_file.display(),
         scene.genus,
+        state.genus.coverage,
         scene.quality.name(),
         scene.sun_elevation_deg,
-        scene.camera_altitude
+        scene.sun_azimuth_deg,
+        scene.camera_altitude,
+        if blended {
+            format!(", weight {:.3} of the blend", state.weight)
+        } else {
+            String::new()
+        }
     );
     say!();
     for d in &analysis.decisions {
@@ -142,5 +182,4 @@ pub(crate) fn run(
             nimbus_clouds::catalog::ShaderKey::Shadow(k).id()
         );
     }
-    Ok(())
 }

@@ -7,10 +7,17 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::Vec3;
+use indicatif::{ProgressBar, ProgressStyle};
 use nimbus_output::{Overwrite, Signature, TEXT_MARKER, check_file, write_file};
-use nimbus_runtime::density_export::{Region, density_grid, generate_cpu_textures};
+use nimbus_runtime::RuntimeError;
+use nimbus_runtime::density_export::{
+    MAX_VOXELS_PER_AXIS, Region, check_grid, density_grid, generate_cpu_textures, grid_samples,
+};
 use nimbus_runtime::mitsuba_scene::{mitsuba_scene_xml, phase_table};
 use nimbus_runtime::render::{Frame, TextureSizes};
+
+use crate::error::CliError;
+use crate::scene_input::SceneInput;
 
 /// What `nimbus export-density` takes.
 #[derive(Args)]
@@ -113,17 +120,18 @@ pub(crate) fn run(
         Some(f) => f.clone(),
         None => crate::data::data_dir(data)?.join("scenes/default.toml"),
     };
-    let lib = crate::render::library_for(data, Some(&file))?;
-    let scene = nimbus_clouds::load_scene(&file)?;
-    let genus = crate::render::scene_genus(&lib, &file, &scene)?;
-    let mut frame = Frame::from_scene(&scene, &genus, 640, 360);
+    // Every flag and both outputs are checked before any work (the noise textures alone take
+    // seconds), each error naming its flag.
+    if !(a.reach.is_finite() && a.reach > 0.0 && a.reach <= 1e6) {
+        return Err(format!("--reach: {} m must be in (0, 1e6]", a.reach).into());
+    }
+    let state = SceneInput::load(data, &file, None)?.single_at(0.0, "export-density")?;
+    let genus = &state.genus;
+    let mut frame = state.frame(640, 360);
     // The density does not depend on the lighting; the scene file for Mitsuba is the
     // single-scattering model Nimbus's verification mode renders.
     frame.verification = true;
     frame.features.octaves = 1;
-    if !(a.reach.is_finite() && a.reach > 0.0 && a.reach <= 1e6) {
-        return Err(format!("--reach: {} m must be in (0, 1e6]", a.reach).into());
-    }
     let layers = genus.layers.iter().filter(|l| l.is_enabled());
     let bottom = layers.clone().map(|l| l.altitude).fold(f32::MAX, f32::min);
     let top = layers.map(|l| l.altitude + l.height).fold(0.0, f32::max);
@@ -141,31 +149,50 @@ pub(crate) fn run(
         },
         None => view_region(&frame, bottom.min(top), top, a.reach),
     };
-    let textures = generate_cpu_textures(TextureSizes::default());
-    let size = match &a.size {
-        Some(s) if s.len() != 3 => {
-            return Err(format!("--size takes NX,NY,NZ (3 numbers), got {}", s.len()).into());
-        }
-        Some(s) => [s[0], s[1], s[2]],
-        None => {
-            let extent = region.max - region.min;
-            let edge = match a.voxel {
-                Some(v) if !(v.is_finite() && v >= 0.1) => {
-                    return Err(format!("--voxel: {v} m must be at least 0.1").into());
-                }
-                Some(v) => v,
-                None => (26.0f32).max(extent.max_element() / 256.0),
-            };
-            let n = |e: f32| ((e / edge).ceil() as u32).clamp(1, 1024);
-            [n(extent.x), n(extent.y), n(extent.z)]
-        }
-    };
+    flagged(check_grid(region, [1, 1, 1], 1))?;
+    let size = grid_size(a, region)?;
+    flagged(check_grid(region, size, a.filter))?;
     let overwrite = Overwrite::forced(a.force);
-    check_file(&a.out, Signature::Unsigned, overwrite)?;
-    if let Some(x) = &a.mitsuba {
-        check_file(x, Signature::FirstLine(TEXT_MARKER), overwrite)?;
+    check_outputs(a, overwrite)?;
+    // The work, estimated before it starts: an absurd one is refused unless forced.
+    let samples = grid_samples(size, a.filter);
+    let estimate = samples as f64 / SAMPLES_PER_SECOND_PER_CORE / cores() as f64;
+    say!(
+        "{}x{}x{} voxels × {}³ samples = {samples} density samples: about {} on {} core(s)",
+        size[0],
+        size[1],
+        size[2],
+        a.filter,
+        duration(estimate),
+        cores()
+    );
+    if samples > MAX_SAMPLES && !a.force {
+        return Err(CliError::Refused {
+            what: "export size",
+            given: format!(
+                "{samples} density samples ({}x{}x{} voxels × {}³), about {} here",
+                size[0],
+                size[1],
+                size[2],
+                a.filter,
+                duration(estimate)
+            ),
+            accepted: format!(
+                "at most {MAX_SAMPLES} without --force: lower --size or --filter, raise --voxel, \
+                 or pass --force to run it anyway"
+            ),
+        }
+        .into());
     }
-    let grid = density_grid(&frame, region, size, a.filter, &textures)?;
+    let textures = generate_cpu_textures(TextureSizes::default());
+    let bar = ProgressBar::new(u64::from(size[2]));
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} slabs  {elapsed} (eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let grid = density_grid(&frame, region, size, a.filter, &textures, &|| bar.inc(1));
+    bar.finish_and_clear();
+    let grid = grid?;
     grid.save_mitsuba_vol(&a.out, overwrite)?;
     let max = grid.values.iter().copied().fold(0.0f32, f32::max);
     let mean = grid.values.iter().map(|v| f64::from(*v)).sum::<f64>() / grid.values.len() as f64;
@@ -222,6 +249,121 @@ pub(crate) fn run(
         ),
     }
     Ok(())
+}
+
+/// Density samples one core evaluates per second here (debug builds are slower), for the
+/// estimate printed before the work: the order of magnitude, not a promise.
+const SAMPLES_PER_SECOND_PER_CORE: f64 = 1.0e6;
+
+/// The most density samples an export takes without `--force` (about half an hour at the
+/// rate above on 2 cores).
+const MAX_SAMPLES: u64 = 4_000_000_000;
+
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Seconds for people: `40 s`, `12 min`, `80 h`.
+fn duration(seconds: f64) -> String {
+    if seconds < 90.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 5400.0 {
+        format!("{:.0} min", seconds / 60.0)
+    } else {
+        format!("{:.0} h", seconds / 3600.0)
+    }
+}
+
+/// A grid check's error, named by the flag that set the value.
+fn flagged(checked: Result<(), RuntimeError>) -> Result<(), CliError> {
+    checked.map_err(|e| match e {
+        RuntimeError::Region { field, reason } => CliError::Refused {
+            what: match field {
+                "resolution" => "--size (voxels per axis)",
+                "filter" => "--filter",
+                _ => "--region",
+            },
+            given: reason,
+            accepted: "see `nimbus export-density --help`".into(),
+        },
+        other => CliError::Texture {
+            flag: "export-density",
+            source: Box::new(other),
+        },
+    })
+}
+
+/// Voxels per axis: `--size`, or voxels of `--voxel` metres (26 m by default, coarser where the
+/// region would need more than 256 per axis). A `--voxel` that would need more than the grid
+/// holds is refused, not clamped.
+fn grid_size(a: &ExportDensityArgs, region: Region) -> Result<[u32; 3], CliError> {
+    let bad = |what, given: String, accepted: String| CliError::Refused {
+        what,
+        given,
+        accepted,
+    };
+    if let Some(s) = &a.size {
+        return match s.as_slice() {
+            [x, y, z] => Ok([*x, *y, *z]),
+            _ => Err(bad(
+                "--size",
+                format!("{} numbers", s.len()),
+                "NX,NY,NZ (3 numbers)".into(),
+            )),
+        };
+    }
+    let extent = region.max - region.min;
+    let edge = match a.voxel {
+        Some(v) if !(v.is_finite() && v >= 0.1) => {
+            return Err(bad("--voxel", format!("{v} m"), "at least 0.1 m".into()));
+        }
+        Some(v) => v,
+        None => (26.0f32).max(extent.max_element() / 256.0),
+    };
+    let needed = |e: f32| (f64::from(e) / f64::from(edge)).ceil().max(1.0);
+    let most = needed(extent.max_element());
+    if most > f64::from(MAX_VOXELS_PER_AXIS) {
+        return Err(bad(
+            "--voxel",
+            format!(
+                "{edge} m over a region {:.0} m across needs {most} voxels along it",
+                extent.max_element()
+            ),
+            format!(
+                "at most {MAX_VOXELS_PER_AXIS} per axis: a --voxel of at least {:.1} m, or a \
+                 smaller --region",
+                extent.max_element() / MAX_VOXELS_PER_AXIS as f32
+            ),
+        ));
+    }
+    Ok([needed(extent.x), needed(extent.y), needed(extent.z)].map(|n| n as u32))
+}
+
+/// Both outputs, before any work: writable, not someone else's, and not the same file.
+fn check_outputs(a: &ExportDensityArgs, overwrite: Overwrite) -> Result<(), CliError> {
+    check_file(&a.out, Signature::Unsigned, overwrite)?;
+    if let Some(x) = &a.mitsuba {
+        if same_file(x, &a.out) {
+            return Err(CliError::Refused {
+                what: "--mitsuba",
+                given: format!("{} is the same file as -o", x.display()),
+                accepted: "another file than the volume's: the scene is XML, the volume binary \
+                        (e.g. -o clouds.vol --mitsuba clouds.xml)"
+                    .into(),
+            });
+        }
+        check_file(x, Signature::FirstLine(TEXT_MARKER), overwrite)?;
+    }
+    Ok(())
+}
+
+/// Whether two paths name one file (the same path, or one existing file by two names).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    if absolute(a) == absolute(b) {
+        return true;
+    }
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
 }
 
 /// The volume's path as the scene file should name it: relative to the scene's folder when

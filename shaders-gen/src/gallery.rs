@@ -8,12 +8,12 @@ use std::time::Instant;
 
 use clap::Args;
 use nimbus_clouds::limits::{self, Origin};
-use nimbus_clouds::{ScenePreset, load_scene};
 use nimbus_output::{Overwrite, replace_folder};
 use nimbus_runtime::Gpu;
-use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+use nimbus_runtime::render::{Renderer, TextureSizes};
 
 use crate::error::CliError;
+use crate::scene_input::{SceneInput, SceneState};
 
 /// The index of the gallery folder (a Markdown grid of the pictures).
 const INDEX: &str = "gallery.md";
@@ -69,7 +69,7 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
     let dir = crate::data::data_dir(data)?;
     let lib = crate::data::load(data)?;
     let scenes_dir = dir.join("gallery");
-    let mut scenes: Vec<(PathBuf, ScenePreset)> = Vec::new();
+    let mut scenes: Vec<(PathBuf, SceneState)> = Vec::new();
     let entries = std::fs::read_dir(&scenes_dir).map_err(|e| CliError::Unknown {
         kind: "gallery folder",
         given: format!("{} ({e})", scenes_dir.display()),
@@ -78,8 +78,8 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
     for entry in entries.flatten() {
         let path = entry.path();
         if path.extension().is_some_and(|e| e == "toml") {
-            let scene = load_scene(&path)?;
-            scenes.push((path, scene));
+            let state = SceneInput::load_with(&lib, &path, None)?.single_at(0.0, "gallery")?;
+            scenes.push((path, state));
         }
     }
     if scenes.is_empty() {
@@ -92,15 +92,15 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
     }
     // Lowest clouds first, as the cloud atlases order the genera.
     let mut frames = Vec::new();
-    for (path, scene) in &scenes {
-        let genus = crate::render::scene_genus(&lib, path, scene)?;
-        let mut frame = Frame::from_scene(scene, &genus, width, height);
+    for (_, state) in &scenes {
+        let mut frame = state.frame(width, height);
         frame.frames = a.frames;
         frame.validate()?;
-        let base = genus
+        let base = state
+            .genus
             .altitude_range()
             .map_or(f32::MAX, |(bottom, _)| bottom);
-        frames.push((base, scene, frame));
+        frames.push((base, &state.scene, frame));
     }
     frames.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.name.cmp(&y.1.name)));
     let gpu = Gpu::new()?;

@@ -16,6 +16,7 @@ mod engine;
 mod error;
 mod explain;
 mod export_density;
+mod formation_progress;
 mod gallery;
 mod list;
 mod package;
@@ -23,6 +24,7 @@ mod package_description;
 mod package_textures;
 mod plot;
 mod render;
+mod scene_input;
 mod session;
 mod tradeoff;
 
@@ -49,8 +51,8 @@ struct Cli {
 /// Which variants: a catalogue name, or a genus with a quality and toggles.
 #[derive(Args)]
 struct VariantArgs {
-    /// `preview`, `preview/hg`, `clouds`, `clouds/cumulus.high` (see `nimbus list`); every
-    /// variant when omitted.
+    /// A family (`preview`, `clouds`, `shadow`, ...) or one shader by its id (`preview-hg`,
+    /// `clouds-detail-haze-...`), as `nimbus list` prints them; every variant when omitted.
     name: Option<String>,
     /// A cloud genus (a file in genera/); with no --quality, every quality preset.
     #[arg(short, long)]
@@ -139,6 +141,15 @@ enum Command {
         /// Emit the variant a scene file derives (see `explain`) with its shadow pass.
         #[arg(long, conflicts_with_all = ["name", "genus", "quality"])]
         scene: Option<PathBuf>,
+        /// Second of the scene's timeline whose variant to emit (its clock's sun, its weather):
+        /// as `render --time` and `explain --time` take it.
+        #[arg(
+            long,
+            requires = "scene",
+            default_value_t = 0.0,
+            allow_hyphen_values = true
+        )]
+        time: f64,
         /// Comma-separated targets, or all.
         #[arg(
             short,
@@ -212,6 +223,10 @@ enum Command {
     Explain {
         /// Scene file (TOML).
         scene: PathBuf,
+        /// Second of the scene's timeline (its clock's sun, its weather), as `render --time`
+        /// takes it.
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        time: f64,
     },
     /// List genera, scene presets, quality presets, toggles, the distinct shaders (one per
     /// key) with the genus × preset pairs that share each, and targets.
@@ -247,6 +262,7 @@ fn main() -> ExitCode {
         Command::Emit {
             variants,
             scene,
+            time,
             targets: _,
             engine: Some(engine),
             out,
@@ -254,13 +270,14 @@ fn main() -> ExitCode {
         } => package::run(
             data,
             &variants.selection(),
-            scene.as_deref(),
+            scene.as_deref().map(|s| (s, *time)),
             *engine,
             (out, Overwrite::forced(*force)),
         ),
         Command::Emit {
             variants,
             scene,
+            time,
             targets,
             engine: None,
             out,
@@ -268,7 +285,7 @@ fn main() -> ExitCode {
         } => emit::run(
             data,
             &variants.selection(),
-            scene.as_deref(),
+            scene.as_deref().map(|s| (s, *time)),
             &TargetChoice::resolve(targets),
             (out, Overwrite::forced(*force)),
         ),
@@ -291,7 +308,7 @@ fn main() -> ExitCode {
             .and_then(|r| bench_frames::run_scenes(data, r, (*iterations).max(1))),
         Command::Tradeoff(args) => tradeoff::run(data, args),
         Command::ExportDensity(args) => export_density::run(data, args),
-        Command::Explain { scene } => explain::run(data, scene),
+        Command::Explain { scene, time } => explain::run(data, scene, *time),
         Command::List => list::run(data).map_err(Into::into),
         Command::Diff { old, new, quiet } => diff::run(old, new, *quiet),
         Command::Bench {

@@ -137,13 +137,13 @@ const HDR_FORMAT: &str = "rgba16float";
 pub(crate) fn run(
     data: Option<&Path>,
     sel: &Selection<'_>,
-    scene: Option<&Path>,
+    scene: Option<(&Path, f64)>,
     engine: Engine,
     (out, overwrite): (&Path, Overwrite),
 ) -> Result<(), Box<dyn std::error::Error>> {
     check_folder(out, overwrite)?;
     let resolved = match scene {
-        Some(file) => crate::explain::resolved(data, file, sel)?,
+        Some((file, seconds)) => crate::explain::resolved(data, file, sel, seconds)?,
         None => resolve(sel, &load(data)?)?,
     };
     let package = build(&resolved, engine)?;

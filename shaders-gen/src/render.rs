@@ -8,9 +8,7 @@ use crate::error::CliError;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use nimbus_clouds::limits::{self, Limit, Origin};
-use nimbus_clouds::{
-    CloudLibrary, Features, Genus, Quality, ScenePreset, analyse, load_genus, load_scene,
-};
+use nimbus_clouds::{Features, Genus, Quality, ScenePreset, analyse, load_scene};
 use nimbus_output::{Overwrite, Signature, check_file};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::formation::FormationSim;
@@ -19,6 +17,7 @@ use nimbus_runtime::textures::NoiseKind;
 use nimbus_runtime::user_textures::DecodedTexture;
 
 use crate::data;
+use crate::scene_input::SceneInput;
 
 /// What `nimbus render` takes.
 #[derive(Args)]
@@ -113,18 +112,55 @@ pub(crate) enum ImageFormat {
 }
 
 impl ImageFormat {
-    /// The format `--format` names, else the one `out`'s extension implies.
-    fn of(flag: Option<ImageFormat>, out: &Path) -> ImageFormat {
-        flag.unwrap_or_else(|| {
-            let exr = out
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-            if exr {
-                ImageFormat::Exr
-            } else {
-                ImageFormat::Png
+    /// The extension a file of this format carries.
+    fn extension(self) -> &'static str {
+        match self {
+            ImageFormat::Png => "png",
+            ImageFormat::Exr => "exr",
+        }
+    }
+
+    /// The format `--format` names, else the one `out`'s extension implies (PNG for a name
+    /// without one). A name with another format's extension is refused: the bytes would not
+    /// be what the name says (PNG bytes in `out.jpg`, an EXR in `out.png`).
+    fn of(flag: Option<ImageFormat>, out: &Path) -> Result<ImageFormat, CliError> {
+        let ext = out
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let implied = match ext.as_deref() {
+            None => None,
+            Some("png") => Some(ImageFormat::Png),
+            Some("exr") => Some(ImageFormat::Exr),
+            Some(other) => {
+                return Err(CliError::Refused {
+                    what: "--out",
+                    given: format!("{} names a .{other} file", out.display()),
+                    accepted: format!(
+                        "Nimbus writes PNG (.png) or OpenEXR (.exr): name it {}",
+                        out.with_extension(flag.unwrap_or(ImageFormat::Png).extension())
+                            .display()
+                    ),
+                });
             }
-        })
+        };
+        match (flag, implied) {
+            (Some(f), Some(i)) if f != i => Err(CliError::Refused {
+                what: "--format",
+                given: format!(
+                    "{} writes {}, but -o {} names a .{} file",
+                    f.extension(),
+                    f.extension().to_uppercase(),
+                    out.display(),
+                    i.extension()
+                ),
+                accepted: format!(
+                    "name it {}, or drop --format",
+                    out.with_extension(f.extension()).display()
+                ),
+            }),
+            (Some(f), _) => Ok(f),
+            (None, i) => Ok(i.unwrap_or(ImageFormat::Png)),
+        }
     }
 }
 
@@ -194,55 +230,6 @@ fn user_textures(
     Ok(out)
 }
 
-/// The library a scene's genus names refer to: `--data`, else `$NIMBUS_DATA`, else the folder
-/// above the scene's `scenes/` when it has `genera/`, else the repository's examples.
-pub(crate) fn library_for(
-    data: Option<&Path>,
-    scene: Option<&Path>,
-) -> Result<CloudLibrary, CliError> {
-    if data.is_none() && std::env::var_os("NIMBUS_DATA").is_none() {
-        let beside = scene
-            .and_then(Path::parent)
-            .and_then(Path::parent)
-            .filter(|d| d.join("genera").is_dir());
-        if let Some(dir) = beside {
-            return data::load_dir(dir);
-        }
-    }
-    data::load(data)
-}
-
-pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CliError> {
-    if name.ends_with(".toml") || name.contains('/') {
-        return Ok(load_genus(Path::new(name))?);
-    }
-    if let Some(g) = lib.genus(name) {
-        return Ok(g.clone());
-    }
-    if let Some(problem) = lib.problem_of(name) {
-        return Err(problem.clone().into());
-    }
-    Err(CliError::Unknown {
-        kind: "genus",
-        given: name.to_string(),
-        known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
-    })
-}
-
-/// The genus a scene file names: a library name (an unknown one is an error naming the scene
-/// file, or the genus file's own error when that failed to load), or a genus file's path.
-pub(crate) fn scene_genus(
-    lib: &CloudLibrary,
-    scene_file: &Path,
-    scene: &ScenePreset,
-) -> Result<Genus, CliError> {
-    let name = scene.genus.as_str();
-    if name.ends_with(".toml") || name.contains('/') {
-        return Ok(load_genus(Path::new(name))?);
-    }
-    Ok(lib.require_genus(scene_file, name)?.clone())
-}
-
 /// The scene's derived features (see `nimbus explain`), with what the flags changed in the
 /// scene taken into account, then the flags' own toggles on top.
 fn derive_features(
@@ -297,31 +284,16 @@ pub(crate) fn frames(
     data: Option<&Path>,
     a: &RenderArgs,
 ) -> Result<Vec<(Frame, f32)>, Box<dyn std::error::Error>> {
-    let lib = library_for(data, a.scene.as_deref())?;
-    let scene_file = scene_file(data, a)?;
-    let scene = load_scene(&scene_file)?;
+    let input = SceneInput::load(data, &scene_file(data, a)?, a.genus.as_deref())?;
     // A scene without a timeline is the same at every time; one with a clock, wind or weather
     // states starts at second 0.
     let seconds = a.time.unwrap_or(0.0);
     limits::TIME.check(seconds, Origin::Flag(limits::TIME.flag))?;
-    // A genus' own coverage where the scene or a state gives none: `--genus` stands in for the
-    // scene's genus; a genus named by path (a genus file) has its own too.
-    let coverage = |name: &str| {
-        let name = match a.genus.as_deref() {
-            Some(flagged) if name == scene.genus => flagged,
-            _ => name,
-        };
-        genus_of(&lib, name).map_or(0.0, |g| g.coverage)
-    };
     let mut out = Vec::new();
-    for (s, drift, weight) in nimbus_runtime::scene_time::scenes_at(&scene, &coverage, seconds) {
-        let genus = match a.genus.as_deref() {
-            Some(name) => genus_of(&lib, name)?,
-            None => scene_genus(&lib, &scene_file, &s)?,
-        };
-        let mut f = frame_of(a, &scene_file, s, genus)?;
-        f.wind = drift;
-        out.push((f, weight));
+    for state in input.at(seconds)? {
+        let mut f = frame_of(a, &input.file, state.scene, state.genus)?;
+        f.wind = state.drift;
+        out.push((f, state.weight));
     }
     Ok(out)
 }
@@ -400,6 +372,24 @@ fn frame_of(
     frame.seed = a.seed;
     frame.verification = a.verification;
     frame.features = derive_features(&scene, &frame, &a.toggles)?;
+    if a.verification {
+        // Verification renders the sun's scattering alone: an effect asked for beside it would
+        // be dropped without a word.
+        for t in &a.toggles.enable {
+            if !t.get(&frame.features.sun_scattering_only()) {
+                return Err(CliError::Refused {
+                    what: "--enable with --verification",
+                    given: format!("`{}` is an effect verification mode leaves out", t.name()),
+                    accepted:
+                        "only toggles verification keeps (it renders the sun's scattering alone, \
+                            without powder, ground bounce, haze, light shafts or per-sample \
+                            sun/sky light): drop it, or drop --verification"
+                            .into(),
+                }
+                .into());
+            }
+        }
+    }
     if a.verification && a.toggles.octaves.is_none() {
         frame.features.octaves = 1;
     }
@@ -413,7 +403,7 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     // The destination and the user's textures are checked before any GPU work: a bad -o or
     // texture fails now, not after the render.
     let overwrite = Overwrite::forced(a.force);
-    let format = ImageFormat::of(a.format, &a.out);
+    let format = ImageFormat::of(a.format, &a.out)?;
     let signature = match format {
         ImageFormat::Png => Signature::Png,
         ImageFormat::Exr => Signature::Exr,
@@ -444,7 +434,9 @@ pub(crate) fn run(data: Option<&Path>, a: &RenderArgs) -> Result<(), Box<dyn std
     }
     if let Some(f) = formation {
         let mut sim = FormationSim::new(&gpu, f, TextureSizes::default().weather)?;
-        sim.apply(&mut renderer, a.time.unwrap_or(0.0))?;
+        let seconds = a.time.unwrap_or(0.0);
+        crate::formation_progress::advance(&gpu, &mut sim, &f, seconds)?;
+        sim.apply(&mut renderer, seconds)?;
         say!(
             "formation: step {} of the automaton ({} s per step)",
             sim.step().saturating_sub(1),

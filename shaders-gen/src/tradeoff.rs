@@ -20,6 +20,8 @@ use nimbus_testkit::tradeoff::{
 use crate::plot::{Point, svg_plot};
 use nimbus_output::{Overwrite, Signature, TEXT_MARKER, check_file, write_file};
 
+use crate::scene_input::SceneInput;
+
 /// What `nimbus tradeoff` takes.
 #[derive(Args)]
 pub(crate) struct TradeoffArgs {
@@ -134,23 +136,19 @@ pub(crate) fn run(data: Option<&Path>, a: &TradeoffArgs) -> Result<(), Box<dyn s
     // measured there, against the marched volume of the same preset.
     let mut flat_views: Vec<String> = Vec::new();
     for file in view_files(&dir)? {
-        let lib = crate::render::library_for(data, Some(&file))?;
-        let scene = nimbus_clouds::load_scene(&file)?;
-        let genus = crate::render::scene_genus(&lib, &file, &scene)?;
+        let state = SceneInput::load(data, &file, None)?.single_at(0.0, "a view file")?;
+        let (scene, genus) = (&state.scene, &state.genus);
         let at_high = nimbus_clouds::ScenePreset {
             quality: Quality::High,
             ..scene.clone()
         };
-        if nimbus_clouds::analyse(&at_high, &genus)
+        if nimbus_clouds::analyse(&at_high, genus)
             .features
             .flat_high_layer
         {
             flat_views.push(scene.name.clone());
         }
-        views.push((
-            scene.name.clone(),
-            Frame::from_scene(&scene, &genus, width, height),
-        ));
+        views.push((scene.name.clone(), state.frame(width, height)));
     }
     // Every output is checked before any GPU work: a folder, writable, and holding no file of
     // these names that Nimbus did not write (unless --force).

@@ -202,17 +202,31 @@ impl CloudLayer {
         // The profile's largest magnitude over the layer (η in 0..1) bounds every term the
         // shader computes; past f32's range it would be infinite, and 0·∞ a NaN.
         let p = self.density_profile;
-        let peak = f64::from(p.a).abs() * f64::from(p.b).max(0.0).exp()
-            + f64::from(p.c).abs()
-            + f64::from(p.d).abs();
+        let terms = [
+            (
+                "density_profile.a",
+                f64::from(p.a).abs() * f64::from(p.b).max(0.0).exp(),
+                "lower |a| or b",
+            ),
+            ("density_profile.c", f64::from(p.c).abs(), "lower |c|"),
+            ("density_profile.d", f64::from(p.d).abs(), "lower |d|"),
+        ];
+        let peak: f64 = terms.iter().map(|t| t.1).sum();
+        // The field to blame is the term that carries the overflow, not always `a`.
+        let (field, _, fix) = terms
+            .into_iter()
+            .max_by(|x, y| x.1.total_cmp(&y.1))
+            .unwrap_or(("density_profile.a", 0.0, "lower |a| or b"));
         check(
             peak <= MAX_PROFILE_VALUE,
-            "density_profile.a",
+            field,
             format!(
-                "a·e^(b·η) + c·η + d reaches {peak:.3e} in the layer (a = {}, b = {}), beyond \
-                 {MAX_PROFILE_VALUE:e}, where f32 arithmetic overflows; lower |a| or b",
+                "a·e^(b·η) + c·η + d reaches {peak:.3e} in the layer (a = {}, b = {}, c = {}, \
+                 d = {}), beyond {MAX_PROFILE_VALUE:e}, where f32 arithmetic overflows; {fix}",
                 format_value(f64::from(p.a)),
-                format_value(f64::from(p.b))
+                format_value(f64::from(p.b)),
+                format_value(f64::from(p.c)),
+                format_value(f64::from(p.d))
             ),
         )?;
         Ok(())
