@@ -380,11 +380,10 @@ fn frame_of(
                 return Err(CliError::Refused {
                     what: "--enable with --verification",
                     given: format!("`{}` is an effect verification mode leaves out", t.name()),
-                    accepted:
-                        "only toggles verification keeps (it renders the sun's scattering alone, \
-                            without powder, ground bounce, haze, light shafts or per-sample \
-                            sun/sky light): drop it, or drop --verification"
-                            .into(),
+                    accepted: "verification renders the sun's scattering alone (no powder, ground \
+                         bounce, haze, light shafts or per-sample sun/sky light): drop the \
+                         toggle, or drop --verification"
+                        .into(),
                 }
                 .into());
             }
