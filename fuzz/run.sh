@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every fuzz target for a bounded time on the nightly toolchain, from a seed corpus of the
+# Runs every fuzz target (or those $TARGETS names) for a bounded time on the nightly toolchain, from a seed corpus of the
 # example genera and scenes (renamed to the fuzzed file's name), with a dictionary of the files'
 # keys. Prints executions, time and findings per target; exits non-zero if any target found a
 # crash. Needs `cargo install cargo-fuzz`.
@@ -21,15 +21,28 @@ for f in "$root"/examples/scenes/*.toml "$root"/examples/views/*.toml; do
   n=$(basename "$f" .toml)
   sed "s/^name = \"$n\"/name = \"fuzzed\"/; s/^genus = \".*\"/genus = \"fuzzed\"/" "$f" > "corpus/scene/$n.toml"
 done
+# Timelines and packages: the example scenes as they are (their genera are the examples'),
+# each behind the byte that picks the time (and the engine).
+mkdir -p corpus/timeline corpus/animate
+for f in "$root"/examples/scenes/*.toml; do
+  n=$(basename "$f" .toml)
+  { printf '\x07'; sed "s/^name = \"$n\"/name = \"fuzzed\"/" "$f"; } > "corpus/timeline/$n.toml"
+done
+printf 'day-with-wind.toml\n--to\n7200\n--speed\n1800\n--fps\n1' > corpus/animate/day.args
+printf 'clouds-forming.toml\n--to\n600\n--speed\n300\n--fps\n1' > corpus/animate/forming.args
+printf 'sunset.toml\n--to\n0' > corpus/animate/sunset.args
+targets=${TARGETS:-genus_parser scene_parser genus_codegen scene_codegen timeline animate_args engine_package}
 status=0
 report=""
-for target in genus_parser scene_parser genus_codegen scene_codegen; do
+for target in $targets; do
   case $target in
     genus_*) corpus=corpus/genus ;;
+    timeline | engine_package) corpus=corpus/timeline ;;
+    animate_args) corpus=corpus/animate ;;
     *) corpus=corpus/scene ;;
   esac
   case $target in
-    *_parser) per=$parser_seconds ;;
+    *_parser | timeline | animate_args) per=$parser_seconds ;;
     *) per=$codegen_seconds ;;
   esac
   mkdir -p "work/$target"

@@ -138,7 +138,10 @@ fn an_unwritable_output_folder_is_named_and_leaves_nothing_behind() {
     let err = emit(&[g], &EmitExtras::default(), &target, Overwrite::OwnOnly)
         .expect_err("cannot write under a file");
     assert!(
-        matches!(err, CodegenError::Destination(OutputError::NoFolder { .. })),
+        matches!(
+            err,
+            CodegenError::Destination(OutputError::NotAFolder { .. })
+        ),
         "{err:?}"
     );
     assert!(err.to_string().contains("a-file"), "{err}");
@@ -186,7 +189,11 @@ fn a_previous_output_is_replaced_whole() {
     names.sort();
     assert_eq!(
         names,
-        vec![MARKER_FILE.to_string(), "preview-hg.wgsl".to_string()]
+        vec![
+            MARKER_FILE.to_string(),
+            nimbus_output::OWNERSHIP_FILE.to_string(),
+            "preview-hg.wgsl".to_string()
+        ]
     );
     let leftovers = std::fs::read_dir(tmp.path()).expect("read").count();
     assert_eq!(leftovers, 1, "no temporary folder left beside the output");

@@ -10,7 +10,7 @@ use nimbus_clouds::limits::{self, Origin};
 use nimbus_output::{Overwrite, replace_folder};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::formation::FormationSim;
-use nimbus_runtime::render::{Renderer, TextureSizes};
+use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 use serde_json::json;
 
 use crate::error::CliError;
@@ -79,7 +79,21 @@ fn ffmpeg_available() -> bool {
         .is_ok_and(|s| s.success())
 }
 
-pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn std::error::Error>> {
+/// What `animate` will render, built and checked before any GPU work or write.
+pub(crate) struct Plan {
+    pub width: u32,
+    pub height: u32,
+    pub input: SceneInput,
+    /// Each picture's timeline second and its weighted frames.
+    pub pictures: Vec<(f64, Vec<(Frame, f32)>)>,
+}
+
+/// Checks every argument and builds every picture's frames: the part of `animate` that needs
+/// neither a GPU nor the output folder (what the fuzz target runs).
+pub(crate) fn plan(
+    data: Option<&Path>,
+    a: &AnimateArgs,
+) -> Result<Plan, Box<dyn std::error::Error>> {
     let (width, height) = crate::render::parse_resolution(&a.resolution)?;
     limits::FRAMES.check(f64::from(a.frames), Origin::Flag("--frames"))?;
     limits::EXPOSURE.check(f64::from(a.exposure), Origin::Flag(limits::EXPOSURE.flag))?;
@@ -88,33 +102,30 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
     positive("--fps", a.fps)?;
     positive("--speed", a.speed)?;
     if a.to < a.from {
-        return Err(CliError::Unknown {
-            kind: "--to",
-            given: a.to.to_string(),
-            known: format!("a time at or after --from ({} s)", a.from),
+        return Err(CliError::Refused {
+            what: "--to",
+            given: format!("{} s is before --from", a.to),
+            accepted: format!("a time at or after --from ({} s)", a.from),
         }
         .into());
     }
     let step = a.speed / a.fps;
     let intervals = ((a.to - a.from) / step + 1e-9).floor();
     if !intervals.is_finite() || intervals >= MAX_PICTURES as f64 {
-        return Err(CliError::Unknown {
-            kind: "picture count",
+        return Err(CliError::Refused {
+            what: "picture count",
             given: format!(
                 "{} (from {} s to {} s every {step} s)",
                 intervals + 1.0,
                 a.from,
                 a.to
             ),
-            known: format!("at most {MAX_PICTURES}: raise --speed or lower --fps"),
+            accepted: format!("at most {MAX_PICTURES}: raise --speed or lower --fps"),
         }
         .into());
     }
     let count = intervals as u64 + 1;
-    // The destination first: a folder that is not Nimbus's fails now, not after the work.
-    nimbus_output::check_folder(&a.out, Overwrite::forced(a.force))?;
     let input = SceneInput::load(data, &a.scene, None)?;
-    // Every picture's frames are built (and checked) before any GPU work.
     let mut pictures = Vec::with_capacity(count as usize);
     for k in 0..count {
         let t = a.from + k as f64 * step;
@@ -127,6 +138,30 @@ pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn st
         }
         pictures.push((t, frames));
     }
+    Ok(Plan {
+        width,
+        height,
+        input,
+        pictures,
+    })
+}
+
+pub(crate) fn run(data: Option<&Path>, a: &AnimateArgs) -> Result<(), Box<dyn std::error::Error>> {
+    // The destination first: a folder that is not Nimbus's fails now, not after the work.
+    nimbus_output::check_folder(&a.out, Overwrite::forced(a.force))?;
+    let Plan {
+        width,
+        height,
+        input,
+        pictures,
+    } = plan(data, a)?;
+    let count = pictures.len();
+    let renders: usize = pictures.iter().map(|(_, f)| f.len()).sum();
+    say!(
+        "{count} pictures of {width}x{height} ({renders} renders of {} frame(s) each, two where \
+         one genus gives way to another)",
+        a.frames
+    );
     let gpu = Gpu::new()?;
     say!("adapter: {}", gpu.info());
     gpu.check_picture("each picture", width, height)?;

@@ -19,8 +19,15 @@ pub(crate) fn derive(
     scene_file: &Path,
     seconds: f64,
 ) -> Result<Vec<(SceneState, CloudVariant, Analysis)>, Box<dyn std::error::Error>> {
+    derive_from(&SceneInput::load(data, scene_file, None)?, seconds)
+}
+
+/// [`derive`] of a scene already loaded.
+pub(crate) fn derive_from(
+    input: &SceneInput,
+    seconds: f64,
+) -> Result<Vec<(SceneState, CloudVariant, Analysis)>, Box<dyn std::error::Error>> {
     limits::TIME.check(seconds, Origin::Flag(limits::TIME.flag))?;
-    let input = SceneInput::load(data, scene_file, None)?;
     let mut out = Vec::new();
     for state in input.at(seconds)? {
         let analysis = analyse(&state.scene, &state.genus);
@@ -39,9 +46,18 @@ pub(crate) fn resolved(
     sel: &crate::data::Selection<'_>,
     seconds: f64,
 ) -> Result<crate::data::Resolved, Box<dyn std::error::Error>> {
+    resolved_from(&SceneInput::load(data, scene_file, None)?, sel, seconds)
+}
+
+/// [`resolved`] of a scene already loaded.
+pub(crate) fn resolved_from(
+    input: &SceneInput,
+    sel: &crate::data::Selection<'_>,
+    seconds: f64,
+) -> Result<crate::data::Resolved, Box<dyn std::error::Error>> {
     let mut table: Vec<Assignment> = Vec::new();
     let mut uniforms = Vec::new();
-    for (state, _, analysis) in derive(data, scene_file, seconds)? {
+    for (state, _, analysis) in derive_from(input, seconds)? {
         let mut features = analysis.features;
         for t in sel.enable {
             t.set(&mut features, true);

@@ -115,7 +115,7 @@ pub(crate) enum TextureDimension {
 }
 
 /// One noise texture file.
-#[derive(Serialize, JsonSchema)]
+#[derive(Clone, Serialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
 pub(crate) struct TextureDescriptor {
     /// The resource it is (`weather`, `shape`, `detail`, `turbulence`).

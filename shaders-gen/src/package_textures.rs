@@ -13,6 +13,7 @@ use nimbus_runtime::textures::NoiseKind;
 use crate::package_description::{TextureDescriptor, TextureDimension};
 
 /// One texture file and its description.
+#[derive(Clone)]
 pub(crate) struct TextureFile {
     pub file: String,
     pub bytes: Vec<u8>,
@@ -20,6 +21,7 @@ pub(crate) struct TextureFile {
 }
 
 /// What made the texels.
+#[derive(Clone)]
 pub(crate) struct Texels {
     pub files: Vec<TextureFile>,
     /// `gpu: <adapter>` or `cpu twins`.
@@ -39,8 +41,30 @@ fn is_3d(kind: NoiseKind) -> bool {
     matches!(kind, NoiseKind::Shape | NoiseKind::Detail)
 }
 
-/// The files of `kinds` at `sizes`.
+/// Texture files made in this process, by the kinds and sizes asked for: the same request
+/// gives the same bytes, and one process (the fuzz targets, a test) may ask many times.
+type Made = Vec<(Vec<(NoiseKind, u32)>, Texels)>;
+static MADE: std::sync::Mutex<Made> = std::sync::Mutex::new(Vec::new());
+
+/// The files of `kinds` at `sizes` (made once per process).
 pub(crate) fn texture_files(
+    kinds: &[NoiseKind],
+    sizes: TextureSizes,
+) -> Result<Texels, Box<dyn std::error::Error>> {
+    let key: Vec<(NoiseKind, u32)> = kinds.iter().map(|&k| (k, size_of(k, sizes))).collect();
+    let cached = |made: &Made| made.iter().find(|(k, _)| *k == key).map(|(_, t)| t.clone());
+    if let Some(t) = MADE.lock().ok().and_then(|m| cached(&m)) {
+        return Ok(t);
+    }
+    let texels = make_texture_files(kinds, sizes)?;
+    if let Ok(mut m) = MADE.lock() {
+        m.push((key, texels.clone()));
+    }
+    Ok(texels)
+}
+
+/// The files of `kinds` at `sizes`, made now.
+fn make_texture_files(
     kinds: &[NoiseKind],
     sizes: TextureSizes,
 ) -> Result<Texels, Box<dyn std::error::Error>> {

@@ -131,7 +131,16 @@ impl SceneInput {
         file: &Path,
         genus: Option<&str>,
     ) -> Result<SceneInput, CliError> {
-        let scene = load_scene(file)?;
+        Self::from_scene(lib, file, load_scene(file)?, genus)
+    }
+
+    /// A scene already parsed from `file`, whose genus names refer to `lib`.
+    pub(crate) fn from_scene(
+        lib: &CloudLibrary,
+        file: &Path,
+        scene: ScenePreset,
+        genus: Option<&str>,
+    ) -> Result<SceneInput, CliError> {
         let replacement = genus.map(|g| genus_of(lib, g)).transpose()?;
         let mut genera = BTreeMap::new();
         if replacement.is_none() {

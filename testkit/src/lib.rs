@@ -11,6 +11,7 @@
 
 pub mod fuzz;
 pub mod metrics;
+pub mod mutation;
 pub mod parity;
 pub mod skip;
 pub mod stability;
