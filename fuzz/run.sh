@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Runs every fuzz target (or those $TARGETS names) for a bounded time on the nightly toolchain, from a seed corpus of the
-# example genera and scenes (renamed to the fuzzed file's name), with a dictionary of the files'
-# keys. Prints executions, time and findings per target; exits non-zero if any target found a
+# Runs every fuzz target (or those $TARGETS names) for a bounded time on the nightly toolchain,
+# from a seed corpus of the example genera, scenes and animate arguments (renamed to the fuzzed
+# file's name), with a dictionary of the files' keys. Prints executions, time and findings per target; exits non-zero if any target found a
 # crash. Needs `cargo install cargo-fuzz`.
 #
 #   fuzz/run.sh                                  # 2 minutes per target, one worker
