@@ -60,7 +60,7 @@ fn uniform_bytes_land_at_naga_offsets() {
         lobe_mix: 0.5,
         profile: glam::vec4(1.0, 2.0, 3.0, 4.0),
     };
-    let bytes = p.to_uniform_bytes();
+    let bytes = p.to_uniform_bytes().expect("sized by its layout");
     let g = generate_variant(&catalog()[0], &[nimbus_codegen::Target::Glsl450]).expect("generate");
     let manifest = g
         .files
