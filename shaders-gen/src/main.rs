@@ -7,6 +7,7 @@ mod check;
 mod data;
 mod data_folder;
 mod diff;
+mod diff_revision;
 mod emit;
 mod engine;
 mod error;
@@ -212,11 +213,12 @@ enum Command {
     /// key) with the genus × preset pairs that share each, and targets.
     List,
     /// Which shaders (keys) and targets differ between two emitted folders, or two git
-    /// revisions of this project, with the WGSL diff of each changed key.
+    /// revisions of the Nimbus checkout in the current directory (built with cargo), with the
+    /// WGSL diff of each changed key.
     Diff {
-        /// The old side: a folder written by `nimbus emit`, or a git revision.
+        /// The old side: a folder written by `nimbus emit`, or a git revision of the checkout.
         old: PathBuf,
-        /// The new side: a folder written by `nimbus emit`, or a git revision.
+        /// The new side: a folder written by `nimbus emit`, or a git revision of the checkout.
         new: PathBuf,
         /// Only list the changed keys and targets, without the WGSL diffs.
         #[arg(short, long)]
