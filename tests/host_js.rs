@@ -60,7 +60,10 @@ fn sun_light_is_what_the_uniform_block_is_filled_with() {
 /// vectors and fixed arrays, matrices as arrays of columns.
 fn js_value(u: &CloudUniforms) -> Value {
     let mut root = Value::Object(Map::new());
-    for m in member_layout(CloudUniforms::shader_type(), &u.to_uniform_bytes()) {
+    for m in member_layout(
+        CloudUniforms::shader_type(),
+        &u.to_uniform_bytes().expect("sized by its layout"),
+    ) {
         let leaf = match m.ty {
             Type::Scalar(_) => json!(m.value[0]),
             Type::Vector(..) => json!(m.value),

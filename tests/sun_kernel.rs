@@ -74,7 +74,7 @@ fn sun_light_kernel_completes_the_block_for_a_moved_sun() {
         // What a host writes: the old block with only the new direction, at any length.
         let mut inputs = old;
         inputs.light.sun_direction = new_sun * 3.0;
-        let bytes = inputs.to_uniform_bytes();
+        let bytes = inputs.to_uniform_bytes().expect("sized by its layout");
         let out = gpu
             .run_uniform_kernel(
                 &generated,
@@ -86,8 +86,11 @@ fn sun_light_kernel_completes_the_block_for_a_moved_sun() {
         assert_eq!(out.len(), bytes.len());
 
         let got = member_layout(ty, &out);
-        let want = member_layout(ty, &expected.to_uniform_bytes());
-        let before = member_layout(ty, &old.to_uniform_bytes());
+        let want = member_layout(
+            ty,
+            &expected.to_uniform_bytes().expect("sized by its layout"),
+        );
+        let before = member_layout(ty, &old.to_uniform_bytes().expect("sized by its layout"));
         for ((g, w), b) in got.iter().zip(&want).zip(&before) {
             assert_eq!(g.path, w.path);
             if SUN_MEMBERS.contains(&g.path.as_str()) {

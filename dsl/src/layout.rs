@@ -63,29 +63,54 @@ pub fn struct_layout(def: &StructDef) -> (u32, u32, Vec<u32>) {
     (align, round_up(align, offset), offsets)
 }
 
+/// A write that does not fit the buffer it was given. The buffers `to_uniform_bytes` makes are
+/// sized by the same type's layout, so this names a layout that disagrees with its own writer,
+/// or a caller's buffer that is too short: either way the bytes would be wrong, not just short.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "uniform write of {len} bytes at offset {offset} does not fit a buffer of {buffer_size} bytes"
+)]
+pub struct LayoutError {
+    /// Byte offset the write starts at.
+    pub offset: usize,
+    /// Bytes written.
+    pub len: usize,
+    /// Size of the buffer written into.
+    pub buffer_size: usize,
+}
+
 /// A CPU value that can be written into a uniform buffer at an offset.
 pub trait UniformBytes {
     /// The shader type, to find nested layouts.
     fn shader_type() -> Type;
-    /// Writes the value's bytes at `offset` (the buffer is already sized).
-    fn write(&self, out: &mut [u8], offset: usize);
+    /// Writes the value's bytes at `offset`; a write past the end of `out` is refused, whole
+    /// (nothing of it is written).
+    fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError>;
 
     /// The value as a complete uniform buffer.
-    fn to_uniform_bytes(&self) -> Vec<u8> {
+    fn to_uniform_bytes(&self) -> Result<Vec<u8>, LayoutError> {
         let (_, size) = align_size(Self::shader_type());
         let mut out = vec![0; size as usize];
-        self.write(&mut out, 0);
-        out
+        self.write(&mut out, 0)?;
+        Ok(out)
     }
 }
 
-fn put(out: &mut [u8], offset: usize, words: &[u32]) {
-    for (i, w) in words.iter().enumerate() {
-        let at = offset + 4 * i;
-        if let Some(slot) = out.get_mut(at..at + 4) {
-            slot.copy_from_slice(&w.to_le_bytes());
-        }
+fn put(out: &mut [u8], offset: usize, words: &[u32]) -> Result<(), LayoutError> {
+    let len = 4 * words.len();
+    let error = LayoutError {
+        offset,
+        len,
+        buffer_size: out.len(),
+    };
+    let slot = offset
+        .checked_add(len)
+        .and_then(|end| out.get_mut(offset..end))
+        .ok_or(error)?;
+    for (chunk, w) in slot.chunks_exact_mut(4).zip(words) {
+        chunk.copy_from_slice(&w.to_le_bytes());
     }
+    Ok(())
 }
 
 macro_rules! scalar_bytes {
@@ -94,8 +119,8 @@ macro_rules! scalar_bytes {
             fn shader_type() -> Type {
                 $ty
             }
-            fn write(&self, out: &mut [u8], offset: usize) {
-                put(out, offset, &[self.to_bits()]);
+            fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError> {
+                put(out, offset, &[self.to_bits()])
             }
         }
     )*};
@@ -119,16 +144,16 @@ impl UniformBytes for u32 {
     fn shader_type() -> Type {
         Type::U32
     }
-    fn write(&self, out: &mut [u8], offset: usize) {
-        put(out, offset, &[ToBits::to_bits(*self)]);
+    fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError> {
+        put(out, offset, &[ToBits::to_bits(*self)])
     }
 }
 impl UniformBytes for i32 {
     fn shader_type() -> Type {
         Type::I32
     }
-    fn write(&self, out: &mut [u8], offset: usize) {
-        put(out, offset, &[ToBits::to_bits(*self)]);
+    fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError> {
+        put(out, offset, &[ToBits::to_bits(*self)])
     }
 }
 
@@ -138,8 +163,8 @@ macro_rules! vec_bytes {
             fn shader_type() -> Type {
                 Type::Vector($n, Scalar::F32)
             }
-            fn write(&self, out: &mut [u8], offset: usize) {
-                put(out, offset, &self.to_array().map(f32::to_bits));
+            fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError> {
+                put(out, offset, &self.to_array().map(f32::to_bits))
             }
         }
     )*};
@@ -150,10 +175,12 @@ impl UniformBytes for glam::Mat3 {
     fn shader_type() -> Type {
         Type::Matrix(3)
     }
-    fn write(&self, out: &mut [u8], offset: usize) {
+    fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError> {
+        // Columns are vec3s, each padded to 16 bytes.
         for (i, col) in [self.x_axis, self.y_axis, self.z_axis].iter().enumerate() {
-            put(out, offset + 16 * i, &col.to_array().map(f32::to_bits));
+            put(out, offset + 16 * i, &col.to_array().map(f32::to_bits))?;
         }
+        Ok(())
     }
 }
 
@@ -161,8 +188,8 @@ impl UniformBytes for glam::Mat4 {
     fn shader_type() -> Type {
         Type::Matrix(4)
     }
-    fn write(&self, out: &mut [u8], offset: usize) {
-        put(out, offset, &self.to_cols_array().map(f32::to_bits));
+    fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError> {
+        put(out, offset, &self.to_cols_array().map(f32::to_bits))
     }
 }
 
@@ -170,11 +197,12 @@ impl<T: UniformBytes + crate::ShaderType, const N: usize> UniformBytes for [T; N
     fn shader_type() -> Type {
         <<[T; N] as crate::ShaderType>::Dsl as crate::Value>::TYPE
     }
-    fn write(&self, out: &mut [u8], offset: usize) {
+    fn write(&self, out: &mut [u8], offset: usize) -> Result<(), LayoutError> {
         let (_, stride) = array_stride(T::shader_type());
         for (i, v) in self.iter().enumerate() {
-            v.write(out, offset + i * stride as usize);
+            v.write(out, offset + i * stride as usize)?;
         }
+        Ok(())
     }
 }
 
@@ -348,5 +376,63 @@ fn read_into(ty: Type, bytes: &[u8], offset: u32, path: &str, out: &mut Vec<Memb
             }
         }
         Type::RuntimeArray(_) | Type::Texture2d | Type::Texture3d | Type::Sampler => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{LayoutError, UniformBytes};
+    use crate::ShaderStruct;
+
+    #[derive(Clone, Copy, ShaderStruct)]
+    struct Pair {
+        offset: glam::Vec3,
+        scale: f32,
+        tint: glam::Vec4,
+    }
+
+    const PAIR: Pair = Pair {
+        offset: glam::Vec3::new(1.0, 2.0, 3.0),
+        scale: 4.0,
+        tint: glam::Vec4::ONE,
+    };
+
+    #[test]
+    fn a_write_past_the_end_is_refused() {
+        let mut out = [0u8; 8];
+        assert_eq!(
+            glam::Vec4::ONE.write(&mut out, 0),
+            Err(LayoutError {
+                offset: 0,
+                len: 16,
+                buffer_size: 8
+            })
+        );
+        assert_eq!(out, [0; 8], "nothing of a refused write lands");
+        assert!(1.0f32.write(&mut out, 4).is_ok());
+        assert_eq!(
+            1.0f32.write(&mut out, usize::MAX - 1),
+            Err(LayoutError {
+                offset: usize::MAX - 1,
+                len: 4,
+                buffer_size: 8
+            }),
+            "an offset near usize::MAX is refused, not wrapped"
+        );
+    }
+
+    #[test]
+    fn a_struct_refuses_a_too_short_buffer() {
+        let full = PAIR.to_uniform_bytes().expect("sized by its own layout");
+        assert_eq!(full.len(), 32);
+        let mut short = vec![0u8; full.len() - 4];
+        // The vec4 at offset 16 is the member that does not fit.
+        let e = PAIR
+            .write(&mut short, 0)
+            .expect_err("28 bytes cannot hold 32");
+        assert_eq!(
+            e.to_string(),
+            "uniform write of 16 bytes at offset 16 does not fit a buffer of 28 bytes"
+        );
     }
 }

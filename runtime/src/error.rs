@@ -19,6 +19,9 @@ pub enum RuntimeError {
     Codegen(#[from] nimbus_codegen::CodegenError),
     #[error(transparent)]
     Dsl(#[from] nimbus_dsl::DslError),
+    /// Uniform bytes that do not fit their buffer: a layout disagreeing with its writer.
+    #[error(transparent)]
+    Layout(#[from] nimbus_dsl::layout::LayoutError),
     #[error("this adapter cannot: {0}")]
     Limit(String),
     /// A picture (or texture) larger than the device holds, found before any work.

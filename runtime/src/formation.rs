@@ -90,7 +90,7 @@ impl<'g> FormationSim<'g> {
             storage(gpu, "density 1", &zeros),
         ];
         let supply = storage(gpu, "supply", bytemuck::cast_slice(&grid.supply));
-        let params_bytes = settings.params().to_uniform_bytes();
+        let params_bytes = settings.params().to_uniform_bytes()?;
         let params = gpu
             .device()
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -193,7 +193,7 @@ impl<'g> FormationSim<'g> {
             };
             self.gpu
                 .queue()
-                .write_buffer(&self.params, 0, &params.to_uniform_bytes());
+                .write_buffer(&self.params, 0, &params.to_uniform_bytes()?);
             let mut encoder = self
                 .gpu
                 .device()
@@ -250,7 +250,7 @@ impl<'g> FormationSim<'g> {
         };
         self.gpu
             .queue()
-            .write_buffer(&self.params, 0, &params.to_uniform_bytes());
+            .write_buffer(&self.params, 0, &params.to_uniform_bytes()?);
         let group = self.gpu.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("formation weather"),
             layout: &self.weather_kernel.layout,

@@ -463,25 +463,10 @@ enum GpuBinding {
     Sampler(wgpu::Sampler),
 }
 
-/// f32 to f16 bits, exact for values f16 can represent (others are rounded towards zero).
+/// f32 to f16 bits by IEEE rules (`half`): round to nearest even, −0 and NaN kept, overflow to
+/// infinity, so a texel the GPU reads is the f16 nearest the CPU twin's value.
 pub(crate) fn f16_bits(v: f32) -> u16 {
-    if v == 0.0 {
-        return 0;
-    }
-    let bits = v.to_bits();
-    let sign = ((bits >> 16) & 0x8000) as u16;
-    let exp = ((bits >> 23) & 0xff) as i32 - 127 + 15;
-    let mant = ((bits >> 13) & 0x3ff) as u16;
-    if exp <= 0 {
-        // Subnormal f16.
-        let m = (bits & 0x7f_ffff) | 0x80_0000;
-        let shift = 14 - exp;
-        return sign | if shift < 32 { (m >> shift) as u16 } else { 0 };
-    }
-    if exp >= 31 {
-        return sign | 0x7c00;
-    }
-    sign | ((exp as u16) << 10) | mant
+    half::f16::from_f32(v).to_bits()
 }
 
 impl Gpu {
@@ -537,5 +522,36 @@ impl Gpu {
             bytemuck::cast_slice(&data),
         );
         GpuBinding::View(texture.create_view(&Default::default()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::f16_bits;
+
+    /// The IEEE cases a hand-written truncating conversion got wrong.
+    #[test]
+    fn f16_bits_follow_ieee_rounding() {
+        assert_eq!(f16_bits(-0.0), 0x8000, "−0 stays −0");
+        assert_eq!(f16_bits(0.0), 0x0000);
+        let nan = f16_bits(f32::NAN);
+        assert!(
+            nan & 0x7c00 == 0x7c00 && nan & 0x03ff != 0,
+            "NaN stays NaN, got {nan:#06x}"
+        );
+        // 65520 is halfway between f16::MAX (65504) and the next step (65536): ties to even
+        // round up, out of range, so infinity.
+        assert_eq!(f16_bits(65520.0), 0x7c00);
+        assert_eq!(f16_bits(-65520.0), 0xfc00);
+        assert_eq!(f16_bits(65504.0), 0x7bff, "f16::MAX is exact");
+        // f16 has 10 mantissa bits: near 1.0 its step is 2^-10. 1 + 2^-11 is a tie between
+        // 1.0 (even) and 1 + 2^-10, so 1.0; 1 + 3·2^-11 is a tie between 1 + 2^-10 (odd) and
+        // 1 + 2^-9 (even), so 1 + 2^-9.
+        let step = 2f32.powi(-11);
+        assert_eq!(f16_bits(1.0 + step), 0x3c00);
+        assert_eq!(f16_bits(1.0 + 3.0 * step), 0x3c02);
+        // Just above half a step rounds up, where truncation would keep 1.0.
+        assert_eq!(f16_bits(1.0 + step * 1.5), 0x3c01);
+        assert_eq!(f16_bits(0.5), 0x3800, "representable values are exact");
     }
 }

@@ -660,7 +660,7 @@ impl<'g> Renderer<'g> {
         self.gpu_time_ms = None;
         let mut timer = self.timer(frames);
         let mut u = Self::uniforms(frame);
-        let uniform_size = u.to_uniform_bytes().len();
+        let uniform_size = u.to_uniform_bytes()?.len();
 
         // Pipelines first: their bindings decide which textures and samplers exist.
         self.prepare(clouds_key)?;
@@ -684,7 +684,7 @@ impl<'g> Renderer<'g> {
                 self.epoch += 1;
             }
             if let Some((b, _)) = &self.uber_resources {
-                let bytes = KeyUniforms::of(&variant.key).to_uniform_bytes();
+                let bytes = KeyUniforms::of(&variant.key).to_uniform_bytes()?;
                 self.gpu.queue().write_buffer(b, 0, &bytes);
             }
         }
@@ -696,7 +696,7 @@ impl<'g> Renderer<'g> {
         if let Some(depth) = &frame.scene_depth {
             let (forward, _) = frame.camera_basis();
             let params = depth.params_for(frame.view_projection(), forward);
-            let bytes = params.to_uniform_bytes();
+            let bytes = params.to_uniform_bytes()?;
             let buffer = match self.scene.take() {
                 Some((b, _)) => b,
                 None => uniform_buffer(self.gpu, "scene depth uniforms", bytes.len()),
@@ -811,7 +811,7 @@ impl<'g> Renderer<'g> {
             let mut inputs = u;
             inputs.inverse_view_projection = Mat4::IDENTITY;
             inputs.resolution = Vec2::ZERO;
-            let inputs = (key, inputs.to_uniform_bytes());
+            let inputs = (key, inputs.to_uniform_bytes()?);
             let stale = self
                 .shadow
                 .as_ref()
@@ -834,7 +834,7 @@ impl<'g> Renderer<'g> {
                 let group = p.group.as_ref().ok_or_else(missing)?;
                 self.gpu
                     .queue()
-                    .write_buffer(&p.uniform, 0, &u.to_uniform_bytes());
+                    .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
                 draw(
                     &mut encoder,
                     "shadow",
@@ -905,7 +905,7 @@ impl<'g> Renderer<'g> {
             u.pixel_scale = step.pixel_scale;
             u.subpixel = step.subpixel;
             let clouds = self.clouds.as_ref().ok_or_else(missing)?;
-            let cloud_bytes = u.to_uniform_bytes();
+            let cloud_bytes = u.to_uniform_bytes()?;
             self.gpu
                 .queue()
                 .write_buffer(&clouds.uniform, 0, &cloud_bytes);
@@ -964,7 +964,7 @@ impl<'g> Renderer<'g> {
                     history_valid: step.history_valid,
                 };
                 let (read, write) = (h.latest, 1 - h.latest);
-                let bytes = params.to_uniform_bytes();
+                let bytes = params.to_uniform_bytes()?;
                 self.gpu.queue().write_buffer(&pass.uniform, 0, &bytes);
                 resolve_bytes = Some(bytes);
                 let pipeline = self.pipelines.get(&ShaderKey::Resolve)?;

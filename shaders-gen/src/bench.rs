@@ -141,7 +141,7 @@ fn every_reachable_key() -> Result<(), CliError> {
             failures.len()
         );
         for f in failures.iter().take(5) {
-            eprintln!("FAIL {f}");
+            say_err!("FAIL {f}");
         }
     }
     Ok(())

@@ -35,7 +35,7 @@ pub(crate) fn run(
         match generate_variant(source, &Target::ALL) {
             Err(e) => {
                 failures += 1;
-                eprintln!("FAIL {}: {e}", source.id());
+                say_err!("FAIL {}: {e}", source.id());
             }
             Ok(g) => {
                 files += g.files.len();
@@ -47,7 +47,7 @@ pub(crate) fn run(
                     .join("\n");
                 if let Some(first) = texts.insert((g.module_name.clone(), code), g.id()) {
                     failures += 1;
-                    eprintln!(
+                    say_err!(
                         "FAIL {} prints the same code as {first}: its key holds a setting that changes nothing",
                         g.id()
                     );
@@ -58,7 +58,7 @@ pub(crate) fn run(
                             ExternalCheck::Passed { .. } => external_passed += 1,
                             ExternalCheck::Failed { tool, output } => {
                                 failures += 1;
-                                eprintln!("FAIL {} ({tool}): {output}", f.file_name);
+                                say_err!("FAIL {} ({tool}): {output}", f.file_name);
                             }
                             ExternalCheck::ToolMissing { tool } => {
                                 missing.insert(tool);

@@ -209,11 +209,12 @@ pub(crate) enum Command {
     /// key) with the genus × preset pairs that share each, and targets.
     List,
     /// Which shaders (keys) and targets differ between two emitted folders, or two git
-    /// revisions of this project, with the WGSL diff of each changed key.
+    /// revisions of the Nimbus checkout in the current directory (built with cargo), with the
+    /// WGSL diff of each changed key.
     Diff {
-        /// The old side: a folder written by `nimbus emit`, or a git revision.
+        /// The old side: a folder written by `nimbus emit`, or a git revision of the checkout.
         old: PathBuf,
-        /// The new side: a folder written by `nimbus emit`, or a git revision.
+        /// The new side: a folder written by `nimbus emit`, or a git revision of the checkout.
         new: PathBuf,
         /// Only list the changed keys and targets, without the WGSL diffs.
         #[arg(short, long)]
@@ -299,8 +300,7 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // Not `eprintln!`: a closed stderr must not turn an error into a panic.
-            use std::io::Write;
-            let _ = writeln!(std::io::stderr(), "error: {e}");
+            say_err!("error: {e}");
             ExitCode::FAILURE
         }
     }

@@ -11,7 +11,7 @@ use nimbus_clouds::catalog::{
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::{CloudLibrary, Genus, Quality, Toggle};
 use nimbus_dsl::ShaderVariant;
-use nimbus_dsl::layout::{UniformBytes, read_members};
+use nimbus_dsl::layout::{LayoutError, UniformBytes, read_members};
 use nimbus_runtime::render::{Frame, Renderer};
 
 /// The data folder (see [`DataFolder`]).
@@ -30,7 +30,7 @@ pub(crate) fn load(flag: Option<&Path>) -> Result<CloudLibrary, CliError> {
 pub(crate) fn load_dir(dir: &Path) -> Result<CloudLibrary, CliError> {
     let lib = CloudLibrary::load(dir)?;
     for p in &lib.problems {
-        eprintln!("warning: skipped: {p}");
+        say_err!("warning: skipped: {p}");
     }
     Ok(lib)
 }
@@ -70,18 +70,18 @@ fn uniforms_of(lib: &CloudLibrary, table: &[Assignment]) -> Vec<CloudUniforms> {
 
 /// `nimbus-keys.json`: every pair's keys and uniform values, member by member in layout order,
 /// so an engine loads a handful of shaders and switches genus and preset by uniforms alone.
-pub(crate) fn keys_json(r: &Resolved) -> String {
-    let pairs: Vec<serde_json::Value> = r
+pub(crate) fn keys_json(r: &Resolved) -> Result<String, LayoutError> {
+    let pairs = r
         .table
         .iter()
         .zip(&r.uniforms)
         .map(|(a, u)| {
             let members: Vec<serde_json::Value> =
-                read_members(CloudUniforms::shader_type(), &u.to_uniform_bytes())
+                read_members(CloudUniforms::shader_type(), &u.to_uniform_bytes()?)
                     .into_iter()
                     .map(|(member, value)| serde_json::json!({ "member": member, "value": value }))
                     .collect();
-            serde_json::json!({
+            Ok(serde_json::json!({
                 "pair": a.name(),
                 "genus": a.genus,
                 "quality": a.quality.name(),
@@ -91,16 +91,16 @@ pub(crate) fn keys_json(r: &Resolved) -> String {
                     serde_json::json!({ "slot": slot, "name": name, "path": path })
                 }),
                 "uniforms": { "block": "clouds", "members": members },
-            })
+            }))
         })
-        .collect();
+        .collect::<Result<Vec<_>, LayoutError>>()?;
     let doc = serde_json::json!({
         "about": format!("Each genus × quality preset: the shaders (by key) it runs and the values of the `clouds` uniform block, member by member in layout order. Sun, camera and image members hold the view defaults ({}): a host sets those per frame.", VIEW_DEFAULTS.describe()),
         "pairs": pairs,
     });
     let mut s = serde_json::to_string_pretty(&doc).unwrap_or_default();
     s.push('\n');
-    s
+    Ok(s)
 }
 
 pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolved, CliError> {

@@ -1,13 +1,13 @@
 //! `nimbus diff OLD NEW`: which shaders (keys) and targets changed between two emitted folders,
-//! or two git revisions of the project, with the WGSL diff of each changed key, so a reviewer
+//! or two git revisions of the Nimbus checkout the command runs in, with the WGSL diff of each changed key, so a reviewer
 //! sees at a glance what a model edit touches.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use nimbus_codegen::MARKER_FILE;
 
+use crate::diff_revision::emit_revision;
 use crate::emit::KEYS_FILE;
 use similar::TextDiff;
 
@@ -25,7 +25,7 @@ fn files_of(dir: &Path) -> Result<BTreeMap<String, Vec<u8>>, Box<dyn std::error:
         let entry = entry?;
         let name = entry.file_name().to_string_lossy().into_owned();
         if name.starts_with("nimbus-") || !entry.file_type()?.is_file() {
-            // The manifest and the key table are Nimbus's own files, not shaders.
+            // Nimbus's own files (the manifest, the key table, an ownership record), not shaders.
             continue;
         }
         out.insert(name, std::fs::read(entry.path())?);
@@ -58,60 +58,14 @@ fn split(name: &str) -> (String, String) {
     )
 }
 
-/// Emits every shader of the project at git revision `rev` into a fresh folder, by running
-/// this command's `emit` from a worktree of that revision (sharing this build's target
-/// folder, so only what changed is rebuilt).
-fn emit_revision(rev: &str, scratch: &Path) -> Result<PathBuf, Box<dyn std::error::Error>> {
-    let tree = scratch.join(format!("tree-{}", rev.replace('/', "_")));
-    let out = scratch.join(format!("emit-{}", rev.replace('/', "_")));
-    let status = Command::new("git")
-        .args(["worktree", "add", "--detach", "--force"])
-        .arg(&tree)
-        .arg(rev)
-        .status()?;
-    if !status.success() {
-        return Err(format!("`{rev}` is neither an emitted folder nor a git revision").into());
-    }
-    // A target folder of its own, absolute, so that building an old revision neither replaces
-    // this build's binaries nor starts from nothing each time.
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target"));
-    let target = std::path::absolute(target)?.join("nimbus-diff");
-    let status = Command::new("cargo")
-        .current_dir(&tree)
-        .env("CARGO_TARGET_DIR", target)
-        .args([
-            "run",
-            "--release",
-            "-q",
-            "-p",
-            "nimbus-cli",
-            "--",
-            "emit",
-            "-t",
-            "all",
-            "-o",
-        ])
-        .arg(&out)
-        .status();
-    let _ = Command::new("git")
-        .args(["worktree", "remove", "--force"])
-        .arg(&tree)
-        .status();
-    if !status?.success() {
-        return Err(format!("emitting revision `{rev}` failed").into());
-    }
-    Ok(out)
-}
-
 pub(crate) fn run(old: &Path, new: &Path, quiet: bool) -> Result<(), Box<dyn std::error::Error>> {
     let scratch = tempfile::tempdir()?;
     let folder = |p: &Path| -> Result<PathBuf, Box<dyn std::error::Error>> {
         if p.is_dir() {
             Ok(p.to_path_buf())
         } else {
-            emit_revision(&p.to_string_lossy(), scratch.path())
+            // Only a revision needs git, a checkout and cargo: two folders compare without.
+            Ok(emit_revision(&p.to_string_lossy(), scratch.path())?)
         }
     };
     let (old_dir, new_dir) = (folder(old)?, folder(new)?);

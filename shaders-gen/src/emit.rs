@@ -30,7 +30,7 @@ pub(crate) fn run(
     }
     let mut files = Vec::new();
     if !table.is_empty() {
-        files.push((KEYS_FILE.to_string(), keys_json(&resolved).into_bytes()));
+        files.push((KEYS_FILE.to_string(), keys_json(&resolved)?.into_bytes()));
     }
     let extras = EmitExtras {
         manifest_appendix: table_text(table),

@@ -14,6 +14,10 @@ pub(crate) enum CliError {
     #[error(transparent)]
     Output(#[from] nimbus_output::OutputError),
 
+    /// Uniform bytes that do not fit their buffer: a layout disagreeing with its writer.
+    #[error(transparent)]
+    Layout(#[from] nimbus_dsl::layout::LayoutError),
+
     #[error("{flag}: {source}")]
     Texture {
         flag: &'static str,

@@ -218,7 +218,7 @@ pub(crate) fn run(
         grid.albedo
     );
     if voxel.max_element() > grid.shape_texel {
-        eprintln!(
+        say_err!(
             "warning: voxels of up to {:.0} m are coarser than the shape noise's {:.0} m texels: \
              the grid cannot resolve the cloud shapes (use a smaller --region or a larger --size)",
             voxel.max_element(),

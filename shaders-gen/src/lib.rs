@@ -14,6 +14,7 @@ mod cli;
 mod data;
 mod data_folder;
 mod diff;
+mod diff_revision;
 mod emit;
 mod engine;
 mod error;

@@ -25,7 +25,7 @@ use nimbus_codegen::{
 use nimbus_codegen::{BindingKind, TextureDimension};
 use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::ir::{AddressMode, FilterMode, SamplerDesc, Type};
-use nimbus_dsl::layout::{UniformBytes, member_layout};
+use nimbus_dsl::layout::{LayoutError, UniformBytes, member_layout};
 use nimbus_output::{Overwrite, check_folder};
 use nimbus_runtime::render::TextureSizes;
 use nimbus_runtime::textures::NoiseKind;
@@ -293,7 +293,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     let mut pairs = Vec::new();
     for (a, u) in table.iter().zip(uniforms) {
         let uniforms_file = format!("uniforms/{}.json", a.name());
-        files.push((uniforms_file.clone(), pretty(&uniform_file(a, u))));
+        files.push((uniforms_file.clone(), pretty(&uniform_file(a, u)?)));
         let mut passes = Vec::new();
         if let Some(g) = shader(ShaderKey::SunLight) {
             passes.push(pass_description(Pass::SunLight, g, engine)?);
@@ -364,7 +364,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             "uniforms/resolve.json",
             block_file(
                 ResolveParams::shader_type(),
-                &resolve_defaults.to_uniform_bytes(),
+                &resolve_defaults.to_uniform_bytes()?,
                 RESOLVE_NOTES,
             ),
         ),
@@ -372,7 +372,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             "uniforms/display.json",
             block_file(
                 DisplayParams::shader_type(),
-                &display_defaults.to_uniform_bytes(),
+                &display_defaults.to_uniform_bytes()?,
                 DISPLAY_NOTES,
             ),
         ),
@@ -399,7 +399,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             "uniforms/scene.json".to_string(),
             pretty(&block_file(
                 SceneDepthParams::shader_type(),
-                &scene.to_uniform_bytes(),
+                &scene.to_uniform_bytes()?,
                 SCENE_NOTES,
             )),
         ));
@@ -1046,8 +1046,8 @@ fn block_file(ty: Type, bytes: &[u8], notes: &[(&str, &str)]) -> UniformBlockFil
     }
 }
 
-fn uniform_file(a: &Assignment, u: &CloudUniforms) -> UniformBlockFile {
-    UniformBlockFile {
+fn uniform_file(a: &Assignment, u: &CloudUniforms) -> Result<UniformBlockFile, LayoutError> {
+    Ok(UniformBlockFile {
         pair: Some(a.name()),
         scene: Some(format!(
             "values for the pair's scene: {} (a scene file's own values with --scene)",
@@ -1055,10 +1055,10 @@ fn uniform_file(a: &Assignment, u: &CloudUniforms) -> UniformBlockFile {
         )),
         ..block_file(
             CloudUniforms::shader_type(),
-            &u.to_uniform_bytes(),
+            &u.to_uniform_bytes()?,
             CLOUD_NOTES,
         )
-    }
+    })
 }
 
 fn readme(engine: Engine, table: &[Assignment]) -> String {

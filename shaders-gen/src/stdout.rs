@@ -32,6 +32,11 @@ pub(crate) fn write(args: std::fmt::Arguments<'_>, newline: bool) {
     }
 }
 
+/// Writes `args` and a newline to stderr; a closed stderr drops it (nothing else can be told).
+pub(crate) fn write_err(args: std::fmt::Arguments<'_>) {
+    let _ = writeln!(std::io::stderr().lock(), "{args}");
+}
+
 /// `println!` for the command's log (see the module).
 macro_rules! say {
     () => { $crate::stdout::write(format_args!(""), true) };
@@ -41,4 +46,9 @@ macro_rules! say {
 /// `print!` for the command's log.
 macro_rules! say_part {
     ($($arg:tt)*) => { $crate::stdout::write(format_args!($($arg)*), false) };
+}
+
+/// `eprintln!` for warnings and failures that must not panic on a closed stderr.
+macro_rules! say_err {
+    ($($arg:tt)*) => { $crate::stdout::write_err(format_args!($($arg)*)) };
 }

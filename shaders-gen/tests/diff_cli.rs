@@ -123,3 +123,63 @@ fn diff_refuses_a_folder_nimbus_did_not_write() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn diff_of_revisions_outside_a_checkout_says_what_it_needs() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_nimbus"));
+    c.args(["diff", "-q", "HEAD~1", "HEAD"])
+        .current_dir(dir.path())
+        // Stops git's search at the temporary folder, should the system's temporary folder
+        // itself lie inside a repository.
+        .env(
+            "GIT_CEILING_DIRECTORIES",
+            dir.path().parent().unwrap_or(dir.path()),
+        );
+    let out = c.output().expect("run nimbus");
+    let stderr = text(&out.stderr);
+    // The folder as the binary sees it, links resolved.
+    let here = dir.path().canonicalize().expect("tmp path");
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // Without git on PATH the same sentence says what is needed; with it, where none was found.
+    assert!(
+        stderr.contains(
+            "comparing git revisions needs a Nimbus git checkout as the current directory"
+        ) && stderr.contains("or compare two folders written by `nimbus emit`"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("git is not on PATH")
+            || stderr.contains(&format!("no git checkout at or above {}", here.display())),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn diff_of_revisions_outside_nimbus_says_what_it_needs() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+    };
+    // Only where git is installed: the test above covers a machine without it.
+    let Ok(init) = git(&["init", "-q"]) else {
+        return;
+    };
+    assert!(init.status.success(), "{}", text(&init.stderr));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nimbus"))
+        .args(["diff", "-q", "HEAD~1", "HEAD"])
+        .current_dir(dir.path())
+        .output()
+        .expect("run nimbus");
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("is not Nimbus's (no shaders-gen/Cargo.toml)")
+            && stderr.contains("or compare two folders written by `nimbus emit`"),
+        "{stderr}"
+    );
+}

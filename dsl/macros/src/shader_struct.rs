@@ -103,11 +103,16 @@ pub(crate) fn expand(item: TokenStream) -> syn::Result<TokenStream> {
             fn shader_type() -> ::nimbus_dsl::ir::Type {
                 ::nimbus_dsl::ir::Type::Struct(&#def)
             }
-            fn write(&self, out: &mut [u8], offset: usize) {
+            fn write(
+                &self,
+                out: &mut [u8],
+                offset: usize,
+            ) -> ::std::result::Result<(), ::nimbus_dsl::layout::LayoutError> {
                 let (_, _, offsets) = ::nimbus_dsl::layout::struct_layout(&#def);
                 #(
-                    ::nimbus_dsl::layout::UniformBytes::write(&self.#field_names, out, offset + offsets[#field_index] as usize);
+                    ::nimbus_dsl::layout::UniformBytes::write(&self.#field_names, out, offset + offsets[#field_index] as usize)?;
                 )*
+                ::std::result::Result::Ok(())
             }
         }
 
