@@ -12,13 +12,16 @@ use nimbus_dsl::ShaderVariant;
 
 use crate::scene_input::{SceneInput, SceneState};
 
+/// One state of a scene with the variant it derives and the analysis that chose it.
+pub(crate) type Derived = (SceneState, CloudVariant, Analysis);
+
 /// The scene at `seconds` (one state, or two while one genus gives way to another), each with
 /// its derived variant and the analysis that chose it.
 pub(crate) fn derive(
     data: Option<&Path>,
     scene_file: &Path,
     seconds: f64,
-) -> Result<Vec<(SceneState, CloudVariant, Analysis)>, Box<dyn std::error::Error>> {
+) -> Result<Vec<Derived>, Box<dyn std::error::Error>> {
     derive_from(&SceneInput::load(data, scene_file, None)?, seconds)
 }
 
@@ -26,7 +29,7 @@ pub(crate) fn derive(
 pub(crate) fn derive_from(
     input: &SceneInput,
     seconds: f64,
-) -> Result<Vec<(SceneState, CloudVariant, Analysis)>, Box<dyn std::error::Error>> {
+) -> Result<Vec<Derived>, Box<dyn std::error::Error>> {
     limits::TIME.check(seconds, Origin::Flag(limits::TIME.flag))?;
     let mut out = Vec::new();
     for state in input.at(seconds)? {
