@@ -24,6 +24,11 @@ pub enum RuntimeError {
     Layout(#[from] nimbus_dsl::layout::LayoutError),
     #[error("this adapter cannot: {0}")]
     Limit(String),
+    /// A genus a scene's timeline names that the library it was given lacks.
+    #[error(
+        "scene `{scene}`: its weather names the genus `{genus}`, which the library does not hold"
+    )]
+    UnknownGenus { scene: String, genus: String },
     /// A picture (or texture) larger than the device holds, found before any work.
     #[error("{what} needs {needs}, beyond the {allows} of this adapter ({adapter}); {way_out}")]
     DeviceLimit {

@@ -44,11 +44,9 @@ pub fn frames_at(
     let coverage = |name: &str| genus_of(name).map_or(0.0, |g| g.coverage);
     let mut frames = Vec::new();
     for (s, drift, weight) in scenes_at(scene, &coverage, seconds) {
-        let genus = genus_of(&s.genus).ok_or_else(|| {
-            RuntimeError::Limit(format!(
-                "scene `{}`: its weather names the genus `{}`, which is not in the library",
-                scene.name, s.genus
-            ))
+        let genus = genus_of(&s.genus).ok_or_else(|| RuntimeError::UnknownGenus {
+            scene: scene.name.clone(),
+            genus: s.genus.clone(),
         })?;
         let mut f = Frame::from_scene(&s, &genus, width, height);
         f.wind = drift;

@@ -12,6 +12,7 @@ use nimbus_clouds::wind::Drift;
 use nimbus_clouds::{CloudLibrary, DataError, Genus, ScenePreset, load_genus, load_scene};
 
 use nimbus_runtime::render::Frame;
+use nimbus_runtime::scene_time::scenes_at;
 
 use crate::error::CliError;
 
@@ -172,33 +173,23 @@ impl SceneInput {
     /// one genus gives way to another. Without a timeline, the scene as written.
     pub(crate) fn at(&self, seconds: f64) -> Result<Vec<SceneState>, CliError> {
         let coverage = |name: &str| self.genus(name).map_or(0.0, |g| g.coverage);
-        let at = self.scene.at(seconds, &coverage);
         let mut states = Vec::new();
-        for layer in at.layers {
-            let mut s = self.scene.clone();
-            s.coverage = Some(layer.coverage.clamp(0.0, 1.0));
-            if self.scene.clock.is_some() {
-                s.sun_elevation_deg = at.sun.elevation_deg as f32;
-                s.sun_azimuth_deg = at.sun.azimuth_deg.rem_euclid(360.0) as f32;
-            }
-            let Some(genus) = self.genus(&layer.genus) else {
+        for (scene, drift, weight) in scenes_at(&self.scene, &coverage, seconds) {
+            let Some(genus) = self.genus(&scene.genus) else {
                 // Every name was found at load; a name the timeline made up is Nimbus's bug.
                 return Err(CliError::Unknown {
                     kind: "genus of the timeline",
-                    given: layer.genus,
+                    given: scene.genus,
                     known: self.genera.keys().cloned().collect::<Vec<_>>().join(", "),
                 });
             };
             let mut genus = genus.clone();
-            s.genus = layer.genus;
-            // A scene without a coverage of its own (and no weather state naming one) keeps
-            // the genus' coverage: `at` reports it from the same genus.
-            genus.coverage = s.coverage.unwrap_or(genus.coverage);
+            genus.coverage = scene.coverage.unwrap_or(genus.coverage);
             states.push(SceneState {
-                scene: s,
+                scene,
                 genus,
-                drift: at.drift,
-                weight: layer.weight,
+                drift,
+                weight,
             });
         }
         Ok(states)
