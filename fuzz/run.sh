@@ -45,13 +45,21 @@ for target in $targets; do
     *_parser | timeline | animate_args) per=$parser_seconds ;;
     *) per=$codegen_seconds ;;
   esac
+  # engine_package makes the package's noise textures once on the GPU (lavapipe here); the
+  # Vulkan driver keeps 128 bytes it never frees, which LeakSanitizer reports at exit from the
+  # driver's module (no Nimbus frame in the stack). Leaks are not what this target looks for.
+  # (-detect_leaks=0 for libFuzzer's runs, ASAN_OPTIONS for the check at exit.)
+  case $target in
+    engine_package) extra=-detect_leaks=0 asan=detect_leaks=0 ;;
+    *) extra= asan=${ASAN_OPTIONS:-} ;;
+  esac
   mkdir -p "work/$target"
   log="work/$target.log"
   rm -f fuzz-*.log
   start=$(date +%s)
-  if cargo +nightly fuzz run "$target" "work/$target" "$corpus" -- \
+  if ASAN_OPTIONS=$asan cargo +nightly fuzz run "$target" "work/$target" "$corpus" -- \
       -max_total_time="$per" -dict=nimbus.dict -jobs="$jobs" -workers="$jobs" \
-      -print_final_stats=1 > "$log" 2>&1; then
+      -print_final_stats=1 $extra > "$log" 2>&1; then
     found=0
   else
     found=1
