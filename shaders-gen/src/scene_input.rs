@@ -39,21 +39,31 @@ fn is_path(name: &str) -> bool {
     name.ends_with(".toml") || name.contains('/')
 }
 
-/// A genus named on the command line (`--genus`): a library name or a genus file's path.
-pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CliError> {
+/// The genus `name` names: a genus file's path, or a library genus (its file's load error when
+/// that file failed to load); `None` when the library has no such name.
+fn find_genus(lib: &CloudLibrary, name: &str) -> Result<Option<Genus>, CliError> {
     if is_path(name) {
-        return Ok(load_genus(Path::new(name))?);
+        return Ok(Some(load_genus(Path::new(name))?));
     }
     if let Some(g) = lib.genus(name) {
-        return Ok(g.clone());
+        return Ok(Some(g.clone()));
     }
-    if let Some(problem) = lib.problem_of(name) {
-        return Err(problem.clone().into());
+    match lib.problem_of(name) {
+        Some(problem) => Err(problem.clone().into()),
+        None => Ok(None),
     }
-    Err(CliError::Unknown {
+}
+
+fn known(lib: &CloudLibrary) -> String {
+    lib.genera.keys().cloned().collect::<Vec<_>>().join(", ")
+}
+
+/// A genus named on the command line (`--genus`): a library name or a genus file's path.
+pub(crate) fn genus_of(lib: &CloudLibrary, name: &str) -> Result<Genus, CliError> {
+    find_genus(lib, name)?.ok_or_else(|| CliError::Unknown {
         kind: "genus",
         given: name.to_string(),
-        known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
+        known: known(lib),
     })
 }
 
@@ -64,22 +74,15 @@ fn genus_in_file(
     what: &'static str,
     name: &str,
 ) -> Result<Genus, CliError> {
-    if is_path(name) {
-        return Ok(load_genus(Path::new(name))?);
-    }
-    if let Some(g) = lib.genus(name) {
-        return Ok(g.clone());
-    }
-    if let Some(problem) = lib.problem_of(name) {
-        return Err(problem.clone().into());
-    }
-    Err(DataError::UnknownReference {
-        file: file.to_path_buf(),
-        kind: what,
-        name: name.to_string(),
-        known: lib.genera.keys().cloned().collect::<Vec<_>>().join(", "),
-    }
-    .into())
+    find_genus(lib, name)?.ok_or_else(|| {
+        DataError::UnknownReference {
+            file: file.to_path_buf(),
+            kind: what,
+            name: name.to_string(),
+            known: known(lib),
+        }
+        .into()
+    })
 }
 
 /// A loaded scene file with every genus it names.
