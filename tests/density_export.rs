@@ -215,3 +215,67 @@ fn box_filtered_voxels_average_the_density_over_the_voxel() {
         cloudy.len()
     );
 }
+
+/// The frame of the default scene with its genus' phase replaced by `phase`.
+fn frame_with_phase(phase: nimbus_clouds::PhaseSpec) -> Frame {
+    let mut f = frame();
+    f.genus.phase = phase;
+    f
+}
+
+#[test]
+fn the_phase_table_integrates_to_one_as_mitsuba_reads_it_or_is_refused() {
+    use nimbus_clouds::PhaseSpec;
+    use nimbus_runtime::mitsuba_scene::{
+        MAX_PHASE_ENTRIES, PHASE_ENTRIES, PHASE_TABLE_TOLERANCE, phase_table, table_integral,
+    };
+    let t = textures();
+    // An even table integrates as the trapezoid rule: isotropic is exactly 1.
+    let iso = vec![(1.0 / (4.0 * std::f64::consts::PI)) as f32; 9];
+    assert!((table_integral(&iso) - 1.0).abs() < 1e-6);
+    // A broad phase keeps the coarse table.
+    let dual = phase_table(&frame_with_phase(PhaseSpec::default()), &t).expect("dual lobe");
+    assert_eq!(dual.len(), PHASE_ENTRIES);
+    for diameter in [5.0f32, 20.0, 50.0] {
+        let f = frame_with_phase(PhaseSpec::ApproximateMie {
+            droplet_diameter_um: diameter,
+        });
+        // The control: the coarse table the export used to write misses 1 by far.
+        let coarse: Vec<f32> = {
+            let key = f.variant().key;
+            let _bound = t.bind(Renderer::uniforms(&f));
+            (0..PHASE_ENTRIES)
+                .map(|i| {
+                    let c = -1.0 + 2.0 * i as f32 / (PHASE_ENTRIES - 1) as f32;
+                    nimbus_clouds::model::march::cloud_phase(c, 1.0, key)
+                })
+                .collect()
+        };
+        let coarse_error = (table_integral(&coarse) - 1.0).abs();
+        match phase_table(&f, &t) {
+            Ok(table) => {
+                let error = (table_integral(&table) - 1.0).abs();
+                println!(
+                    "{diameter} µm: {} entries, integral off by {error:.2e} (1,025 entries: \
+                     {coarse_error:.3})",
+                    table.len()
+                );
+                assert!(error <= PHASE_TABLE_TOLERANCE, "{diameter} µm: {error}");
+                assert!(table.len() > PHASE_ENTRIES && table.len() <= MAX_PHASE_ENTRIES);
+                assert!(
+                    coarse_error > 0.1,
+                    "{diameter} µm: the control {coarse_error}"
+                );
+            }
+            Err(e) => {
+                println!("{diameter} µm: refused: {e}");
+                assert!(matches!(e, RuntimeError::PhaseTable { .. }), "{e}");
+                let text = e.to_string();
+                assert!(
+                    text.contains(&f.genus.name) && text.contains("ApproximateMie"),
+                    "{text}"
+                );
+            }
+        }
+    }
+}

@@ -24,6 +24,20 @@ pub enum RuntimeError {
     Layout(#[from] nimbus_dsl::layout::LayoutError),
     #[error("this adapter cannot: {0}")]
     Limit(String),
+    /// A phase function no table Mitsuba is given can represent faithfully.
+    #[error(
+        "genus `{genus}`: its phase function {phase} cannot be exported for Mitsuba: even {entries} \
+         evenly spaced cosines (Mitsuba's tabulated phase) integrate to {integral:.4} over the \
+         sphere instead of 1, so Mitsuba would render every direction {integral:.3}× too dim \
+         (its forward peak is narrower than one step); compare a genus with a broader phase \
+         (smaller droplets, a lower g)"
+    )]
+    PhaseTable {
+        genus: String,
+        phase: String,
+        entries: usize,
+        integral: f64,
+    },
     /// A genus a scene's timeline names that the library it was given lacks.
     #[error(
         "scene `{scene}`: its weather names the genus `{genus}`, which the library does not hold"

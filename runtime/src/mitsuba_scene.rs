@@ -14,25 +14,69 @@ use glam::Vec3;
 use nimbus_clouds::model::march::cloud_phase;
 
 use crate::density_export::DensityGrid;
+use crate::error::RuntimeError;
 use crate::render::{Frame, Renderer};
 use nimbus_clouds::model::bindings::CloudTextures;
 
-/// Entries of the tabulated phase function, evenly spaced in the cosine of the scattering
-/// angle over [−1, 1].
+/// Entries of the coarsest tabulated phase function, evenly spaced in the cosine of the
+/// scattering angle over [−1, 1] (Mitsuba's `tabphase` takes an even grid).
 pub const PHASE_ENTRIES: usize = 1025;
 
-/// The frame's phase function (the model's `cloud_phase`, first octave) at [`PHASE_ENTRIES`]
-/// cosines from −1 (back-scattering) to 1 (forward), in 1/sr.
-pub fn phase_table(frame: &Frame, textures: &CloudTextures) -> Vec<f32> {
+/// Entries of the finest table written (each halving of the step doubles the XML).
+pub const MAX_PHASE_ENTRIES: usize = 262_145;
+
+/// How far from 1 the table's integral over the sphere may be. Mitsuba interpolates the table
+/// linearly between entries and normalises it by that integral, so a table that misses 1 by x
+/// renders every direction off by the factor 1/(1 + x): a forward peak narrower than one step
+/// is a triangle far wider than the peak, and dims everything else (17× for 50 µm droplets on
+/// 1,025 entries).
+pub const PHASE_TABLE_TOLERANCE: f64 = 1e-3;
+
+/// The integral over the sphere of a phase function tabulated at evenly spaced cosines from −1
+/// to 1, interpolated linearly as Mitsuba does: 2π × the trapezoid rule in cos θ.
+pub fn table_integral(values: &[f32]) -> f64 {
+    if values.len() < 2 {
+        return 0.0;
+    }
+    let step = 2.0 / (values.len() - 1) as f64;
+    let inner: f64 = values
+        .windows(2)
+        .map(|w| f64::from(w[0] + w[1]) * 0.5)
+        .sum();
+    std::f64::consts::TAU * inner * step
+}
+
+/// The frame's phase function (the model's `cloud_phase`, first octave) at evenly spaced
+/// cosines from −1 (back-scattering) to 1 (forward), in 1/sr: [`PHASE_ENTRIES`] entries, or as
+/// many more (doubling the resolution) as the forward peak needs for the table to integrate to
+/// 1 within [`PHASE_TABLE_TOLERANCE`]. A phase no table up to [`MAX_PHASE_ENTRIES`] represents
+/// is refused, naming the genus, the phase and how far off Mitsuba would render it.
+pub fn phase_table(frame: &Frame, textures: &CloudTextures) -> Result<Vec<f32>, RuntimeError> {
     let u = Renderer::uniforms(frame);
     let key = frame.variant().key;
     let _bound = textures.bind(u);
-    (0..PHASE_ENTRIES)
-        .map(|i| {
-            let cos_theta = -1.0 + 2.0 * i as f32 / (PHASE_ENTRIES - 1) as f32;
-            cloud_phase(cos_theta, 1.0, key)
-        })
-        .collect()
+    let mut entries = PHASE_ENTRIES;
+    loop {
+        let values: Vec<f32> = (0..entries)
+            .map(|i| {
+                let cos_theta = (-1.0 + 2.0 * i as f64 / (entries - 1) as f64) as f32;
+                cloud_phase(cos_theta, 1.0, key)
+            })
+            .collect();
+        let integral = table_integral(&values);
+        if (integral - 1.0).abs() <= PHASE_TABLE_TOLERANCE {
+            return Ok(values);
+        }
+        if entries >= MAX_PHASE_ENTRIES {
+            return Err(RuntimeError::PhaseTable {
+                genus: frame.genus.name.clone(),
+                phase: format!("{:?}", frame.genus.phase),
+                entries,
+                integral,
+            });
+        }
+        entries = (entries - 1) * 2 + 1;
+    }
 }
 
 /// `"x, y, z"` as Mitsuba reads a vector.

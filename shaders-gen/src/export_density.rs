@@ -185,6 +185,11 @@ pub(crate) fn run(
         .into());
     }
     let textures = generate_cpu_textures(TextureSizes::default());
+    // The phase table before the grid: a phase Mitsuba cannot represent is refused first.
+    let phase = match &a.mitsuba {
+        Some(_) => Some(phase_table(&frame, &textures)?),
+        None => None,
+    };
     let bar = ProgressBar::new(u64::from(size[2]));
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} slabs  {elapsed} (eta {eta})")
@@ -225,10 +230,10 @@ pub(crate) fn run(
             grid.shape_texel
         );
     }
-    match &a.mitsuba {
-        Some(x) => {
+    match (&a.mitsuba, &phase) {
+        (Some(x), Some(phase)) => {
             let volume = volume_name(x, &a.out);
-            let xml = mitsuba_scene_xml(&frame, &grid, &volume, &phase_table(&frame, &textures));
+            let xml = mitsuba_scene_xml(&frame, &grid, &volume, phase);
             write_file(
                 x,
                 Signature::FirstLine(TEXT_MARKER),
@@ -242,7 +247,7 @@ pub(crate) fn run(
                 x.display()
             );
         }
-        None => say!(
+        _ => say!(
             "Mitsuba 3: {{'type': 'heterogeneous', 'albedo': {}, 'scale': 1.0, 'sigma_t': {{'type': 'gridvolume', 'filename': '{}'}}}}, lengths in metres; --mitsuba FILE.xml writes the whole scene",
             grid.albedo,
             a.out.display()
