@@ -51,7 +51,7 @@ fn nimbus_and_mitsuba_agree_on_single_scattering_and_see_a_wrong_sun() {
     }
     let r = agreement(1.0);
     let ss = &r["single_scattering"];
-    let (ours, floor) = (&ss["nimbus_vs_mitsuba"], &ss["mitsuba_vs_mitsuba"]);
+    let (ours, floor) = (&ss["nimbus_vs_mitsuba"], &ss["noise_floor"]);
     assert!(
         f(&r["cloudy_pixels"]) > 200.0,
         "the view must see clouds: {r}"
@@ -76,4 +76,37 @@ fn nimbus_and_mitsuba_agree_on_single_scattering_and_see_a_wrong_sun() {
         (ratio - 1.0 / 0.9).abs() < 0.04 && ratio > f(&ss["mean_ratio"]) + 0.06,
         "a 10 % dimmer sun in Mitsuba gave a ratio of {ratio}"
     );
+}
+
+#[test]
+fn a_view_with_no_cloud_is_refused_before_mitsuba_renders() {
+    if !have_mitsuba() {
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let scenes = tmp.path().join("scenes");
+    std::fs::create_dir(&scenes).expect("mkdir");
+    let clear = scenes.join("clear.toml");
+    std::fs::write(
+        &clear,
+        "name = \"clear\"\ndescription = \"x\"\ngenus = \"cumulus\"\ncoverage = 0.0\n",
+    )
+    .expect("write");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let o = Command::new("python3")
+        .arg(root.join("tools/mitsuba_agreement.py"))
+        .args(["--nimbus", env!("CARGO_BIN_EXE_nimbus")])
+        .arg("--scene")
+        .arg(&clear)
+        .args(["--resolution", "48x27", "--voxel", "200", "--filter", "1"])
+        .arg("--out")
+        .arg(tmp.path().join("out"))
+        .output()
+        .expect("run python3");
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{}\n{err}", text(&o.stdout));
+    assert!(err.contains("clear.toml") && err.contains("no cloud"), "{err}");
+    // Refused before Mitsuba renders (the minutes of the comparison): no report, no times.
+    assert!(!tmp.path().join("out/agreement.json").exists());
+    assert!(!text(&o.stdout).contains("times:"), "{}", text(&o.stdout));
 }
