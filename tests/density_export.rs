@@ -279,3 +279,35 @@ fn the_phase_table_integrates_to_one_as_mitsuba_reads_it_or_is_refused() {
         }
     }
 }
+
+#[test]
+fn a_camera_inside_the_grid_starts_its_rays_in_the_medium() {
+    use nimbus_runtime::density_export::DensityGrid;
+    use nimbus_runtime::mitsuba_scene::mitsuba_scene_xml;
+    let f = frame();
+    let grid_around = |min: Vec3, max: Vec3| DensityGrid {
+        region: Region { min, max },
+        size: [1, 1, 1],
+        values: vec![0.01],
+        albedo: 1.0,
+        filter: 1,
+        shape_texel: 52.0,
+    };
+    let eye_y = f.camera_altitude;
+    let inside = grid_around(
+        Vec3::new(-100.0, eye_y - 10.0, -100.0),
+        Vec3::new(100.0, eye_y + 10.0, 100.0),
+    );
+    let outside = grid_around(
+        Vec3::new(-100.0, eye_y + 500.0, -100.0),
+        Vec3::new(100.0, eye_y + 900.0, 100.0),
+    );
+    let reference = r#"<ref name="medium" id="clouds"/>"#;
+    let xml = mitsuba_scene_xml(&f, &inside, "d.vol", &[0.08; 3]);
+    assert!(xml.contains(reference), "{xml}");
+    // A reference follows what it names.
+    let declared = xml.find(r#"id="clouds""#).expect("medium");
+    assert!(declared < xml.find(reference).expect("ref"), "{xml}");
+    let xml = mitsuba_scene_xml(&f, &outside, "d.vol", &[0.08; 3]);
+    assert!(!xml.contains(reference), "{xml}");
+}

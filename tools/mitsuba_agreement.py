@@ -97,39 +97,101 @@ def pct(x):
     return f"{100 * x:+.2f} %" if x < 0 else f"{100 * x:.2f} %"
 
 
-def main():
+# The agreement suite: each view of examples/verification/, with what its export needs (the
+# box the default region spans within `--reach` of the camera).
+SUITE = [
+    ("cumulus-nadir.toml", {}),
+    ("cumulus-low-sun.toml", {}),
+    ("deck-above.toml", {}),
+    ("deck-below.toml", {}),
+    ("thin-high.toml", {}),
+    ("inside-cloud.toml", {"reach": 3000.0}),
+]
+
+
+def parser():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--nimbus", default=os.path.join(ROOT, "target/release/nimbus"))
     p.add_argument("--scene", default=os.path.join(ROOT, "examples/verification/cumulus-nadir.toml"))
+    p.add_argument("--suite", action="store_true",
+                   help="every view of examples/verification/ (SUITE), one summary table")
     p.add_argument("--resolution", default="96x54")
     p.add_argument("--voxel", type=float, default=13.0, help="voxel edge (m); the shape texel is 52 m")
+    p.add_argument("--reach", type=float, default=None, help="export-density --reach (m)")
     p.add_argument("--filter", type=int, default=2, help="samples per axis averaged per voxel")
     p.add_argument("--spp", type=int, default=1024, help="Mitsuba samples per pixel")
+    p.add_argument("--ms-spp", type=int, default=None,
+                   help="Mitsuba samples per pixel of the full path tracer (default: --spp)")
     p.add_argument("--frames", type=int, default=16, help="Nimbus accumulated frames")
     p.add_argument("--variant", default="scalar_rgb")
     p.add_argument("--multiple-scattering", action="store_true")
     p.add_argument("--sun-scale", type=float, default=1.0,
                    help="scale Mitsuba's sun by this (a control: 0.9 must show Nimbus 11 %% brighter)")
     p.add_argument("--out", default=None, help="folder for the renders and agreement.json")
-    a = p.parse_args()
+    return p
+
+
+def main():
+    a = parser().parse_args()
 
     import mitsuba as mi
 
     mi.set_variant(a.variant)
-    width, height = (int(v) for v in a.resolution.lower().split("x"))
     work = a.out or tempfile.mkdtemp(prefix="nimbus-agreement-")
     os.makedirs(work, exist_ok=True)
+    if not a.suite:
+        report = agree(a, mi, a.scene, a.reach, work)
+        print_report(report, work)
+        return 0
+    reports = []
+    for name, options in SUITE:
+        view_work = os.path.join(work, name[: -len(".toml")])
+        os.makedirs(view_work, exist_ok=True)
+        scene = os.path.join(ROOT, "examples/verification", name)
+        reports.append(agree(a, mi, scene, options.get("reach", a.reach), view_work))
+        print_report(reports[-1], view_work)
+    with open(os.path.join(work, "suite.json"), "w") as f:
+        json.dump(reports, f, indent=2)
+    print_suite(reports, a)
+    return 0
+
+
+def print_suite(reports, a):
+    """One row per view: single scattering against one Mitsuba render's noise, transmittance,
+    and (with --multiple-scattering) the ratio of mean radiance to Mitsuba's path tracer."""
+    print()
+    print(f"agreement suite: {a.resolution}, Mitsuba {a.spp} spp x 2 seeds, Nimbus {a.frames} frames")
+    print()
+    print("| view | cloudy px | single, image mean | floor | single, per pixel mean / floor | "
+          "transmittance, mean abs / floor | multiple, Nimbus / Mitsuba |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for r in reports:
+        s, t = r["single_scattering"], r["transmittance"]
+        ms = r.get("multiple_scattering")
+        ms_cell = f"{ms['ratio']:.3f}" if ms else "—"
+        print(f"| {os.path.basename(r['scene'])} | {r['cloudy_pixels']} | "
+              f"{pct(s['nimbus_vs_mitsuba']['mean_signed'])} | ±{100 * abs(s['noise_floor']['mean_signed']):.2f} % | "
+              f"{s['nimbus_vs_mitsuba']['mean_abs'] / max(s['noise_floor']['mean_abs'], 1e-12):.2f} | "
+              f"{t['nimbus_vs_mitsuba']['mean_abs']:.4f} / {t['noise_floor']['mean_abs']:.4f} | {ms_cell} |")
+
+
+def agree(a, mi, scene_path, reach, work):
+    """Nimbus against Mitsuba on one view; the report as agreement.json holds it."""
+    width, height = (int(v) for v in a.resolution.lower().split("x"))
     vol, xml, exr = (os.path.join(work, n) for n in ("density.vol", "scene.xml", "nimbus.exr"))
     t0 = time.time()
-    export = run([a.nimbus, "export-density", a.scene, "-o", vol, "--mitsuba", xml, "--force",
-                  "--voxel", str(a.voxel), "--filter", str(a.filter)])
+    export_args = [a.nimbus, "export-density", scene_path, "-o", vol, "--mitsuba", xml, "--force",
+                   "--voxel", str(a.voxel), "--filter", str(a.filter)]
+    if reach is not None:
+        export_args += ["--reach", str(reach)]
+    export = run(export_args)
     t_export = time.time() - t0
     cloudy_voxels = next((l for l in export.splitlines() if "voxels cloudy" in l), "")
     if " 0 of " in cloudy_voxels:
-        refuse(f"{os.path.relpath(a.scene, ROOT)}: the exported region holds no cloud "
+        refuse(f"{os.path.relpath(scene_path, ROOT)}: the exported region holds no cloud "
                f"({cloudy_voxels.strip()}): choose a view that sees clouds")
     t0 = time.time()
-    render = run([a.nimbus, "render", a.scene, "--verification", "--format", "exr", "-r", a.resolution,
+    render = run([a.nimbus, "render", scene_path, "--verification", "--format", "exr", "-r", a.resolution,
                   "-f", str(a.frames), "-o", exr, "--force"])
     t_nimbus = time.time() - t0
     adapter = next((l[len("adapter: "):] for l in render.splitlines() if l.startswith("adapter: ")), "?")
@@ -137,7 +199,7 @@ def main():
     nimbus_l = n["clouds.R"]
     nimbus_t = n["clouds.transmittance"]
     if not (nimbus_t < 0.999).any():
-        refuse(f"{os.path.relpath(a.scene, ROOT)}: the view sees no cloud (Nimbus's "
+        refuse(f"{os.path.relpath(scene_path, ROOT)}: the view sees no cloud (Nimbus's "
                f"transmittance is 1 at every pixel), so there is nothing to compare: choose a "
                f"view that sees clouds")
 
@@ -151,7 +213,7 @@ def main():
     mask = (nimbus_t < 0.999) | (mit_t[0] < 0.999)
     cloudy = int(mask.sum())
     report = {
-        "scene": os.path.relpath(a.scene, ROOT),
+        "scene": os.path.relpath(scene_path, ROOT),
         "resolution": [width, height],
         "voxel_m": a.voxel,
         "filter": a.filter,
@@ -178,10 +240,10 @@ def main():
 
     if a.multiple_scattering:
         ms_exr = os.path.join(work, "nimbus-ms.exr")
-        run([a.nimbus, "render", a.scene, "--verification", "--octaves", "8", "--format", "exr",
+        run([a.nimbus, "render", scene_path, "--verification", "--octaves", "8", "--format", "exr",
              "-r", a.resolution, "-f", str(a.frames), "-o", ms_exr, "--force"])
         nm = read_exr(ms_exr)["clouds.R"]
-        full = mitsuba_render(mi, xml, width, height, a.spp, 5, max_depth=-1)[..., 0]
+        full = mitsuba_render(mi, xml, width, height, a.ms_spp or a.spp, 5, max_depth=-1)[..., 0]
         report["multiple_scattering"] = {
             "nimbus_mean": float(nm[mask].mean()),
             "mitsuba_mean": float(full[mask].mean()),
@@ -189,6 +251,7 @@ def main():
             "single_over_full_mitsuba": float(mit_l[0][mask].mean() / full[mask].mean()),
         }
 
+    report["work"] = work
     with open(os.path.join(work, "agreement.json"), "w") as f:
         json.dump(report, f, indent=2)
     np.save(os.path.join(work, "mitsuba_single.npy"), 0.5 * (mit_l[0] + mit_l[1]))
@@ -202,11 +265,21 @@ def main():
     strip = np.concatenate([grey(nimbus_l), gap, grey(mit_l[0]), gap, signed], axis=1)
     mi.util.write_bitmap(os.path.join(work, "comparison.png"), np.clip(strip, 0, 1).astype(np.float32))
 
+    return report
+
+
+def print_report(report, work):
+    width, height = report["resolution"]
+    cloudy = report["cloudy_pixels"]
+    a_voxel, a_filter = report["voxel_m"], report["filter"]
+    adapter, frames = report["nimbus"]["adapter"], report["nimbus"]["frames"]
+    m = report["mitsuba"]
+    t_export, t_nimbus, t_mitsuba = (report["seconds"][k] for k in ("export", "nimbus", "mitsuba"))
     s, t = report["single_scattering"], report["transmittance"]
     print()
-    print(f"scene {report['scene']}, {width}x{height}, {cloudy} cloudy pixels; grid voxels {a.voxel} m "
-          f"averaged over {a.filter}^3 samples; Nimbus {a.frames} frames on {adapter}; "
-          f"Mitsuba {mi.__version__} {a.variant}, {a.spp} spp x 2 seeds")
+    print(f"scene {report['scene']}, {width}x{height}, {cloudy} cloudy pixels; grid voxels {a_voxel} m "
+          f"averaged over {a_filter}^3 samples; Nimbus {frames} frames on {adapter}; "
+          f"Mitsuba {m['version']} {m['variant']}, {m['spp']} spp x 2 seeds")
     print()
     print("| | image mean | per pixel, mean | per pixel, p95 |")
     print("|---|---|---|---|")
@@ -224,7 +297,6 @@ def main():
               f"(single / full in Mitsuba: {m['single_over_full_mitsuba']:.3f})")
     print(f"\ntimes: export {t_export:.1f} s, Nimbus {t_nimbus:.1f} s, Mitsuba {t_mitsuba:.1f} s; "
           f"files in {work}")
-    return 0
 
 
 if __name__ == "__main__":

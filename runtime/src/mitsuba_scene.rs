@@ -104,6 +104,7 @@ pub fn mitsuba_scene_xml(frame: &Frame, grid: &DensityGrid, volume: &str, phase:
     let r = grid.region;
     let extent = r.max - r.min;
     let centre = (r.min + r.max) * 0.5;
+    let inside = eye.cmpgt(r.min).all() && eye.cmplt(r.max).all();
     let values: Vec<String> = phase.iter().map(|v| format!("{v:e}")).collect();
     let mut x = String::new();
     let mut line = |s: &str| {
@@ -137,7 +138,41 @@ pub fn mitsuba_scene_xml(frame: &Frame, grid: &DensityGrid, volume: &str, phase:
     line(r#"        <integer name="max_depth" value="$max_depth"/>"#);
     line(r#"        <integer name="rr_depth" value="1000"/>"#);
     line(r#"    </integrator>"#);
+    // The medium first: a camera inside the grid's box names it, and a reference must follow
+    // what it names.
+    line(r#"    <medium type="heterogeneous" id="clouds">"#);
+    line(r#"        <float name="albedo" value="$albedo"/>"#);
+    line(r#"        <float name="scale" value="1"/>"#);
+    line(r#"        <volume name="sigma_t" type="gridvolume">"#);
+    line(&format!(
+        r#"            <string name="filename" value="{}"/>"#,
+        attribute(volume)
+    ));
+    line(r#"            <string name="filter_type" value="trilinear"/>"#);
+    line(r#"            <transform name="to_world">"#);
+    line(&format!(
+        r#"                <scale value="{}"/>"#,
+        xyz(extent)
+    ));
+    line(&format!(
+        r#"                <translate value="{}"/>"#,
+        xyz(r.min)
+    ));
+    line(r#"            </transform>"#);
+    line(r#"        </volume>"#);
+    line(r#"        <phase type="tabphase">"#);
+    line(&format!(
+        r#"            <string name="values" value="{}"/>"#,
+        values.join(", ")
+    ));
+    line(r#"        </phase>"#);
+    line(r#"    </medium>"#);
     line(r#"    <sensor type="perspective">"#);
+    if inside {
+        // A camera inside the box starts its rays in the medium (the cube's interior); without
+        // this, Mitsuba starts them in vacuum and the clouds around the camera are not there.
+        line(r#"        <ref name="medium" id="clouds"/>"#);
+    }
     line(r#"        <string name="fov_axis" value="y"/>"#);
     line(&format!(
         r#"        <float name="fov" value="{}"/>"#,
@@ -171,33 +206,6 @@ pub fn mitsuba_scene_xml(frame: &Frame, grid: &DensityGrid, volume: &str, phase:
     line(r#"        <rgb name="irradiance" value="$sun"/>"#);
     line(r#"    </emitter>"#);
     line(r#"    <emitter type="constant"><rgb name="radiance" value="$sky"/></emitter>"#);
-    line(r#"    <medium type="heterogeneous" id="clouds">"#);
-    line(r#"        <float name="albedo" value="$albedo"/>"#);
-    line(r#"        <float name="scale" value="1"/>"#);
-    line(r#"        <volume name="sigma_t" type="gridvolume">"#);
-    line(&format!(
-        r#"            <string name="filename" value="{}"/>"#,
-        attribute(volume)
-    ));
-    line(r#"            <string name="filter_type" value="trilinear"/>"#);
-    line(r#"            <transform name="to_world">"#);
-    line(&format!(
-        r#"                <scale value="{}"/>"#,
-        xyz(extent)
-    ));
-    line(&format!(
-        r#"                <translate value="{}"/>"#,
-        xyz(r.min)
-    ));
-    line(r#"            </transform>"#);
-    line(r#"        </volume>"#);
-    line(r#"        <phase type="tabphase">"#);
-    line(&format!(
-        r#"            <string name="values" value="{}"/>"#,
-        values.join(", ")
-    ));
-    line(r#"        </phase>"#);
-    line(r#"    </medium>"#);
     line(r#"    <shape type="cube">"#);
     line(r#"        <transform name="to_world">"#);
     line(&format!(

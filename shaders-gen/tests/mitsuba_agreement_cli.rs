@@ -105,7 +105,10 @@ fn a_view_with_no_cloud_is_refused_before_mitsuba_renders() {
         .expect("run python3");
     let err = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{}\n{err}", text(&o.stdout));
-    assert!(err.contains("clear.toml") && err.contains("no cloud"), "{err}");
+    assert!(
+        err.contains("clear.toml") && err.contains("no cloud"),
+        "{err}"
+    );
     // Refused before Mitsuba renders (the minutes of the comparison): no report, no times.
     assert!(!tmp.path().join("out/agreement.json").exists());
     assert!(!text(&o.stdout).contains("times:"), "{}", text(&o.stdout));
