@@ -70,24 +70,25 @@ pub fn animate_args(data: &[u8]) -> Outcome {
     }
 }
 
+/// `data` as a byte that picks (a time, an engine) and a scene file: the byte, the scene's
+/// text and the scene as every command loads it, or `None` when it is refused.
+fn scene_input(data: &[u8]) -> Option<(u8, String, SceneInput)> {
+    let (&pick, rest) = data.split_first()?;
+    let (lib, _) = library()?;
+    let text = String::from_utf8_lossy(rest).into_owned();
+    let file = Path::new("scenes/fuzzed.toml");
+    let scene = parse_scene(file, &text).ok()?;
+    let input = SceneInput::from_scene(lib, file, scene, None).ok()?;
+    Some((pick, text, input))
+}
+
 /// `data` as a scene file with a timeline (the first byte picks a second of it): if accepted,
 /// the scene is taken at second 0, at that second and at the last second a timeline may
 /// reach, through the loader every command uses. Each time gives one state or two whose
 /// weights are finite, in 0..=1 and sum to 1, with a finite sun; each state's frame is accepted
 /// or refused with a typed error. Anything else is a bug.
 pub fn timeline(data: &[u8]) -> Outcome {
-    let Some((&pick, rest)) = data.split_first() else {
-        return Outcome::default();
-    };
-    let Some((lib, _)) = library() else {
-        return Outcome::default();
-    };
-    let text = String::from_utf8_lossy(rest);
-    let file = Path::new("scenes/fuzzed.toml");
-    let Ok(scene) = parse_scene(file, &text) else {
-        return Outcome::default();
-    };
-    let Ok(input) = SceneInput::from_scene(lib, file, scene, None) else {
+    let Some((pick, text, input)) = scene_input(data) else {
         return Outcome::default();
     };
     let last = nimbus_clouds::limits::TIME.max;
@@ -133,18 +134,7 @@ pub fn timeline(data: &[u8]) -> Outcome {
 /// and validated by naga, the description and uniform files serialised. A refusal must be a
 /// typed error (an engine's limit); a panic or a failed validation is a bug.
 pub fn engine_package(data: &[u8]) -> Outcome {
-    let Some((&pick, rest)) = data.split_first() else {
-        return Outcome::default();
-    };
-    let Some((lib, _)) = library() else {
-        return Outcome::default();
-    };
-    let text = String::from_utf8_lossy(rest);
-    let file = Path::new("scenes/fuzzed.toml");
-    let Ok(scene) = parse_scene(file, &text) else {
-        return Outcome::default();
-    };
-    let Ok(input) = SceneInput::from_scene(lib, file, scene, None) else {
+    let Some((pick, text, input)) = scene_input(data) else {
         return Outcome::default();
     };
     let engines = <Engine as clap::ValueEnum>::value_variants();
