@@ -85,7 +85,12 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
         Toggle::LightShafts => &["shadow_length"],
         Toggle::Haze => &["haze_opacity", "haze_light"],
         Toggle::Shadows => &["shadow_optical_depth(texel, to_top, reach)"],
-        Toggle::GroundBounce => &["tau_ground", "ground_irradiance"],
+        Toggle::GroundBounce => &["ground_bounce_light", "ground_irradiance"],
+        Toggle::Diffusion => &[
+            "slab_diffuse_fluence",
+            "forward_peak(",
+            "phase_second_moment",
+        ],
         Toggle::Powder => &["powder_exponent)"],
         Toggle::AccurateSunSkyLight => &["sun_attenuation"],
         Toggle::AccuratePhaseFunction => &["approximate_mie"],
@@ -226,6 +231,8 @@ fn the_uber_shader_branches_at_run_time_on_every_target() {
 fn octave_count_bounds_the_loop() {
     let lib = library();
     let mut f = Quality::High.features();
+    // The octaves, not the diffusion that replaces them.
+    f.diffusion = false;
     f.octaves = 3;
     let g = build(&lib, "cumulus", Quality::High, f);
     assert!(g.wgsl.contains("_octave < 3u"), "{}", g.wgsl);

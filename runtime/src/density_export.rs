@@ -37,6 +37,17 @@ pub struct Region {
     pub max: Vec3,
 }
 
+impl Region {
+    /// This box grown by `by` metres on each horizontal side (its altitudes kept).
+    pub fn widened(self, by: f32) -> Region {
+        let grow = Vec3::new(by, 0.0, by);
+        Region {
+            min: self.min - grow,
+            max: self.max + grow,
+        }
+    }
+}
+
 /// Extinction averaged over each voxel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DensityGrid {

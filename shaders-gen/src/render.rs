@@ -8,7 +8,7 @@ use crate::error::CliError;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use nimbus_clouds::limits::{self, Limit, Origin};
-use nimbus_clouds::{Features, Genus, Quality, ScenePreset, analyse, load_scene};
+use nimbus_clouds::{Features, Genus, Quality, ScenePreset, Toggle, analyse, load_scene};
 use nimbus_output::{Overwrite, Signature, check_file};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::formation::FormationSim;
@@ -32,7 +32,7 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_enum)]
     format: Option<ImageFormat>,
     /// Verification mode: pure single scattering of a sun of irradiance 1 (one octave unless
-    /// --octaves says more; no powder, ground bounce, sky light, sun filtering, haze, aerial
+    /// --octaves says more, no diffusion unless --enable diffusion asks; no powder, ground bounce, sky light, sun filtering, haze, aerial
     /// perspective or background), as an independent path tracer renders the same density.
     #[arg(long)]
     verification: bool,
@@ -391,6 +391,10 @@ fn frame_of(
     }
     if a.verification && a.toggles.octaves.is_none() {
         frame.features.octaves = 1;
+    }
+    // Multiple scattering, by octaves or by diffusion, only when asked for.
+    if a.verification && !a.toggles.enable.contains(&Toggle::Diffusion) {
+        frame.features.diffusion = false;
     }
     frame.validate()?;
     Ok(frame)

@@ -367,7 +367,7 @@ fn report(
         s,
         "Adapter: {adapter}. Times: {clock}, per frame of {} accumulated frames at {width}x{height} (median of {} renders, each under its own jitter seed), shadow map cached as in a game loop. \
          Error: each image against the reference of its view ({} frames of the `reference` preset: 20 m steps up to 100 m, no early termination or cut-offs, \
-         unbiased sun and ground marches over the whole path out of the layers, 12 octaves, every effect). \
+         unbiased sun and ground marches over the whole path out of the layers, multiple scattering by diffusion, every effect). \
          Display space (exposure {}, ACES, sRGB): RMSE, PSNR, SSIM and mean FLIP. Linear space: mean |ΔY| over the reference's mean luminance; \
          the error split into bias (of the mean over the seeds, less the noise it still carries) and noise (spread across seeds), both RMS over the reference's mean luminance; \
          and the mean-luminance ratio to the reference. Rows are means over the {} views: {}.\n",

@@ -69,8 +69,8 @@ fn list_and_check_describe_and_validate_everything() {
         "preview-dual_lobe",
         "clouds: 20 distinct shader(s)",
         "shadow: 12 distinct shader(s)",
-        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-o8-dual-g1 ← 5 pair(s)",
-        "clouds-detail-turb-shafts-haze-shadows-bounce-powder-o8-dual-g1-sparse_weather-anvil_shape ← 1 pair(s): cumulonimbus.high",
+        "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-dual-g1 ← 5 pair(s)",
+        "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-dual-g1-sparse_weather-anvil_shape ← 1 pair(s): cumulonimbus.high",
         "glsl-es300",
         "spirv",
         "msl",
@@ -142,7 +142,7 @@ fn emit_genus_quality_and_toggles() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     // Without haze the shafts have nothing to light: the key drops both.
-    let id = "clouds-detail-turb-shadows-bounce-powder-o8-dual-g1";
+    let id = "clouds-detail-turb-shadows-bounce-diffuse-powder-o1-dual-g1";
     let wgsl = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("wgsl");
     assert!(wgsl.contains("fn march_clouds") && !wgsl.contains("haze_opacity"));
     assert!(out.join(format!("{id}.fs_main.es300.frag")).is_file());
@@ -235,7 +235,7 @@ fn emit_and_explain_agree_on_the_scene_variant() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let name = "stratocumulus.high-light-shafts-ground-bounce";
-    let id = "clouds-detail-turb-haze-shadows-powder-o8-dual-g1-cellular_weather";
+    let id = "clouds-detail-turb-haze-shadows-diffuse-powder-o1-dual-g1-cellular_weather";
     let clouds = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("clouds");
     assert!(
         out.join("shadow-detail-turb-g1-cellular_weather.wgsl")

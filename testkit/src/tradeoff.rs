@@ -25,7 +25,8 @@ pub struct RowSpec {
 }
 
 /// The rows of the study: the four presets, then high with each of its effects off in turn
-/// (multiple scattering "off" is one octave).
+/// (multiple scattering "off" is one octave and no diffusion; "high - diffusion" is high with
+/// the octaves in its place).
 pub fn rows() -> Vec<RowSpec> {
     let mut rows: Vec<RowSpec> = Quality::ALL
         .into_iter()
@@ -50,7 +51,11 @@ pub fn rows() -> Vec<RowSpec> {
     rows.push(RowSpec {
         label: "high - multiple-scattering".into(),
         quality: Quality::High,
-        features: Features { octaves: 1, ..high },
+        features: Features {
+            octaves: 1,
+            diffusion: false,
+            ..high
+        },
         preset: false,
     });
     rows

@@ -76,8 +76,9 @@ pub struct Frame {
     pub output: PixelOutput,
     /// Verification mode: the clouds lit by a sun of irradiance 1 alone (no powder, ground
     /// bounce, sky light, per-sample sun filtering, haze, aerial perspective or background),
-    /// the model an independent path tracer can reproduce; with `features.octaves = 1` it is
-    /// pure single scattering, with more the multiple-scattering approximation alone.
+    /// the model an independent path tracer can reproduce; with `features.octaves = 1` and no
+    /// `features.diffusion` it is pure single scattering, with more octaves or the diffusion
+    /// the multiple-scattering approximation alone.
     pub verification: bool,
     /// What the composite adds around the clouds (sky, sun disc, ground, aerial perspective),
     /// each switchable; verification mode switches them all off.

@@ -135,6 +135,10 @@ impl CloudKey {
         features.accurate_phase_function = false;
         // The shaft march only scales the haze's sunlight: without haze it has no output.
         features.light_shafts &= features.haze;
+        // Diffusion replaces the octaves beyond the first (single scattering).
+        if features.diffusion {
+            features.octaves = 1;
+        }
         CloudKey {
             features,
             phase,
@@ -205,8 +209,9 @@ impl CloudKey {
 
     /// Every canonical key of the built-in genus functions: each combination of the toggles
     /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer with
-    /// any of them, the engine's scene depth and an orthographic camera with any of them), 1–12 octaves, the four phase kinds and one or two lane groups.
-    /// 1,536 × 12 × 4 × 2 = 147,456 keys. A genus' own
+    /// any of them, the engine's scene depth and an orthographic camera with any of them), 1–12 octaves (one with the
+    /// diffusion, which replaces the others), the four phase kinds and one or two lane groups:
+    /// (1,536 × 12 + 1,536) × 4 × 2 = 159,744 keys. A genus' own
     /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL
@@ -226,7 +231,8 @@ impl CloudKey {
             if features.light_shafts && !features.haze {
                 continue;
             }
-            for octaves in 1..=12 {
+            let most_octaves = if features.diffusion { 1 } else { 12 };
+            for octaves in 1..=most_octaves {
                 for phase in PhaseKind::ALL {
                     for groups in 1..=2 {
                         out.push(CloudKey {

@@ -584,6 +584,7 @@ fn verification_mode() -> Case {
     let mut b = Builder::new(&g);
     let features = nimbus_clouds::Features {
         octaves: 1,
+        diffusion: false,
         ..Quality::Reference.features()
     }
     .sun_scattering_only();

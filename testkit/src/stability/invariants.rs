@@ -4,6 +4,7 @@ use glam::{Vec3, Vec4};
 
 use nimbus_clouds::CloudKey;
 use nimbus_clouds::model::bindings::CLOUDS;
+use nimbus_clouds::model::diffusion::{forward_peak_weight, phase_asymmetry, phase_second_moment};
 use nimbus_clouds::model::march::{CloudUniforms, cloud_phase, sun_attenuation};
 use nimbus_clouds::model::phase::henyey_greenstein;
 use nimbus_clouds::model::sky::sun_disc;
@@ -39,9 +40,26 @@ fn phase_peak(u: &CloudUniforms, key: &CloudKey) -> f32 {
         .fold(INV_FOUR_PI, f32::max)
 }
 
+/// Largest light the diffusion adds per unit of sun irradiance and scattering coefficient (0
+/// without it): the diffuse fluence is at most `3μ0² + 2μ0 ≤ 5` and its flux at most 2, seen
+/// as `(φ + 3|g|·|F|) / 4π`, plus the forward peak's light at the peak of the rest of the
+/// phase function.
+fn diffusion_peak(u: &CloudUniforms, key: &CloudKey) -> f32 {
+    if !key.features.diffusion {
+        return 0.0;
+    }
+    let _bound = CpuBindings::new().set(&CLOUDS, *u).bind();
+    let g = phase_asymmetry(*key);
+    let f = forward_peak_weight(g, phase_second_moment(*key));
+    let g_star = (g - f) / (1.0 - f);
+    let rest = henyey_greenstein(1.0, g_star).max(henyey_greenstein(-1.0, g_star));
+    (5.0 + 3.0 * 2.0) * INV_FOUR_PI + rest
+}
+
 /// Upper bound of the light a unit of scattering coefficient sends towards the camera: the sun
 /// through every octave (Σ 2⁻ᵏ ≤ 2 times the phase peak, brightened at most as much as the
-/// atmosphere above the camera dims it), plus sky light and ground bounce at their largest.
+/// atmosphere above the camera dims it) and the diffusion, plus sky light and ground bounce at
+/// their largest.
 pub fn source_bound(u: &CloudUniforms, key: &CloudKey) -> Vec3 {
     let l = u.light;
     let attenuation = if key.features.accurate_sun_sky_light {
@@ -50,7 +68,8 @@ pub fn source_bound(u: &CloudUniforms, key: &CloudKey) -> Vec3 {
     } else {
         1.0
     };
-    let sun = l.sun_irradiance * (attenuation * 2.0 * phase_peak(u, key));
+    let sun =
+        l.sun_irradiance * (attenuation * (2.0 * phase_peak(u, key) + diffusion_peak(u, key)));
     let sky = l.sky_irradiance * (INV_FOUR_PI * l.sky_light_scale);
     let ground = if key.features.ground_bounce {
         (l.sky_irradiance + l.sun_irradiance)

@@ -52,6 +52,7 @@ pub const LIGHT_SHAFTS: Toggle = Toggle::LightShafts;
 pub const HAZE: Toggle = Toggle::Haze;
 pub const SHADOWS: Toggle = Toggle::Shadows;
 pub const GROUND_BOUNCE: Toggle = Toggle::GroundBounce;
+pub const DIFFUSION: Toggle = Toggle::Diffusion;
 pub const POWDER: Toggle = Toggle::Powder;
 pub const SUN_SKY_LIGHT: Toggle = Toggle::AccurateSunSkyLight;
 pub const FLAT_HIGH_LAYER: Toggle = Toggle::FlatHighLayer;

@@ -17,8 +17,7 @@ use nimbus_dsl::prelude::*;
 use super::bindings::CLOUDS;
 use super::choices::{GROUND_BOUNCE, POWDER, gate};
 use super::march::{
-    MarchResult, altitude_along, cloud_range, ground_bounce_light, multiple_scattering,
-    total_density,
+    MarchResult, altitude_along, cloud_range, ground_bounce_light, sun_scattering, total_density,
 };
 use super::shell::ray_shell;
 use crate::key::CloudKey;
@@ -95,8 +94,19 @@ pub fn flat_layer(
     let cos_theta = direction.dot(l.sun_direction);
     let sun_up = select(0.0, 1.0, l.sun_direction.y > 0.0);
     let scattered = 0.5
-        * (multiple_scattering(tau_sun * GAUSS_NEAR, cos_theta, key)
-            + multiple_scattering(tau_sun * GAUSS_FAR, cos_theta, key));
+        * (sun_scattering(
+            tau_sun * GAUSS_NEAR,
+            tau_vertical * GAUSS_FAR,
+            cos_theta,
+            mu,
+            key,
+        ) + sun_scattering(
+            tau_sun * GAUSS_FAR,
+            tau_vertical * GAUSS_NEAR,
+            cos_theta,
+            mu,
+            key,
+        ));
     let mut light = l.sun_irradiance * (scattered * sun_up);
     if gate(key, GROUND_BOUNCE) {
         // The ground's light, through the lower half of the layer, as the march adds it.

@@ -13,11 +13,12 @@ use nimbus_dsl::prelude::*;
 
 use super::bindings::CLOUDS;
 use super::choices::{
-    APPROXIMATE_MIE, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE, HENYEY_GREENSTEIN,
-    LIGHT_SHAFTS, OCTAVES, ORTHOGRAPHIC, POWDER, SCENE_DEPTH, SHADOWS, SUN_SKY_LIGHT, gate,
-    key_count, phase_is,
+    APPROXIMATE_MIE, DIFFUSION, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE,
+    HENYEY_GREENSTEIN, LIGHT_SHAFTS, OCTAVES, ORTHOGRAPHIC, POWDER, SCENE_DEPTH, SHADOWS,
+    SUN_SKY_LIGHT, gate, key_count, phase_is,
 };
 use super::density::{MediaParams, eroded_density, layer_density, weather_density};
+use super::diffusion::diffuse_scattering;
 use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
@@ -228,6 +229,48 @@ pub fn multiple_scattering(optical_depth: f32, cos_theta: f32, #[spec] key: Clou
         g_scale *= 0.5;
     }
     sum
+}
+
+/// The sunlight a sample scatters towards the camera, per unit of irradiance and of σs: the
+/// octaves (the first alone is single scattering), and with [`DIFFUSION`] the light that the
+/// layer around the sample scatters many times (`model::diffusion`), which lies
+/// `tau_sun` below the sunlit top and `tau_down` above the base. `view_up` is the view ray's
+/// up-cosine.
+#[shader_fn]
+pub fn sun_scattering(
+    tau_sun: f32,
+    tau_down: f32,
+    cos_theta: f32,
+    view_up: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let mut scattered = multiple_scattering(tau_sun, cos_theta, key);
+    if gate(key, DIFFUSION) {
+        scattered += diffuse_scattering(tau_sun, tau_down, cos_theta, view_up, key);
+    }
+    scattered
+}
+
+/// Optical depth from a sample straight down and out of the cloud slab, by the ground steps.
+#[shader_fn]
+pub fn ground_optical_depth(
+    p: Vec3,
+    h: f32,
+    offset: f32,
+    footprint: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let m = CLOUDS.get().march;
+    secondary_optical_depth(
+        p,
+        h,
+        vec3(0.0, -1.0, 0.0),
+        m.ground_steps,
+        offset,
+        true,
+        footprint,
+        key,
+    )
 }
 
 /// Density (summed over the layer groups of the key) at a camera-relative position, for a
@@ -582,6 +625,11 @@ pub fn ground_bounce_light(tau_ground: f32) -> Vec3 {
 /// the angle (rad) its pixel subtends, so a sample at distance `t` stands for `t·pixel_angle`
 /// metres across (0: every sample a point).
 #[shader_fn]
+#[expect(
+    clippy::if_same_then_else,
+    reason = "the march down runs once for either of two key gates: one `if` per gate is how a \
+              shader function branches on the key"
+)]
 pub fn march_clouds(
     direction: Vec3,
     jitter: f32,
@@ -674,19 +722,18 @@ pub fn march_clouds(
             if gate(key, SUN_SKY_LIGHT) {
                 sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
             }
-            let mut light = sun * multiple_scattering(tau_sun, cos_theta, key);
+            // The optical depth down to the base: the ground's light comes through it, and
+            // the diffusion's slab ends there.
+            let mut tau_ground = 0.0f32;
             if gate(key, GROUND_BOUNCE) {
                 samples += m.ground_steps as f32;
-                let tau_ground = secondary_optical_depth(
-                    p,
-                    h,
-                    vec3(0.0, -1.0, 0.0),
-                    m.ground_steps,
-                    offset,
-                    true,
-                    footprint,
-                    key,
-                );
+                tau_ground = ground_optical_depth(p, h, offset, footprint, key);
+            } else if gate(key, DIFFUSION) {
+                samples += m.ground_steps as f32;
+                tau_ground = ground_optical_depth(p, h, offset, footprint, key);
+            }
+            let mut light = sun * sun_scattering(tau_sun, tau_ground, cos_theta, direction.y, key);
+            if gate(key, GROUND_BOUNCE) {
                 light += ground_bounce_light(tau_ground);
             }
             // Crude sky gradient: half the sky light at a layer's base, all of it at the top.

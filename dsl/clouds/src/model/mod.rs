@@ -5,6 +5,7 @@ pub mod bindings;
 pub mod choices;
 pub mod clouds;
 pub mod density;
+pub mod diffusion;
 pub mod display;
 pub mod flat_layer;
 pub mod formation;

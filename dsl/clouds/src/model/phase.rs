@@ -75,3 +75,30 @@ pub fn approximate_mie(cos_theta: f32, d: f32) -> f32 {
         w_d,
     )
 }
+
+/// Mean cosine of [`approximate_mie`] at droplet diameter `d` µm: the blend of its lobes' mean
+/// cosines, Draine's being `g (1 + α(3 + 2g²)/5) / (1 + α(1 + 2g²)/3)`.
+#[shader_fn]
+pub fn approximate_mie_asymmetry(d: f32) -> f32 {
+    let g_hg = (-0.099_056_7 / (d - 1.671_54)).exp();
+    let g_d = (-2.206_79 / (d + 3.910_29) - 0.428_934).exp();
+    let alpha = (3.624_89 - 8.292_88 / (d + 5.528_25)).exp();
+    let w_d = (-0.599_085 / (d - 0.641_583) - 0.665_888).exp();
+    let draine = g_d * (1.0 + alpha * (3.0 + 2.0 * g_d * g_d) / 5.0)
+        / (1.0 + alpha * (1.0 + 2.0 * g_d * g_d) / 3.0);
+    mix(g_hg, draine, w_d)
+}
+
+/// Second Legendre moment of [`approximate_mie`] at droplet diameter `d` µm: the blend of its
+/// lobes' moments, Draine's being `(g² + α(36g⁴ + 55g² + 14)/105) / (1 + α(1 + 2g²)/3)`.
+#[shader_fn]
+pub fn approximate_mie_second_moment(d: f32) -> f32 {
+    let g_hg = (-0.099_056_7 / (d - 1.671_54)).exp();
+    let g_d = (-2.206_79 / (d + 3.910_29) - 0.428_934).exp();
+    let alpha = (3.624_89 - 8.292_88 / (d + 5.528_25)).exp();
+    let w_d = (-0.599_085 / (d - 0.641_583) - 0.665_888).exp();
+    let g2 = g_d * g_d;
+    let draine = (g2 + alpha * (36.0 * g2 * g2 + 55.0 * g2 + 14.0) / 105.0)
+        / (1.0 + alpha * (1.0 + 2.0 * g2) / 3.0);
+    mix(g_hg * g_hg, draine, w_d)
+}

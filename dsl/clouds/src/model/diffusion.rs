@@ -1,0 +1,135 @@
+//! Multiple scattering in thick cloud: the Eddington two-stream (diffusion) solution of the
+//! layer around each sample, in place of the octaves.
+//!
+//! The octaves (`Σ aᵏ e^(−τbᵏ) p(μ; cᵏg)`) dim every order of scattering by the optical depth
+//! to the sun, so deep in a deck, where that depth is in the hundreds, all of them vanish: a
+//! stratocumulus deck read 3 times too dark from above, 6 times from below and 15 times from
+//! inside against Mitsuba's path tracer, while thin cirrostratus read 1.8 times too bright. In
+//! cloud the light that has scattered many times is diffuse, and its fluence falls off
+//! linearly with depth, not exponentially.
+//!
+//! Each sample is taken to lie in a horizontally uniform slab: its depth below the sunlit top
+//! is the optical depth towards the sun times the sun's cosine, and the slab ends where the
+//! march down to the base ends. The phase function is split the δ-Eddington way (Joseph,
+//! Wiscombe & Weinman 1976): its forward peak, of weight `f` = its second Legendre moment,
+//! travels on with the sunbeam, which then dims as `e^(−(1 − f)τ)`; what the peak carried is
+//! scattered once more by the rest of the phase function ([`forward_peak`]). Everything else
+//! diffuses through the slab with the phase function's mean cosine `g`, in transport depths
+//! `(1 − g)τ`, Marshak boundaries top and bottom, with the beam's forward momentum as a source
+//! ([`slab_diffuse_fluence`]). Against a random walk through the slab (`tests/diffusion.rs`):
+//! within 2–7 % from 10 optical depths on, about 20 % low at 2.
+//!
+//! Written with no fitted constant: against Mitsuba 3 over the agreement suite the octaves'
+//! 0.15–1.78 of the path tracer's light became 0.86–1.15 (README, "The agreement suite").
+
+use glam::Vec2;
+
+use crate::key::CloudKey;
+use nimbus_dsl::prelude::*;
+
+use super::bindings::CLOUDS;
+use super::choices::{APPROXIMATE_MIE, DUAL_LOBE, HENYEY_GREENSTEIN, phase_is};
+use super::phase::{approximate_mie_asymmetry, approximate_mie_second_moment, henyey_greenstein};
+
+/// 1 / (4π).
+const INV_FOUR_PI: f32 = 0.079_577_47;
+
+/// The largest forward-peak weight: a phase function all peak (g → 1) would leave nothing to
+/// diffuse and divide by zero.
+const MAX_PEAK: f32 = 0.99;
+
+/// Mean cosine `g` of the key's phase function (its first Legendre moment).
+#[shader_fn]
+pub fn phase_asymmetry(#[spec] key: CloudKey) -> f32 {
+    let light = CLOUDS.get().light;
+    if phase_is(key, HENYEY_GREENSTEIN) {
+        return light.g1;
+    }
+    if phase_is(key, DUAL_LOBE) {
+        return light.g1 * (1.0 - light.lobe_weight) + light.g2 * light.lobe_weight;
+    }
+    if phase_is(key, APPROXIMATE_MIE) {
+        return approximate_mie_asymmetry(light.droplet_diameter);
+    }
+    0.0
+}
+
+/// Second Legendre moment of the key's phase function: δ-Eddington's forward-peak weight `f`
+/// (`g²` for Henyey–Greenstein, the weighted `gᵢ²` for two lobes).
+#[shader_fn]
+pub fn phase_second_moment(#[spec] key: CloudKey) -> f32 {
+    let light = CLOUDS.get().light;
+    if phase_is(key, HENYEY_GREENSTEIN) {
+        return light.g1 * light.g1;
+    }
+    if phase_is(key, DUAL_LOBE) {
+        return light.g1 * light.g1 * (1.0 - light.lobe_weight)
+            + light.g2 * light.g2 * light.lobe_weight;
+    }
+    if phase_is(key, APPROXIMATE_MIE) {
+        return approximate_mie_second_moment(light.droplet_diameter);
+    }
+    0.0
+}
+
+/// δ-Eddington's forward-peak weight `f` for a phase function of mean cosine `g` and second
+/// moment `chi2`: the second moment, where the phase function peaks forwards. It is kept
+/// within [0, max(g, 0)] so that the rest of the phase function, of mean cosine
+/// `g* = (g − f)/(1 − f)`, stays between 0 and `g` (a backward phase function has no forward
+/// peak to split off: `g* = g`), and below [`MAX_PEAK`].
+#[shader_fn]
+pub fn forward_peak_weight(g: f32, chi2: f32) -> f32 {
+    chi2.min(g.max(0.0)).clamp(0.0, MAX_PEAK)
+}
+
+/// Fluence (x) and downward net flux (y) of the diffuse light at transport depth `z` below
+/// the top of a conservatively scattering slab of transport depth `total`, lit by a sunbeam of
+/// irradiance 1 at up-cosine `mu0` that dims as `e^(−z/nu)` in transport depth.
+///
+/// The Eddington equations `F′ = (μ0/ν)e^(−z/ν)` (what the beam loses, the diffuse light
+/// gains) and `φ′ = −3F + 3(μ0/ν − 1)μ0·e^(−z/ν)` (the beam's forward momentum), with no
+/// diffuse light entering at either face (`φ ± 2F = 0`), solve to
+/// `φ = D − 3Cz − 3μ0²e^(−z/ν)`, `F = C − μ0·e^(−z/ν)`.
+#[shader_fn]
+pub fn slab_diffuse_fluence(z: f32, total: f32, mu0: f32, nu: f32) -> Vec2 {
+    let beam = (-z / nu).exp();
+    let through = (-total / nu).exp();
+    let c = mu0 * (3.0 * mu0 * (1.0 - through) + 2.0 * (1.0 + through)) / (3.0 * total + 4.0);
+    let d = 3.0 * mu0 * mu0 - 2.0 * c + 2.0 * mu0;
+    let fluence = d - 3.0 * c * z - 3.0 * mu0 * mu0 * beam;
+    vec2(fluence.max(0.0), c - mu0 * beam)
+}
+
+/// The sunlight that reached a sample `tau_sun` deep by scattering within the forward peak
+/// (weight `f`), scattered once more towards the camera by the rest of the phase function
+/// (Henyey–Greenstein of `g_star`): what the δ-scaled beam `e^(−(1 − f)τ)` carries beyond the
+/// unscattered `e^(−τ)`.
+#[shader_fn]
+pub fn forward_peak(tau_sun: f32, cos_theta: f32, f: f32, g_star: f32) -> f32 {
+    let carried = (-(1.0 - f) * tau_sun).exp() - (-tau_sun).exp();
+    (1.0 - f) * henyey_greenstein(cos_theta, g_star) * carried
+}
+
+/// Sunlight scattered more than once towards the camera, per unit of sun irradiance and of
+/// σs, at a sample `tau_sun` deep towards the sun and `tau_down` above the slab's base, on a
+/// view ray of up-cosine `view_up`: the forward peak's light and the diffuse light's
+/// in-scattering `(φ + 3gF·view_up) / 4π` (the Eddington radiance `(φ + 3F·ω) / 4π` seen
+/// through the phase function).
+#[shader_fn]
+pub fn diffuse_scattering(
+    tau_sun: f32,
+    tau_down: f32,
+    cos_theta: f32,
+    view_up: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let mu0 = CLOUDS.get().light.sun_direction.y.max(0.01);
+    let g = phase_asymmetry(key);
+    let f = forward_peak_weight(g, phase_second_moment(key));
+    let g_star = (g - f) / (1.0 - f);
+    let z = (1.0 - g) * tau_sun * mu0;
+    let total = z + (1.0 - g) * tau_down;
+    let diffuse = slab_diffuse_fluence(z, total, mu0, (1.0 - g_star) * mu0);
+    let seen = (diffuse.x + 3.0 * g * diffuse.y * view_up).max(0.0) * INV_FOUR_PI;
+    seen + forward_peak(tau_sun, cos_theta, f, g_star)
+}

@@ -1,0 +1,194 @@
+//! Multiple scattering by diffusion (`model::diffusion`): the phase moments it is built on
+//! against numerical integration, and the slab's diffuse fluence against a Monte Carlo random
+//! walk, which the octaves it replaces miss by far in thick cloud.
+
+mod common;
+
+use nimbus_clouds::model::diffusion::{forward_peak_weight, slab_diffuse_fluence};
+use nimbus_clouds::model::phase::{
+    approximate_mie, approximate_mie_asymmetry, approximate_mie_second_moment,
+};
+
+/// `∫ p(μ) P_l(μ) dΩ` for l = 1, 2, by the midpoint rule in t with μ = 1 − 2t⁴: the samples
+/// crowd towards μ = 1, where the Mie forward peak of large droplets is narrower than 10⁻³.
+fn moments(p: impl Fn(f32) -> f32) -> (f64, f64) {
+    let n = 400_000;
+    let (mut m1, mut m2) = (0.0f64, 0.0f64);
+    for i in 0..n {
+        let t = (i as f64 + 0.5) / n as f64;
+        let mu = 1.0 - 2.0 * t.powi(4);
+        let w = f64::from(p(mu as f32)) * std::f64::consts::TAU * 8.0 * t.powi(3) / n as f64;
+        m1 += w * mu;
+        m2 += w * 0.5 * (3.0 * mu * mu - 1.0);
+    }
+    (m1, m2)
+}
+
+#[test]
+fn the_approximate_mie_moments_match_its_integral() {
+    for d in [5.0f32, 10.0, 20.0, 35.0, 50.0] {
+        let (m1, m2) = moments(|mu| approximate_mie(mu, d));
+        let (g, chi2) = (
+            f64::from(approximate_mie_asymmetry(d)),
+            f64::from(approximate_mie_second_moment(d)),
+        );
+        println!(
+            "d {d} µm: mean cosine {g:.4} (integral {m1:.4}), second moment {chi2:.4} (integral {m2:.4})"
+        );
+        assert!((g - m1).abs() < 2e-3, "d {d}: mean cosine {g} against {m1}");
+        assert!(
+            (chi2 - m2).abs() < 2e-3,
+            "d {d}: second moment {chi2} against {m2}"
+        );
+    }
+}
+
+/// A phase function the random walk samples exactly: Henyey–Greenstein lobes `(weight, g)`.
+struct Lobes(Vec<(f64, f64)>);
+
+impl Lobes {
+    fn mean_cosine(&self) -> f64 {
+        self.0.iter().map(|(w, g)| w * g).sum()
+    }
+
+    fn second_moment(&self) -> f64 {
+        self.0.iter().map(|(w, g)| w * g * g).sum()
+    }
+
+    /// A scattering cosine drawn from the mixture.
+    fn sample(&self, u: &mut impl FnMut() -> f64) -> f64 {
+        let mut pick = u();
+        let mut g = self.0[self.0.len() - 1].1;
+        for (w, lobe_g) in &self.0 {
+            if pick < *w {
+                g = *lobe_g;
+                break;
+            }
+            pick -= w;
+        }
+        if g.abs() < 1e-4 {
+            return 2.0 * u() - 1.0;
+        }
+        let s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u());
+        (1.0 + g * g - s * s) / (2.0 * g)
+    }
+}
+
+/// Fluence of the scattered light (the unscattered beam left out) in `bins` equal layers of a
+/// conservative slab of optical depth `tau`, lit from above by a beam of irradiance 1 at
+/// cosine `mu0`: the track-length estimate of a random walk.
+fn random_walk_fluence(tau: f64, mu0: f64, lobes: &Lobes, photons: u32, bins: usize) -> Vec<f64> {
+    let mut rng = common::Rng::new(7);
+    let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let dz = tau / bins as f64;
+    let mut fluence = vec![0.0f64; bins];
+    // Each photon carries the beam's flux per horizontal area, μ0, shared out.
+    let weight = mu0 / f64::from(photons);
+    for _ in 0..photons {
+        let (mut z, mut mu, mut scattered) = (0.0f64, mu0, false);
+        loop {
+            let step = -(1.0 - u()).ln();
+            let next = z + step * mu;
+            if scattered {
+                // Track length (optical) inside each layer the flight crosses.
+                let (lo, hi) = (z.min(next).max(0.0), z.max(next).min(tau));
+                if hi > lo {
+                    let first = (lo / dz) as usize;
+                    let last = ((hi / dz) as usize).min(bins - 1);
+                    for (b, f) in fluence.iter_mut().enumerate().take(last + 1).skip(first) {
+                        let (a, c) = ((b as f64 * dz).max(lo), ((b + 1) as f64 * dz).min(hi));
+                        if c > a {
+                            *f += weight * (c - a) / mu.abs().max(1e-9) / dz;
+                        }
+                    }
+                }
+            }
+            z = next;
+            if !(0.0..=tau).contains(&z) {
+                break;
+            }
+            scattered = true;
+            let cos = lobes.sample(&mut u);
+            let phi = std::f64::consts::TAU * u();
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            mu = mu * cos + (1.0 - mu * mu).max(0.0).sqrt() * sin * phi.cos();
+        }
+    }
+    fluence
+}
+
+/// The model's fluence at optical depth `z` of that slab: δ-Eddington, in transport depths.
+/// `momentum: false` is the control: the same diffusion without the beam's forward momentum
+/// as a source (the diffuse light then starts isotropic where the beam leaves it).
+fn model_fluence(z: f64, tau: f64, mu0: f64, lobes: &Lobes, momentum: bool) -> f64 {
+    let g = lobes.mean_cosine();
+    let f = f64::from(forward_peak_weight(g as f32, lobes.second_moment() as f32));
+    let g_star = (g - f) / (1.0 - f);
+    let (zt, total, nu) = ((1.0 - g) * z, (1.0 - g) * tau, (1.0 - g_star) * mu0);
+    let diffuse = if momentum {
+        f64::from(slab_diffuse_fluence(zt as f32, total as f32, mu0 as f32, nu as f32).x)
+    } else {
+        let through = (-total / nu).exp();
+        let b = -mu0 * ((3.0 * nu + 2.0) - through * (3.0 * nu - 2.0)) / (total + 4.0 / 3.0);
+        let a = mu0 * (3.0 * nu + 2.0) + 2.0 * b / 3.0;
+        (a + b * zt - 3.0 * mu0 * nu * (-zt / nu).exp()).max(0.0)
+    };
+    // The light scattered within the forward peak travels on with the beam (δ-scaling).
+    let peak = (-(1.0 - f) * z / mu0).exp() - (-z / mu0).exp();
+    diffuse + peak
+}
+
+/// Mean over the layers of |model − random walk| / random walk.
+fn mean_error(model: &[f64], mc: &[f64]) -> f64 {
+    model
+        .iter()
+        .zip(mc)
+        .map(|(m, w)| (m - w).abs() / w)
+        .sum::<f64>()
+        / mc.len() as f64
+}
+
+#[test]
+fn the_slab_fluence_matches_a_random_walk() {
+    let cases = [
+        ("cirrus HG 0.85", Lobes(vec![(1.0, 0.85)])),
+        ("cumulus dual lobe", Lobes(vec![(0.5, 0.7), (0.5, -0.2)])),
+    ];
+    let bins = 10;
+    let mut control_worst = 0.0f64;
+    for (name, lobes) in &cases {
+        for (tau, mu0) in [(2.0, 0.8), (10.0, 0.6), (40.0, 0.9), (40.0, 0.3)] {
+            let mc = random_walk_fluence(tau, mu0, lobes, 20_000, bins);
+            let dz = tau / bins as f64;
+            let at = |delta| -> Vec<f64> {
+                (0..bins)
+                    .map(|b| model_fluence((b as f64 + 0.5) * dz, tau, mu0, lobes, delta))
+                    .collect()
+            };
+            let (model, control) = (at(true), at(false));
+            let (error, control_error) = (mean_error(&model, &mc), mean_error(&control, &mc));
+            println!(
+                "{name}, τ {tau}, μ0 {mu0}: mean error {:.1} % (without the beam's momentum: {:.1} %)\n    random walk {:?}\n    model       {:?}",
+                100.0 * error,
+                100.0 * control_error,
+                mc.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>(),
+                model.iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>()
+            );
+            // Eddington's diffusion is a thick-medium theory: within 8 % from 10 optical
+            // depths on, and a quarter low in a slab of 2 (measured 3-7 % and 21-23 %).
+            let allowed = if tau >= 10.0 { 0.08 } else { 0.27 };
+            assert!(
+                error <= allowed,
+                "{name}, τ {tau}, μ0 {mu0}: the model's fluence is {:.1} % off the random walk's",
+                100.0 * error
+            );
+            control_worst = control_worst.max(control_error);
+        }
+    }
+    // Control: without the beam's forward momentum the forward-scattering cirrus reads a
+    // quarter to a third too dark inside: the test sees the difference.
+    assert!(
+        control_worst > 0.2,
+        "the diffusion without the beam's momentum passes too: {control_worst}"
+    );
+}
