@@ -128,8 +128,9 @@ effects! {
     /// Multiple scattering by diffusion through the layer, in place of the octaves: the
     /// Eddington two-stream solution around each sample, from its optical depths to the sun and
     /// down to the base. The octaves lose the light thick cloud scatters many times (a deck 3 to
-    /// 6 times too dark against a path tracer) and overshoot thin cloud; this holds in both. It
-    /// marches down to the base (the ground steps) where the ground bounce does not already.
+    /// 15 times too dark against a path tracer) and overshoot thin cloud; this holds in both. It
+    /// marches down to the base (the ground steps) where the ground bounce does not already, so
+    /// it is not in `low`, which has no ground steps.
     Diffusion, diffusion, "diffusion", tag "diffuse",
         presets [Medium, High, Ultra, Reference], rule None;
     /// The "powder" darkening of thin cloud edges facing the sun.

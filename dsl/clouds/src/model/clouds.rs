@@ -46,7 +46,8 @@ impl CloudVariant {
                 s.push_str(t.name());
             }
         }
-        if self.key.features.octaves != preset.octaves {
+        // With the diffusion the octaves beyond the first are gone, whatever the count.
+        if !self.key.features.diffusion && self.key.features.octaves != preset.octaves {
             s.push_str(&format!("+octaves{}", self.key.features.octaves));
         }
         if let Some(tag) = self.key.output.tag() {
