@@ -4,6 +4,8 @@
 //! `cos_theta`, the cosine of the angle between the light's travel direction and the view ray's
 //! reversed direction (1 = forward scattering).
 
+use glam::Vec4;
+
 use nimbus_dsl::prelude::*;
 
 /// 1 / (4π).
@@ -60,19 +62,30 @@ pub fn draine_phase(cos_theta: f32, g: f32, alpha: f32) -> f32 {
     henyey_greenstein(cos_theta, g) * shape
 }
 
-/// Approximate Mie phase function for water droplets of diameter `d` µm (valid 5..50):
-/// Jendersie & d'Eon 2023, "An Approximate Mie Scattering Function for Fog and Cloud
-/// Rendering" — a blend of Henyey–Greenstein and Draine with fitted parameters.
+/// The fitted parameters of the approximate Mie phase function for water droplets of
+/// diameter `d` µm (valid 5..50; Jendersie & d'Eon 2023, "An Approximate Mie Scattering
+/// Function for Fog and Cloud Rendering"): the Henyey–Greenstein lobe's `g` (x), the Draine
+/// lobe's `g` (y) and `α` (z), and the Draine lobe's weight (w).
+#[shader_fn]
+pub fn approximate_mie_fit(d: f32) -> Vec4 {
+    vec4(
+        (-0.099_056_7 / (d - 1.671_54)).exp(),
+        (-2.206_79 / (d + 3.910_29) - 0.428_934).exp(),
+        (3.624_89 - 8.292_88 / (d + 5.528_25)).exp(),
+        (-0.599_085 / (d - 0.641_583) - 0.665_888).exp(),
+    )
+}
+
+/// Approximate Mie phase function for water droplets of diameter `d` µm (valid 5..50): a
+/// blend of Henyey–Greenstein and Draine with the fitted parameters of
+/// [`approximate_mie_fit`].
 #[shader_fn]
 pub fn approximate_mie(cos_theta: f32, d: f32) -> f32 {
-    let g_hg = (-0.099_056_7 / (d - 1.671_54)).exp();
-    let g_d = (-2.206_79 / (d + 3.910_29) - 0.428_934).exp();
-    let alpha = (3.624_89 - 8.292_88 / (d + 5.528_25)).exp();
-    let w_d = (-0.599_085 / (d - 0.641_583) - 0.665_888).exp();
+    let fit = approximate_mie_fit(d);
     mix(
-        henyey_greenstein(cos_theta, g_hg),
-        draine_phase(cos_theta, g_d, alpha),
-        w_d,
+        henyey_greenstein(cos_theta, fit.x),
+        draine_phase(cos_theta, fit.y, fit.z),
+        fit.w,
     )
 }
 
@@ -80,25 +93,22 @@ pub fn approximate_mie(cos_theta: f32, d: f32) -> f32 {
 /// cosines, Draine's being `g (1 + α(3 + 2g²)/5) / (1 + α(1 + 2g²)/3)`.
 #[shader_fn]
 pub fn approximate_mie_asymmetry(d: f32) -> f32 {
-    let g_hg = (-0.099_056_7 / (d - 1.671_54)).exp();
-    let g_d = (-2.206_79 / (d + 3.910_29) - 0.428_934).exp();
-    let alpha = (3.624_89 - 8.292_88 / (d + 5.528_25)).exp();
-    let w_d = (-0.599_085 / (d - 0.641_583) - 0.665_888).exp();
-    let draine = g_d * (1.0 + alpha * (3.0 + 2.0 * g_d * g_d) / 5.0)
-        / (1.0 + alpha * (1.0 + 2.0 * g_d * g_d) / 3.0);
-    mix(g_hg, draine, w_d)
+    let fit = approximate_mie_fit(d);
+    let g = fit.y;
+    let alpha = fit.z;
+    let draine =
+        g * (1.0 + alpha * (3.0 + 2.0 * g * g) / 5.0) / (1.0 + alpha * (1.0 + 2.0 * g * g) / 3.0);
+    mix(fit.x, draine, fit.w)
 }
 
 /// Second Legendre moment of [`approximate_mie`] at droplet diameter `d` µm: the blend of its
 /// lobes' moments, Draine's being `(g² + α(36g⁴ + 55g² + 14)/105) / (1 + α(1 + 2g²)/3)`.
 #[shader_fn]
 pub fn approximate_mie_second_moment(d: f32) -> f32 {
-    let g_hg = (-0.099_056_7 / (d - 1.671_54)).exp();
-    let g_d = (-2.206_79 / (d + 3.910_29) - 0.428_934).exp();
-    let alpha = (3.624_89 - 8.292_88 / (d + 5.528_25)).exp();
-    let w_d = (-0.599_085 / (d - 0.641_583) - 0.665_888).exp();
-    let g2 = g_d * g_d;
+    let fit = approximate_mie_fit(d);
+    let g2 = fit.y * fit.y;
+    let alpha = fit.z;
     let draine = (g2 + alpha * (36.0 * g2 * g2 + 55.0 * g2 + 14.0) / 105.0)
         / (1.0 + alpha * (1.0 + 2.0 * g2) / 3.0);
-    mix(g_hg * g_hg, draine, w_d)
+    mix(fit.x * fit.x, draine, fit.w)
 }
