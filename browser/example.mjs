@@ -32,9 +32,14 @@ const status = await withPage({ '/': resolve(pkgDir) }, {}, viewport, async (pag
   await page.goto(`${origin}/${pageName}`);
   await page.waitForSelector('#pair:not(:empty), body[data-frames]', { timeout: 120000 });
   await page.waitForTimeout(1500);
-  await page.locator('canvas').screenshot({ path: `${prefix}-1.png` });
+  // A page screenshot clipped to the canvas, not the canvas element's own: that one first waits
+  // for the element to hold still over two animation frames, and a SwiftShader frame on a busy
+  // machine can take longer than its 30 s wait (a failed CI run saw exactly that).
+  const box = await page.locator('canvas').boundingBox();
+  const shoot = (path) => page.screenshot({ path, clip: box, timeout: 120000 });
+  await shoot(`${prefix}-1.png`);
   await page.waitForTimeout(3000);
-  await page.locator('canvas').screenshot({ path: `${prefix}-2.png` });
+  await shoot(`${prefix}-2.png`);
   const azimuth = (await page.$('#azimuth')) ? await page.inputValue('#azimuth') : null;
   const frames = await page.evaluate(() => document.body.dataset.frames ?? null);
   const problems = logs.filter((l) => /^(error|warning|pageerror|http)/.test(l) && !expected(l));
