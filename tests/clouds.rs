@@ -90,6 +90,7 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
             "slab_diffuse_fluence",
             "forward_peak(",
             "phase_second_moment",
+            "sunlit_face",
         ],
         Toggle::Powder => &["powder_exponent)"],
         Toggle::AccurateSunSkyLight => &["sun_attenuation"],

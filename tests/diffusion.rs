@@ -4,7 +4,7 @@
 
 mod common;
 
-use nimbus_clouds::model::diffusion::{forward_peak_weight, slab_diffuse_fluence};
+use nimbus_clouds::model::diffusion::{forward_peak_weight, slab_diffuse_fluence, sunlit_face};
 use nimbus_clouds::model::phase::{
     approximate_mie, approximate_mie_asymmetry, approximate_mie_second_moment,
 };
@@ -191,4 +191,60 @@ fn the_slab_fluence_matches_a_random_walk() {
         control_worst > 0.2,
         "the diffusion without the beam's momentum passes too: {control_worst}"
     );
+}
+
+/// The sunlit face ([`sunlit_face`]): under a horizontally uniform deck the sun's slant path
+/// is the vertical one over the sun's elevation sine, and the face is the top (its cosine to
+/// the sun is that sine, the view's cosine to it the view's up-cosine); where the slant path is
+/// much shorter than that, the light came in through a side facing the sun (cosine 1, the
+/// view's cosine to it that to the sun); in between the face tilts by as much as the depths
+/// say, and the view's cosine stays that of a unit normal between the two.
+#[test]
+fn the_sunlit_face_is_the_top_of_a_deck_and_the_side_of_a_tower() {
+    let (mu0, cos_theta, view_up) = (0.26f32, 0.4f32, -0.7f32);
+    let deck = sunlit_face(10.0, 10.0 * mu0, cos_theta, view_up, mu0);
+    assert!((deck.x - mu0).abs() < 1e-5, "deck: face cosine {}", deck.x);
+    assert!(
+        (deck.y - view_up).abs() < 1e-4,
+        "deck: view cosine {}",
+        deck.y
+    );
+    // Under a thinner top than the slant path crossed (a neighbour's shadow): still the top.
+    let shaded = sunlit_face(10.0, 1.0, cos_theta, view_up, mu0);
+    assert!(
+        (shaded.x - mu0).abs() < 1e-5,
+        "shaded: face cosine {}",
+        shaded.x
+    );
+    let tower = sunlit_face(2.0, 30.0, cos_theta, view_up, mu0);
+    assert!(
+        (tower.x - 1.0).abs() < 1e-5,
+        "tower: face cosine {}",
+        tower.x
+    );
+    assert!(
+        (tower.y - cos_theta).abs() < 1e-4,
+        "tower: view cosine {}",
+        tower.y
+    );
+    // Halfway: the face's cosine to the sun is the depths' ratio; a view straight along the
+    // sun's vertical plane sees it at the angle between.
+    let (sun_h, view) = ((1.0 - mu0 * mu0).sqrt(), [0.6f32, 0.8f32]);
+    let view_cos_sun = view[0] * sun_h + view[1] * mu0;
+    let half = sunlit_face(10.0, 6.0, view_cos_sun, view[1], mu0);
+    assert!(
+        (half.x - 0.6).abs() < 1e-5,
+        "halfway: face cosine {}",
+        half.x
+    );
+    let alpha = mu0.acos() - 0.6f32.acos();
+    let normal = [alpha.sin(), alpha.cos()];
+    let expected = view[0] * normal[0] + view[1] * normal[1];
+    assert!(
+        (half.y - expected).abs() < 1e-4,
+        "halfway: view cosine {} against {expected}",
+        half.y
+    );
+    // Control: the face the old model took, always the top, is wrong for the tower.
+    assert!((deck.x - tower.x).abs() > 0.5);
 }

@@ -40,6 +40,9 @@ pub enum PhaseSpec {
     ApproximateMie { droplet_diameter_um: f32 },
     /// 1 / 4π.
     Isotropic,
+    /// Hexagonal ice crystals: a Henyey–Greenstein lobe of asymmetry `g` and the fraction
+    /// `halo` of the scattered light in the 22° halo.
+    IceCrystal { g: f32, halo: f32 },
 }
 
 impl Default for PhaseSpec {
@@ -60,6 +63,7 @@ impl PhaseSpec {
             PhaseSpec::DualLobe { .. } => "dual-lobe",
             PhaseSpec::ApproximateMie { .. } => "mie",
             PhaseSpec::Isotropic => "isotropic",
+            PhaseSpec::IceCrystal { .. } => "ice-crystal",
         }
     }
 }
@@ -149,6 +153,14 @@ impl Genus {
                 }
                 if !(weight.is_finite() && (0.0..=1.0).contains(&weight)) {
                     return err("phase.weight", format!("must be in [0, 1], got {weight}"));
+                }
+            }
+            PhaseSpec::IceCrystal { g, halo } => {
+                if !g_ok(g) {
+                    return err("phase.g", format!("must be in [-0.999, 0.999], got {g}"));
+                }
+                if !(halo.is_finite() && (0.0..=1.0).contains(&halo)) {
+                    return err("phase.halo", format!("must be in [0, 1], got {halo}"));
                 }
             }
             PhaseSpec::ApproximateMie {

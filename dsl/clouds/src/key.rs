@@ -20,10 +20,15 @@ pub enum PhaseKind {
     DualLobe,
     ApproximateMie,
     Isotropic,
+    IceCrystal,
 }
 
 impl PhaseKind {
     pub fn of(spec: &PhaseSpec, features: &Features) -> PhaseKind {
+        // The accurate phase function is that of water droplets; ice keeps its own.
+        if let PhaseSpec::IceCrystal { .. } = spec {
+            return PhaseKind::IceCrystal;
+        }
         if features.accurate_phase_function {
             return PhaseKind::ApproximateMie;
         }
@@ -32,6 +37,7 @@ impl PhaseKind {
             PhaseSpec::DualLobe { .. } => PhaseKind::DualLobe,
             PhaseSpec::ApproximateMie { .. } => PhaseKind::ApproximateMie,
             PhaseSpec::Isotropic => PhaseKind::Isotropic,
+            PhaseSpec::IceCrystal { .. } => PhaseKind::IceCrystal,
         }
     }
 
@@ -41,11 +47,12 @@ impl PhaseKind {
         self as u32
     }
 
-    pub const ALL: [PhaseKind; 4] = [
+    pub const ALL: [PhaseKind; 5] = [
         PhaseKind::HenyeyGreenstein,
         PhaseKind::DualLobe,
         PhaseKind::ApproximateMie,
         PhaseKind::Isotropic,
+        PhaseKind::IceCrystal,
     ];
 
     pub fn tag(self) -> &'static str {
@@ -54,6 +61,7 @@ impl PhaseKind {
             PhaseKind::DualLobe => "dual",
             PhaseKind::ApproximateMie => "mie",
             PhaseKind::Isotropic => "iso",
+            PhaseKind::IceCrystal => "ice",
         }
     }
 }
@@ -65,6 +73,7 @@ impl SpecValue for PhaseKind {
             PhaseKind::DualLobe => "dual_lobe".into(),
             PhaseKind::ApproximateMie => "mie".into(),
             PhaseKind::Isotropic => "isotropic".into(),
+            PhaseKind::IceCrystal => "ice_crystal".into(),
         }
     }
 
@@ -210,8 +219,8 @@ impl CloudKey {
     /// Every canonical key of the built-in genus functions: each combination of the toggles
     /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer with
     /// any of them, the engine's scene depth and an orthographic camera with any of them), 1–12 octaves (one with the
-    /// diffusion, which replaces the others), the four phase kinds and one or two lane groups:
-    /// (1,536 × 12 + 1,536) × 4 × 2 = 159,744 keys. A genus' own
+    /// diffusion, which replaces the others), the five phase kinds and one or two lane groups:
+    /// (1,536 × 12 + 1,536) × 5 × 2 = 199,680 keys. A genus' own
     /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL

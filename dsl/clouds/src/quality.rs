@@ -157,7 +157,11 @@ impl Quality {
             },
             Quality::Reference => MarchSettings {
                 max_iteration_count: 6000,
-                min_step_size: 20.0,
+                // Steps of 0.2 % of the distance down to 5 m: each sample's light stands for
+                // its whole step, and within a step of a dense deck's top (σt·20 m ≈ 1) the
+                // light falls faster than the view's transmittance, so 20 m steps read the deck
+                // 1.3 % dark against Mitsuba (5 m: 0.2 %).
+                min_step_size: 5.0,
                 max_step_size: 100.0,
                 perspective_step_scale: 1.002,
                 min_density: 0.0,

@@ -16,6 +16,7 @@ fn spec_of(kind: PhaseKind) -> PhaseSpec {
             droplet_diameter_um: 10.0,
         },
         PhaseKind::Isotropic => PhaseSpec::Isotropic,
+        PhaseKind::IceCrystal => PhaseSpec::IceCrystal { g: 0.85, halo: 0.1 },
     }
 }
 
@@ -23,7 +24,7 @@ fn spec_of(kind: PhaseKind) -> PhaseSpec {
 fn reachable_keys_are_canonical_distinct_and_named_apart() {
     let keys = CloudKey::reachable();
     // Twelve octave counts without the diffusion, one with it (it replaces the octaves).
-    assert_eq!(keys.len(), (1536 * 12 + 1536) * 4 * 2);
+    assert_eq!(keys.len(), (1536 * 12 + 1536) * 5 * 2);
     let names: BTreeSet<String> = keys.iter().map(CloudKey::name).collect();
     assert_eq!(names.len(), keys.len(), "two keys share a name");
     for k in &keys {

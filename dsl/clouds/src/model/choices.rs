@@ -62,6 +62,7 @@ pub const ORTHOGRAPHIC: Toggle = Toggle::Orthographic;
 pub const HENYEY_GREENSTEIN: PhaseKind = PhaseKind::HenyeyGreenstein;
 pub const DUAL_LOBE: PhaseKind = PhaseKind::DualLobe;
 pub const APPROXIMATE_MIE: PhaseKind = PhaseKind::ApproximateMie;
+pub const ICE_CRYSTAL: PhaseKind = PhaseKind::IceCrystal;
 
 /// A count the key fixes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -120,6 +120,8 @@ impl CloudUniforms {
                 droplet_diameter_um,
             } => (0.7, -0.2, 0.5, droplet_diameter_um),
             crate::PhaseSpec::Isotropic => (0.0, 0.0, 0.0, 10.0),
+            // The halo is the second lobe.
+            crate::PhaseSpec::IceCrystal { g, halo } => (g, 0.0, halo, 10.0),
         };
         let sky = AtmosphereParams::default();
         let sun_direction = sun_direction.normalize_or(Vec3::Y);

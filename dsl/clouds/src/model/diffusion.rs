@@ -28,8 +28,11 @@ use crate::key::CloudKey;
 use nimbus_dsl::prelude::*;
 
 use super::bindings::CLOUDS;
-use super::choices::{APPROXIMATE_MIE, DUAL_LOBE, HENYEY_GREENSTEIN, phase_is};
-use super::phase::{approximate_mie_asymmetry, approximate_mie_second_moment, henyey_greenstein};
+use super::choices::{APPROXIMATE_MIE, DUAL_LOBE, HENYEY_GREENSTEIN, ICE_CRYSTAL, phase_is};
+use super::phase::{
+    HALO_MEAN_COSINE, HALO_SECOND_MOMENT, approximate_mie_asymmetry, approximate_mie_second_moment,
+    henyey_greenstein,
+};
 
 /// 1 / (4π).
 const INV_FOUR_PI: f32 = 0.079_577_47;
@@ -51,6 +54,9 @@ pub fn phase_asymmetry(#[spec] key: CloudKey) -> f32 {
     if phase_is(key, APPROXIMATE_MIE) {
         return approximate_mie_asymmetry(light.droplet_diameter);
     }
+    if phase_is(key, ICE_CRYSTAL) {
+        return light.g1 * (1.0 - light.lobe_weight) + HALO_MEAN_COSINE * light.lobe_weight;
+    }
     0.0
 }
 
@@ -68,6 +74,10 @@ pub fn phase_second_moment(#[spec] key: CloudKey) -> f32 {
     }
     if phase_is(key, APPROXIMATE_MIE) {
         return approximate_mie_second_moment(light.droplet_diameter);
+    }
+    if phase_is(key, ICE_CRYSTAL) {
+        return light.g1 * light.g1 * (1.0 - light.lobe_weight)
+            + HALO_SECOND_MOMENT * light.lobe_weight;
     }
     0.0
 }
@@ -110,26 +120,75 @@ pub fn forward_peak(tau_sun: f32, cos_theta: f32, f: f32, g_star: f32) -> f32 {
     (1.0 - f) * henyey_greenstein(cos_theta, g_star) * carried
 }
 
+/// Up-cosine of the sunlit face a sample lies under, and its cosine to the sun: a horizontally
+/// uniform deck is lit through its top (the face's cosine to the sun is the sun's elevation
+/// sine `mu0`), an isolated cloud under a low sun through its sunlit side, which faces the sun.
+/// Which one is told by the optical depths: under a top the sun's slant path is the vertical
+/// one over `mu0`; where the slant path is shorter than that, it came in through a side, and
+/// the face's cosine to the sun is `tau_up / tau_sun`, up to 1 (the face straight across the
+/// beam). Returns (cosine to the sun, the view ray's cosine to the face's normal), the normal
+/// taken in the vertical plane of the sun.
+#[shader_fn]
+pub fn sunlit_face(tau_sun: f32, tau_up: f32, cos_theta: f32, view_up: f32, mu0: f32) -> Vec2 {
+    let mu_face = (tau_up / tau_sun.max(1e-6)).clamp(mu0, 1.0);
+    // The normal is the vertical tilted towards the sun by `alpha`.
+    let alpha = (mu0.acos() - mu_face.acos()).max(0.0);
+    let sun_across = (1.0 - mu0 * mu0).max(0.0).sqrt().max(1e-4);
+    let view_towards_sun = (cos_theta - view_up * mu0) / sun_across;
+    vec2(
+        mu_face,
+        alpha.sin() * view_towards_sun + alpha.cos() * view_up,
+    )
+}
+
 /// Sunlight scattered more than once towards the camera, per unit of sun irradiance and of
-/// σs, at a sample `tau_sun` deep towards the sun and `tau_down` above the slab's base, on a
-/// view ray of up-cosine `view_up`: the forward peak's light and the diffuse light's
-/// in-scattering `(φ + 3gF·view_up) / 4π` (the Eddington radiance `(φ + 3F·ω) / 4π` seen
-/// through the phase function).
+/// σs, at a sample `tau_sun` deep towards the sun, `tau_up` below the top and `tau_down` above
+/// the slab's base, on a view ray of up-cosine `view_up`: the forward peak's light and the
+/// diffuse light's in-scattering `(φ + 3gF·ω) / 4π` (the Eddington radiance `(φ + 3F·ω) / 4π`
+/// seen through the phase function), in the slab under the sample's sunlit face
+/// ([`sunlit_face`]).
 #[shader_fn]
 pub fn diffuse_scattering(
     tau_sun: f32,
+    tau_up: f32,
     tau_down: f32,
     cos_theta: f32,
     view_up: f32,
     #[spec] key: CloudKey,
 ) -> f32 {
     let mu0 = CLOUDS.get().light.sun_direction.y.max(0.01);
+    let face = sunlit_face(tau_sun, tau_up, cos_theta, view_up, mu0);
     let g = phase_asymmetry(key);
     let f = forward_peak_weight(g, phase_second_moment(key));
     let g_star = (g - f) / (1.0 - f);
-    let z = (1.0 - g) * tau_sun * mu0;
+    let z = (1.0 - g) * tau_sun * face.x;
     let total = z + (1.0 - g) * tau_down;
-    let diffuse = slab_diffuse_fluence(z, total, mu0, (1.0 - g_star) * mu0);
-    let seen = (diffuse.x + 3.0 * g * diffuse.y * view_up).max(0.0) * INV_FOUR_PI;
+    let diffuse = slab_diffuse_fluence(z, total, face.x, (1.0 - g_star) * face.x);
+    let seen = (diffuse.x + 3.0 * g * diffuse.y * face.y).max(0.0) * INV_FOUR_PI;
     seen + forward_peak(tau_sun, cos_theta, f, g_star)
+}
+
+/// The sky's diffuse light scattered towards the camera, per unit of the sky's horizontal
+/// irradiance and of σs, at a sample `tau_up` below the top of the cloud and `tau_down` above
+/// its base, on a view ray of up-cosine `view_up`.
+///
+/// Diffuse light entering a conservative slab's top with flux 1 (and none its base) solves
+/// the Eddington equations with a constant downward flux `F = 4/(3T + 4)` and the fluence
+/// `φ = 4 − 2F − 3Fz` at transport depth `z` of `T`: the top of a thick cloud sees the sky's
+/// radiance `1/π` from everywhere (what the sky sends down, the cloud sends back up), its base
+/// only what diffuses through. Without it a thick layer's base was lit by half the sky's blue
+/// light however deep it lay, and a nimbostratus read navy blue from below.
+#[shader_fn]
+pub fn sky_diffuse_scattering(
+    tau_up: f32,
+    tau_down: f32,
+    view_up: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let g = phase_asymmetry(key);
+    let z = (1.0 - g) * tau_up;
+    let total = z + (1.0 - g) * tau_down;
+    let flux = 4.0 / (3.0 * total + 4.0);
+    let fluence = 4.0 - 2.0 * flux - 3.0 * flux * z;
+    (fluence + 3.0 * g * flux * view_up).max(0.0) * INV_FOUR_PI
 }

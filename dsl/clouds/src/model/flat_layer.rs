@@ -96,12 +96,14 @@ pub fn flat_layer(
     let scattered = 0.5
         * (sun_scattering(
             tau_sun * GAUSS_NEAR,
+            tau_vertical * GAUSS_NEAR,
             tau_vertical * GAUSS_FAR,
             cos_theta,
             mu,
             key,
         ) + sun_scattering(
             tau_sun * GAUSS_FAR,
+            tau_vertical * GAUSS_FAR,
             tau_vertical * GAUSS_NEAR,
             cos_theta,
             mu,

@@ -14,16 +14,18 @@ use nimbus_dsl::prelude::*;
 use super::bindings::CLOUDS;
 use super::choices::{
     APPROXIMATE_MIE, DIFFUSION, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE,
-    HENYEY_GREENSTEIN, LIGHT_SHAFTS, OCTAVES, ORTHOGRAPHIC, POWDER, SCENE_DEPTH, SHADOWS,
-    SUN_SKY_LIGHT, gate, key_count, phase_is,
+    HENYEY_GREENSTEIN, ICE_CRYSTAL, LIGHT_SHAFTS, OCTAVES, ORTHOGRAPHIC, POWDER, SCENE_DEPTH,
+    SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
 };
 use super::density::{MediaParams, eroded_density, layer_density, weather_density};
-use super::diffusion::diffuse_scattering;
+use super::diffusion::{diffuse_scattering, sky_diffuse_scattering};
 use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
 use super::orthographic::orthographic_fragment;
-use super::phase::{approximate_mie, dual_lobe_hg, henyey_greenstein, isotropic_phase};
+use super::phase::{
+    approximate_mie, dual_lobe_hg, henyey_greenstein, ice_crystal_phase, isotropic_phase,
+};
 use super::scene_depth::{composite_over_scene, scene_distance};
 use super::scene_shadow::sun_through_clouds;
 use super::shadow::{ShadowParams, shadow_texel};
@@ -211,6 +213,14 @@ pub fn cloud_phase(cos_theta: f32, g_scale: f32, #[spec] key: CloudKey) -> f32 {
             g_scale,
         );
     }
+    if phase_is(key, ICE_CRYSTAL) {
+        // As the Mie fit: later octaves blend the crystals' phase towards isotropic.
+        return mix(
+            isotropic_phase(cos_theta),
+            ice_crystal_phase(cos_theta, light.g1, light.lobe_weight),
+            g_scale,
+        );
+    }
     isotropic_phase(cos_theta)
 }
 
@@ -233,12 +243,13 @@ pub fn multiple_scattering(optical_depth: f32, cos_theta: f32, #[spec] key: Clou
 
 /// The sunlight a sample scatters towards the camera, per unit of irradiance and of σs: the
 /// octaves (the first alone is single scattering), and with [`DIFFUSION`] the light that the
-/// layer around the sample scatters many times (`model::diffusion`), which lies
-/// `tau_sun` below the sunlit top and `tau_down` above the base. `view_up` is the view ray's
-/// up-cosine.
+/// cloud around the sample scatters many times (`model::diffusion`): the sample lies `tau_sun`
+/// from the sun, `tau_up` below the top and `tau_down` above the base. `view_up` is the view
+/// ray's up-cosine.
 #[shader_fn]
 pub fn sun_scattering(
     tau_sun: f32,
+    tau_up: f32,
     tau_down: f32,
     cos_theta: f32,
     view_up: f32,
@@ -246,16 +257,20 @@ pub fn sun_scattering(
 ) -> f32 {
     let mut scattered = multiple_scattering(tau_sun, cos_theta, key);
     if gate(key, DIFFUSION) {
-        scattered += diffuse_scattering(tau_sun, tau_down, cos_theta, view_up, key);
+        scattered += diffuse_scattering(tau_sun, tau_up, tau_down, cos_theta, view_up, key);
     }
     scattered
 }
 
-/// Optical depth from a sample straight down and out of the cloud slab, by the ground steps.
+/// Optical depth from a sample straight along `vertical` (±y) out of the cloud slab, by as many
+/// steps as the ground march takes: down, the ground's light comes through it and the
+/// diffusion's slab ends there; up, it tells the diffusion whether the sunlight came in
+/// through the top or through a side.
 #[shader_fn]
-pub fn ground_optical_depth(
+pub fn vertical_optical_depth(
     p: Vec3,
     h: f32,
+    vertical: f32,
     offset: f32,
     footprint: f32,
     #[spec] key: CloudKey,
@@ -264,7 +279,7 @@ pub fn ground_optical_depth(
     secondary_optical_depth(
         p,
         h,
-        vec3(0.0, -1.0, 0.0),
+        vec3(0.0, vertical, 0.0),
         m.ground_steps,
         offset,
         true,
@@ -727,20 +742,33 @@ pub fn march_clouds(
             let mut tau_ground = 0.0f32;
             if gate(key, GROUND_BOUNCE) {
                 samples += m.ground_steps as f32;
-                tau_ground = ground_optical_depth(p, h, offset, footprint, key);
+                tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
             } else if gate(key, DIFFUSION) {
                 samples += m.ground_steps as f32;
-                tau_ground = ground_optical_depth(p, h, offset, footprint, key);
+                tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
             }
-            let mut light = sun * sun_scattering(tau_sun, tau_ground, cos_theta, direction.y, key);
+            let mut tau_up = 0.0f32;
+            if gate(key, DIFFUSION) {
+                samples += m.ground_steps as f32;
+                tau_up = vertical_optical_depth(p, h, 1.0, offset, footprint, key);
+            }
+            let mut light =
+                sun * sun_scattering(tau_sun, tau_up, tau_ground, cos_theta, direction.y, key);
             if gate(key, GROUND_BOUNCE) {
                 light += ground_bounce_light(tau_ground);
             }
-            // Crude sky gradient: half the sky light at a layer's base, all of it at the top.
-            let height_fraction =
-                ((h - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
-            light += l.sky_irradiance
-                * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
+            if gate(key, DIFFUSION) {
+                light += l.sky_irradiance
+                    * (sky_diffuse_scattering(tau_up, tau_ground, direction.y, key)
+                        * l.sky_light_scale);
+            } else {
+                // Crude sky gradient: half the sky light at a layer's base, all of it at the
+                // top.
+                let height_fraction =
+                    ((h - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
+                light += l.sky_irradiance
+                    * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
+            }
             let mut source = light * sigma_s;
             if gate(key, POWDER) {
                 source *= 1.0 - l.powder_scale * (-sigma_t * l.powder_exponent).exp();

@@ -112,3 +112,48 @@ pub fn approximate_mie_second_moment(d: f32) -> f32 {
         / (1.0 + alpha * (1.0 + 2.0 * g2) / 3.0);
     mix(fit.x * fit.x, draine, fit.w)
 }
+
+/// The 22° halo's angle: the minimum deviation of light through two faces of a hexagonal ice
+/// prism that meet at 60° (refractive index 1.31): `2 asin(1.31 sin 30°) − 60°` = 21.84°, in
+/// radians. Rays deviate by at least this much and pile up there, so the sky inside the
+/// halo is darker and its inner edge sharp.
+pub const HALO_ANGLE: f32 = 0.381_167_7;
+
+/// Width of the halo's inner edge (0.5°, radians): the sun's disc is 0.53° across and the
+/// index of ice spreads the edge over the visible spectrum by about as much.
+pub const HALO_RISE: f32 = 0.008_726_646;
+
+/// How far beyond the angle the halo's light fades (3°, radians): rays that cross the prism
+/// away from minimum deviation spread outwards.
+pub const HALO_FALL: f32 = 0.052_359_88;
+
+/// `1 / (2π ∫ ring(θ) sin θ dθ)` for the ring of [`halo_ring`]: with `s`, `c` the sine and
+/// cosine of [`HALO_ANGLE`], the inner half-Gaussian gives `R√(π/2)s − R²c` and the outer
+/// exponential `F(s + Fc)/(1 + F²)` (`tests/phase.rs` checks it against quadrature).
+pub const HALO_NORM: f32 = 6.130_608;
+
+/// Mean cosine of [`halo_ring`] (quadrature; `tests/phase.rs`).
+pub const HALO_MEAN_COSINE: f32 = 0.907_771;
+
+/// Second Legendre moment of [`halo_ring`] (quadrature; `tests/phase.rs`).
+pub const HALO_SECOND_MOMENT: f32 = 0.737_172;
+
+/// The 22° halo as a phase function on its own: all its light at scattering angles near
+/// [`HALO_ANGLE`], a half-Gaussian of width [`HALO_RISE`] inside it and an exponential fade of
+/// [`HALO_FALL`] outside, normalised over the sphere.
+#[shader_fn]
+pub fn halo_ring(cos_theta: f32) -> f32 {
+    let x = cos_theta.clamp(-1.0, 1.0).acos() - HALO_ANGLE;
+    let inner = (-0.5 * (x / HALO_RISE) * (x / HALO_RISE)).exp();
+    let outer = (-x / HALO_FALL).exp();
+    HALO_NORM * select(inner, outer, x > 0.0)
+}
+
+/// Scattering by the hexagonal ice crystals of cirriform cloud: a Henyey–Greenstein lobe of
+/// asymmetry `g` (diffraction and the light through the crystals) and the fraction `halo` of
+/// the light in the 22° halo ([`halo_ring`]).
+#[shader_fn]
+pub fn ice_crystal_phase(cos_theta: f32, g: f32, halo: f32) -> f32 {
+    // A weighted sum, as `dual_lobe_hg` and for its reason.
+    henyey_greenstein(cos_theta, g) * (1.0 - halo) + halo_ring(cos_theta) * halo
+}
