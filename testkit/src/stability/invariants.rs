@@ -58,8 +58,8 @@ fn diffusion_peak(u: &CloudUniforms, key: &CloudKey) -> f32 {
 
 /// Upper bound of the light a unit of scattering coefficient sends towards the camera: the sun
 /// through every octave (Σ 2⁻ᵏ ≤ 2 times the phase peak, brightened at most as much as the
-/// atmosphere above the camera dims it) and the diffusion, plus sky light and ground bounce at
-/// their largest.
+/// atmosphere above the camera dims it) and the diffusion, plus sky light (through the
+/// diffusion's slab where it is on) and ground bounce at their largest.
 pub fn source_bound(u: &CloudUniforms, key: &CloudKey) -> Vec3 {
     let l = u.light;
     let attenuation = if key.features.accurate_sun_sky_light {
@@ -70,7 +70,15 @@ pub fn source_bound(u: &CloudUniforms, key: &CloudKey) -> Vec3 {
     };
     let sun =
         l.sun_irradiance * (attenuation * (2.0 * phase_peak(u, key) + diffusion_peak(u, key)));
-    let sky = l.sky_irradiance * (INV_FOUR_PI * l.sky_light_scale);
+    // With the diffusion the sky's light in a cloud is the two-stream slab's: fluence at most
+    // 4 and flux at most 1, seen as `(φ + 3|g|·F) / 4π`.
+    let sky_peak = if key.features.diffusion {
+        let _bound = CpuBindings::new().set(&CLOUDS, *u).bind();
+        (4.0 + 3.0 * phase_asymmetry(*key).abs()) * INV_FOUR_PI
+    } else {
+        INV_FOUR_PI
+    };
+    let sky = l.sky_irradiance * (sky_peak * l.sky_light_scale);
     let ground = if key.features.ground_bounce {
         (l.sky_irradiance + l.sun_irradiance)
             * (l.ground_albedo * INV_PI * INV_FOUR_PI * l.ground_bounce_scale)
