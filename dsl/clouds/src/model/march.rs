@@ -11,6 +11,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use crate::key::{CloudKey, PixelOutput};
 use nimbus_dsl::prelude::*;
 
+use super::air_shadow::air_sunlit;
 use super::bindings::CLOUDS;
 use super::choices::{
     APPROXIMATE_MIE, DIFFUSION, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE,
@@ -914,6 +915,8 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     let switches = u.composite;
     let mut background = air.inscatter * switches.sky;
     if behind < 0.0 {
+        // The air over the ground lies in the clouds' shadow as the ground does.
+        background *= air_sunlit(direction, -behind, jitter, key);
         // Under a cloud the ground gets the light the cloud scatters down as well as the
         // direct beam, and the sky's light through it (see `transmission`).
         let mut sun_through = 1.0f32;
@@ -944,7 +947,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     }
     let mut color = background * clouds.transmittance;
     if clouds.front_depth > 0.0 {
-        color += clouds_through_air(direction, clouds, switches.aerial_perspective);
+        color += clouds_through_air(direction, clouds, switches.aerial_perspective, jitter, key);
     }
     if gate(key, HAZE) {
         // Haze and shafts end at the clouds' front, the ground, or the march's reach.
@@ -957,10 +960,16 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
 }
 
 /// The clouds' light as it reaches the camera along `direction` (aerial perspective): the air
-/// in front of them dims them and adds its own light, weighted by `air` (1: all of it, 0: the
-/// clouds' own light alone).
+/// in front of them dims them and adds its own light where the sun reaches it
+/// ([`air_sunlit`]), weighted by `air` (1: all of it, 0: the clouds' own light alone).
 #[shader_fn]
-pub fn clouds_through_air(direction: Vec3, clouds: MarchResult, air: f32) -> Vec3 {
+pub fn clouds_through_air(
+    direction: Vec3,
+    clouds: MarchResult,
+    air: f32,
+    jitter: f32,
+    #[spec] key: CloudKey,
+) -> Vec3 {
     let u = CLOUDS.get();
     let near = air_light(
         u.camera_altitude,
@@ -970,7 +979,8 @@ pub fn clouds_through_air(direction: Vec3, clouds: MarchResult, air: f32) -> Vec
         u.sky,
         u.march.radius,
     );
-    near.inscatter * ((1.0 - clouds.transmittance) * air)
+    let sunlit = air_sunlit(direction, clouds.front_depth, jitter, key);
+    near.inscatter * ((1.0 - clouds.transmittance) * air * sunlit)
         + clouds.radiance * (Vec3::ONE + (near.transmittance - Vec3::ONE) * air)
 }
 

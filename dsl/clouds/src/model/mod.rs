@@ -1,6 +1,7 @@
 //! The cloud model, written once as `#[shader_fn]` functions: each runs on the CPU (tests,
 //! reference renders) and is recorded into shader modules for every target.
 
+pub mod air_shadow;
 pub mod bindings;
 pub mod choices;
 pub mod clouds;

@@ -15,6 +15,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4, ivec2};
 
 use nimbus_dsl::prelude::*;
 
+use super::air_shadow::air_sunlit;
 use super::bindings::{CLOUDS, SCENE, SCENE_DEPTH};
 use super::choices::{HAZE, ORTHOGRAPHIC, gate};
 use super::march::{MarchResult, clouds_through_air, composite, haze_light, haze_opacity};
@@ -192,12 +193,13 @@ pub fn composite_over_scene(
             u.sky,
             u.march.radius,
         );
-        color = air.inscatter * (clouds.transmittance * air_weight);
+        color = air.inscatter
+            * (clouds.transmittance * air_weight * air_sunlit(direction, surface, jitter, key));
         through *= 1.0 + (air.transmittance.dot(Vec3::splat(1.0 / 3.0)) - 1.0) * air_weight;
     }
     if clouds.front_depth > 0.0 {
         // Aerial perspective on the clouds, as over Nimbus's own sky.
-        color += clouds_through_air(direction, clouds, air_weight);
+        color += clouds_through_air(direction, clouds, air_weight, jitter, key);
     }
     if gate(key, HAZE) {
         let open = select(u.march.max_ray_distance, surface, has_surface);

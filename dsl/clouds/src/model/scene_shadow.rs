@@ -27,12 +27,19 @@ use super::transmission::{DROPLET_ASYMMETRY, slab_transmittance};
 /// layers, through a slab of droplets (forward scattering lets more through than Beer's law).
 #[shader_fn]
 pub fn sun_through_clouds(p: Vec3) -> f32 {
+    let mu = CLOUDS.get().light.sun_direction.y.max(0.01);
+    slab_transmittance(cloud_depth_to_sun(p) * mu, mu, DROPLET_ASYMMETRY)
+}
+
+/// Optical depth of the clouds on the sun's path from the camera-relative point `p`, from the
+/// shadow atlas (0 above the top of the shadow-casting layers).
+#[shader_fn]
+pub fn cloud_depth_to_sun(p: Vec3) -> f32 {
     let u = CLOUDS.get();
     let mu = u.light.sun_direction.y.max(0.01);
     let h = altitude_at(p, u.camera_altitude, u.march.radius);
     let below_top = (u.march.shadow_top_height - h).max(0.0) / mu;
-    let tau = shadow_optical_depth(shadow_texel(p), below_top, 0.0) * mu;
-    slab_transmittance(tau, mu, DROPLET_ASYMMETRY)
+    shadow_optical_depth(shadow_texel(p), below_top, 0.0)
 }
 
 /// One pixel of the `scene_shadow` pass, one per texel of the engine's depth buffer: red, green
