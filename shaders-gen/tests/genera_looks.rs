@@ -2,12 +2,9 @@
 //! that a real regression fails: an overcast stratus base is grey and about as bright as the
 //! clear sky it hides (the octaves without the diffusion make it a dark blue-grey, failing
 //! both);
-//! cirrostratus shows the 22° halo around the sun (a plain Henyey–Greenstein veil does not).
-//!
-//! Not yet checked: altostratus's sun as a diffuse patch. The patch the gallery showed was the
-//! sunlit air's forward glow in front of the sheet, which a nimbostratus in its place showed
-//! as well; with the air in the clouds' shadow (`model::air_shadow`) neither shows one, and
-//! the sheet itself is too deep optically to let the sun's forward peak through.
+//! cirrostratus shows the 22° halo around the sun (a plain Henyey–Greenstein veil does not);
+//! altostratus shows the sun as a bright patch, as through ground glass (a nimbostratus in its
+//! place hides it).
 //!
 //! The renders are the gallery scenes' own (`examples/gallery/`), small and in display space
 //! (the PNG `nimbus render` writes), so the checks judge what a viewer sees.
@@ -232,4 +229,43 @@ fn cirrostratus_shows_the_22_degree_halo() {
         (profile[22] - control[22]).abs() > 0.01,
         "the control did not change the veil"
     );
+}
+
+/// Least contrast of the sun's patch: the sky within 2° of the sun a fifth brighter than the
+/// sheet 8–15° from it.
+const PATCH: f64 = 1.2;
+
+/// The sun through a sheet: the luminance within 2° of it over the sheet's 8–15° from it.
+fn sun_patch(img: &image::RgbImage, sun: [f64; 3], fov: f64) -> f64 {
+    let p = radial_profile(img, sun, fov);
+    let near = p[..2].iter().sum::<f64>() / 2.0;
+    let far = p[8..15].iter().sum::<f64>() / 7.0;
+    near / far.max(1e-6)
+}
+
+#[test]
+fn altostratus_shows_the_sun_as_through_ground_glass() {
+    if !have_gpu() {
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    // The gallery view: facing the sun (25° up), pitched 15° up, 70° field of view.
+    let (fov, sun) = (70.0, sun_in_view(25.0, 15.0));
+    let sheet = render(tmp.path(), "altostratus", &gallery("altostratus"), &[]);
+    let patch = sun_patch(&sheet, sun, fov);
+    // Control: a nimbostratus (75 optical depths) in the same view hides the sun.
+    let view = std::fs::read_to_string(gallery("altostratus"))
+        .expect("scene")
+        .replace(r#"genus = "altostratus""#, r#"genus = "nimbostratus""#);
+    let hidden_dir = tmp.path().join("hidden");
+    std::fs::create_dir_all(&hidden_dir).expect("folder");
+    let scene = hidden_dir.join("altostratus.toml");
+    std::fs::write(&scene, view).expect("write scene");
+    let hidden = render(tmp.path(), "hidden", scene.to_str().expect("utf8"), &[]);
+    let control = sun_patch(&hidden, sun, fov);
+    println!(
+        "altostratus: the sun's patch {patch:.2} times the sheet 8-15° from it; nimbostratus (control) {control:.2}"
+    );
+    assert!(patch > PATCH, "no patch: {patch:.2}");
+    assert!(control < PATCH, "the control shows a patch: {control:.2}");
 }
