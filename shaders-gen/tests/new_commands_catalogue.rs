@@ -423,8 +423,11 @@ fn the_density_profile_overflow_blames_the_term_that_carries_it() {
 #[test]
 fn export_density_refuses_bad_or_absurd_work_before_doing_any() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    let cases: [(&[&str], &[&str]); 6] = [
+    let cases: [(&[&str], &[&str]); 9] = [
         (&["--size", "0,4,4"], &["--size", "1..=1024"]),
+        (&["--margin=-1"], &["--margin", "-1", "[0, 20]"]),
+        (&["--margin", "NaN"], &["--margin", "NaN", "[0, 20]"]),
+        (&["--margin", "25"], &["--margin", "25", "[0, 20]"]),
         (&["--filter", "9"], &["--filter", "1..=8"]),
         (&["--region", "0,0,0,1,1"], &["--region", "6 numbers"]),
         (&["--region", "0,10,0,1,5,1"], &["--region", "below max"]),
