@@ -159,6 +159,24 @@ fn sun_in_view(sun_elevation: f64, pitch: f64) -> [f64; 3] {
     [0.0, a.sin(), a.cos()]
 }
 
+/// The field of view of a gallery scene that faces the sun, and the sun's direction in its
+/// camera space, read from the scene file itself.
+fn sun_view(genus: &str) -> (f64, [f64; 3]) {
+    let text = std::fs::read_to_string(gallery(genus)).expect("scene");
+    let scene: nimbus_clouds::ScenePreset = toml::from_str(&text).expect("a gallery scene");
+    assert_eq!(
+        scene.camera_yaw_deg, scene.sun_azimuth_deg,
+        "{genus}: the gallery view no longer faces the sun"
+    );
+    (
+        f64::from(scene.fov_deg),
+        sun_in_view(
+            f64::from(scene.sun_elevation_deg),
+            f64::from(scene.camera_pitch_deg),
+        ),
+    )
+}
+
 /// A halo: the ring where the radial profile rises most above the sky 3° inside and 4°
 /// outside it lies at 22° ± 1°, by at least 0.02 (the light inside a halo, nearer the sun, is
 /// brighter still: a ring, not the brightest part of the sky).
@@ -194,8 +212,7 @@ fn cirrostratus_shows_the_22_degree_halo() {
         return;
     }
     let tmp = tempfile::tempdir().expect("tempdir");
-    // The gallery view: facing the sun (30° up), pitched 20° up, 75° field of view.
-    let (fov, sun) = (75.0, sun_in_view(30.0, 20.0));
+    let (fov, sun) = sun_view("cirrostratus");
     let veil = render(tmp.path(), "cirrostratus", &gallery("cirrostratus"), &[]);
     let profile = radial_profile(&veil, sun, fov);
     println!(
@@ -249,8 +266,7 @@ fn altostratus_shows_the_sun_as_through_ground_glass() {
         return;
     }
     let tmp = tempfile::tempdir().expect("tempdir");
-    // The gallery view: facing the sun (25° up), pitched 15° up, 70° field of view.
-    let (fov, sun) = (70.0, sun_in_view(25.0, 15.0));
+    let (fov, sun) = sun_view("altostratus");
     let sheet = render(tmp.path(), "altostratus", &gallery("altostratus"), &[]);
     let patch = sun_patch(&sheet, sun, fov);
     // Control: a nimbostratus (75 optical depths) in the same view hides the sun.
