@@ -59,6 +59,8 @@ cases! {
     anvil_shape => "anvil-shape",
     cellular_weather => "cellular-weather",
     streak_weather => "streak-weather",
+    grain_weather => "grain-weather",
+    cell_rows_weather => "cell-rows-weather",
     tangent_rays => "tangent-rays",
     sun_at_horizon => "sun-at-horizon",
     sun_just_below_horizon => "sun-just-below-horizon",

@@ -67,8 +67,8 @@ fn list_and_check_describe_and_validate_everything() {
     for want in [
         "preview-hg",
         "preview-dual_lobe",
-        "clouds: 24 distinct shader(s)",
-        "shadow: 12 distinct shader(s)",
+        "clouds: 32 distinct shader(s)",
+        "shadow: 18 distinct shader(s)",
         "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-dual-g1 ← 4 pair(s)",
         "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-dual-g1-sparse_weather-anvil_shape ← 1 pair(s): cumulonimbus.high",
         "glsl-es300",
@@ -81,11 +81,11 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
-    // 2 previews + resolve + display + sun light + scene shadow + 24 cloud keys + 12 shadow
+    // 2 previews + resolve + display + sun light + scene shadow + 32 cloud keys + 18 shadow
     // keys, for 11 genera × 4 presets (genera with their own weather or shape functions, or
     // their own phase function kind, have their own).
     assert!(
-        s.contains("42 shader(s),") && s.contains("0 failure(s)"),
+        s.contains("56 shader(s),") && s.contains("0 failure(s)"),
         "{s}"
     );
     assert!(

@@ -4,7 +4,11 @@
 //! both);
 //! cirrostratus shows the 22° halo around the sun (a plain Henyey–Greenstein veil does not);
 //! altostratus shows the sun as a bright patch, as through ground glass (a nimbostratus in its
-//! place hides it).
+//! place hides it); cirrocumulus is made of grains under 1° and altocumulus of cells of 1° to
+//! 5° (the WMO's line between them), where cirrocumulus drawn with the coarser cells of
+//! stratocumulus, or altocumulus lowered to stratocumulus' height, fail; nimbostratus is grey
+//! and far darker than stratus (a tenth of its depth is not), with rain under it that darkens
+//! the distance (without its rain layer the distance is as bright as the base).
 //!
 //! The renders are the gallery scenes' own (`examples/gallery/`), small and in display space
 //! (the PNG `nimbus render` writes), so the checks judge what a viewer sees.
@@ -19,8 +23,19 @@ const SIZE: (u32, u32) = (192, 108);
 
 /// Renders `scene` (a gallery scene, or a file) with `extra` flags into `dir`.
 fn render(dir: &Path, name: &str, scene: &str, extra: &[&str]) -> image::RgbImage {
+    render_at(dir, name, scene, SIZE, extra)
+}
+
+/// [`render`] at `size` pixels.
+fn render_at(
+    dir: &Path,
+    name: &str,
+    scene: &str,
+    size: (u32, u32),
+    extra: &[&str],
+) -> image::RgbImage {
     let out = dir.join(format!("{name}.png"));
-    let res = format!("{}x{}", SIZE.0, SIZE.1);
+    let res = format!("{}x{}", size.0, size.1);
     let mut args = vec![
         "render",
         scene,
@@ -284,4 +299,230 @@ fn altostratus_shows_the_sun_as_through_ground_glass() {
     );
     assert!(patch > PATCH, "no patch: {patch:.2}");
     assert!(control < PATCH, "the control shows a patch: {control:.2}");
+}
+
+/// Size of the cell renders: a narrow view, so that grains under a degree span several pixels;
+/// the sizes are measured in degrees, which the field of view does not change.
+const CELL_VIEW: (u32, u32) = (256, 144);
+const CELL_FOV: f64 = 24.0;
+
+/// The dominant cell size of a view, in degrees: the power-weighted mean wavelength of the
+/// luminance over the central square of the image (Hann-windowed, the mean removed), from two
+/// cycles across the square up, so the sky's gradient does not count. A cell and the gap to the
+/// next make one wavelength.
+fn cell_size(img: &image::RgbImage, fov_deg: f64) -> f64 {
+    let n = img.height() as usize;
+    let x0 = (img.width() - img.height()) / 2;
+    let hann = |i: usize| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / (n - 1) as f64).cos();
+    let mut field = vec![0.0f64; n * n];
+    for y in 0..n {
+        for x in 0..n {
+            field[y * n + x] = luminance(img.get_pixel(x0 + x as u32, y as u32));
+        }
+    }
+    let mean = field.iter().sum::<f64>() / (n * n) as f64;
+    for y in 0..n {
+        for x in 0..n {
+            field[y * n + x] = (field[y * n + x] - mean) * hann(x) * hann(y);
+        }
+    }
+    // Separable discrete Fourier transform: rows, then columns (n is small).
+    let twiddle: Vec<(f64, f64)> = (0..n)
+        .map(|k| {
+            let a = -std::f64::consts::TAU * k as f64 / n as f64;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    let mut rows = vec![(0.0f64, 0.0f64); n * n];
+    for y in 0..n {
+        for k in 0..n {
+            let mut acc = (0.0, 0.0);
+            for x in 0..n {
+                let (c, s) = twiddle[(k * x) % n];
+                acc.0 += field[y * n + x] * c;
+                acc.1 += field[y * n + x] * s;
+            }
+            rows[y * n + k] = acc;
+        }
+    }
+    let mut power_by_k = vec![0.0f64; n / 2];
+    for kx in 0..n {
+        for ky in 0..n {
+            let mut acc = (0.0, 0.0);
+            for y in 0..n {
+                let (c, s) = twiddle[(ky * y) % n];
+                let v = rows[y * n + kx];
+                acc.0 += v.0 * c - v.1 * s;
+                acc.1 += v.0 * s + v.1 * c;
+            }
+            let fx = if kx > n / 2 { n - kx } else { kx } as f64;
+            let fy = if ky > n / 2 { n - ky } else { ky } as f64;
+            let k = (fx * fx + fy * fy).sqrt().round() as usize;
+            if k < n / 2 {
+                power_by_k[k] += acc.0 * acc.0 + acc.1 * acc.1;
+            }
+        }
+    }
+    let (weighted, total) = power_by_k
+        .iter()
+        .enumerate()
+        .skip(2)
+        .fold((0.0, 0.0), |(w, t), (k, p)| (w + k as f64 * p, t + p));
+    let mean_k = weighted / total.max(1e-30);
+    let pixels_per_degree =
+        0.5 * n as f64 / (0.5 * fov_deg.to_radians()).tan() * std::f64::consts::PI / 180.0;
+    n as f64 / mean_k / pixels_per_degree
+}
+
+/// The cell size of the gallery view of `genus`, drawn from the data folder `data` (the
+/// repository's examples when `None`).
+fn gallery_cell_size(dir: &Path, name: &str, genus: &str, data: Option<&str>) -> f64 {
+    let fov = CELL_FOV.to_string();
+    let mut extra = vec!["--fov", fov.as_str()];
+    if let Some(data) = data {
+        extra.extend_from_slice(&["--data", data]);
+    }
+    let img = render_at(dir, name, &gallery(genus), CELL_VIEW, &extra);
+    cell_size(&img, CELL_FOV)
+}
+
+#[test]
+fn cirrocumulus_grains_are_under_a_degree_and_altocumulus_cells_one_to_five() {
+    if !have_gpu() {
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let grains = gallery_cell_size(tmp.path(), "cirrocumulus", "cirrocumulus", None);
+    let cells = gallery_cell_size(tmp.path(), "altocumulus", "altocumulus", None);
+    // Controls: cirrocumulus drawn with stratocumulus' cells, and altocumulus lowered to the
+    // height of stratocumulus (its cells then look three or four times as large).
+    let coarse = data_with(&tmp.path().join("coarse"), "cirrocumulus", |body| {
+        body.replace("grain_weather", "cellular_weather")
+    });
+    let coarse = gallery_cell_size(
+        tmp.path(),
+        "coarse",
+        "cirrocumulus",
+        Some(coarse.to_str().expect("utf8")),
+    );
+    let low = data_with(&tmp.path().join("low"), "altocumulus", |body| {
+        body.replace("altitude = 3000.0", "altitude = 800.0")
+    });
+    let low = gallery_cell_size(
+        tmp.path(),
+        "low",
+        "altocumulus",
+        Some(low.to_str().expect("utf8")),
+    );
+    println!(
+        "cell size (degrees): cirrocumulus {grains:.2} (control, coarse cells: {coarse:.2}); \
+         altocumulus {cells:.2} (control, at 800 m: {low:.2})"
+    );
+    assert!(grains < 1.0, "cirrocumulus grains of {grains:.2}°");
+    assert!(
+        (1.0..=5.0).contains(&cells),
+        "altocumulus cells of {cells:.2}°"
+    );
+    assert!(coarse >= 1.0, "the control passes: {coarse:.2}°");
+    assert!(!(1.0..=5.0).contains(&low), "the control passes: {low:.2}°");
+}
+
+/// Mean display luminance and saturation of the pixels whose elevation lies in `band` (degrees
+/// above the horizon) in a view of field `fov` pitched `pitch` up.
+fn band_look(img: &image::RgbImage, fov: f64, pitch: f64, band: (f64, f64)) -> (f64, f64) {
+    let (s, c) = pitch.to_radians().sin_cos();
+    let mut sum = [0.0f64; 3];
+    let mut n = 0.0;
+    for (x, y, p) in img.enumerate_pixels() {
+        let d = ray(f64::from(x), f64::from(y), fov);
+        let elevation = (d[1] * c + d[2] * s).clamp(-1.0, 1.0).asin().to_degrees();
+        if (band.0..band.1).contains(&elevation) {
+            for (k, v) in sum.iter_mut().enumerate() {
+                *v += f64::from(p[k]) / 255.0;
+            }
+            n += 1.0;
+        }
+    }
+    let m = sum.map(|v| v / f64::max(n, 1.0));
+    let max = m.iter().copied().fold(0.0, f64::max);
+    let min = m.iter().copied().fold(1.0, f64::min);
+    (
+        0.2126 * m[0] + 0.7152 * m[1] + 0.0722 * m[2],
+        (max - min) / max.max(1e-6),
+    )
+}
+
+/// The base of a deck seen from the ground: 20° to 45° above the horizon.
+const BASE: (f64, f64) = (20.0, 45.0);
+/// The distance under a deck: the first 4° above the horizon.
+const DISTANCE: (f64, f64) = (0.0, 4.0);
+
+#[test]
+fn nimbostratus_is_dark_grey_with_rain_under_it() {
+    if !have_gpu() {
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let view = |genus: &str| {
+        let text = std::fs::read_to_string(gallery(genus)).expect("scene");
+        let scene: nimbus_clouds::ScenePreset = toml::from_str(&text).expect("a gallery scene");
+        (f64::from(scene.fov_deg), f64::from(scene.camera_pitch_deg))
+    };
+    let (fov, pitch) = view("nimbostratus");
+    let (st_fov, st_pitch) = view("stratus");
+    let deck = render(tmp.path(), "nimbostratus", &gallery("nimbostratus"), &[]);
+    let stratus = render(tmp.path(), "stratus", &gallery("stratus"), &[]);
+    let (base, saturation) = band_look(&deck, fov, pitch, BASE);
+    let (stratus_base, _) = band_look(&stratus, st_fov, st_pitch, BASE);
+    let (distance, _) = band_look(&deck, fov, pitch, DISTANCE);
+    // Controls: a tenth of the deck's depth; the deck without its rain.
+    let thin = data_with(&tmp.path().join("thin"), "nimbostratus", |body| {
+        body.replace("density_scale = 0.0375", "density_scale = 0.00375")
+    });
+    let thin = render(
+        tmp.path(),
+        "thin",
+        &gallery("nimbostratus"),
+        &["--data", thin.to_str().expect("utf8")],
+    );
+    let (thin_base, _) = band_look(&thin, fov, pitch, BASE);
+    let dry = data_with(&tmp.path().join("dry"), "nimbostratus", |body| {
+        body.split("\n# The rain under the base")
+            .next()
+            .unwrap_or(body)
+            .to_string()
+    });
+    let dry = render(
+        tmp.path(),
+        "dry",
+        &gallery("nimbostratus"),
+        &["--data", dry.to_str().expect("utf8")],
+    );
+    let (dry_base, _) = band_look(&dry, fov, pitch, BASE);
+    let (dry_distance, _) = band_look(&dry, fov, pitch, DISTANCE);
+    println!(
+        "nimbostratus base {base:.3} (saturation {saturation:.3}) against stratus {stratus_base:.3}: \
+         {:.2} (control, a tenth of the depth: {:.2}); the distance over the base {:.2} \
+         (control, no rain: {:.2})",
+        base / stratus_base,
+        thin_base / stratus_base,
+        distance / base,
+        dry_distance / dry_base
+    );
+    assert!(
+        saturation < 0.2,
+        "nimbostratus is not grey: {saturation:.3}"
+    );
+    // Under half the stratus base's luminance: 75 optical depths against stratus' 30 or so.
+    assert!(base < 0.5 * stratus_base, "nimbostratus {base:.3}");
+    assert!(
+        thin_base >= 0.5 * stratus_base,
+        "the control passes: {thin_base:.3}"
+    );
+    // Rain under the base: the distance, seen through kilometres of it, darker than the base.
+    assert!(distance < 0.6 * base, "no rain: {distance:.3} / {base:.3}");
+    assert!(
+        dry_distance >= 0.6 * dry_base,
+        "the control passes: {dry_distance:.3} / {dry_base:.3}"
+    );
 }

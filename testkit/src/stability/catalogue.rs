@@ -640,7 +640,9 @@ fn tiny_reach() -> Case {
 
 /// Every case, in a fixed order.
 pub fn catalogue() -> Vec<Case> {
-    use nimbus_clouds::model::genus_fns::{ANVIL_SHAPE, CELLULAR_WEATHER, STREAK_WEATHER};
+    use nimbus_clouds::model::genus_fns::{
+        ANVIL_SHAPE, CELL_ROWS_WEATHER, CELLULAR_WEATHER, GRAIN_WEATHER, STREAK_WEATHER,
+    };
     vec![
         genus_case(
             "anvil-shape",
@@ -659,6 +661,16 @@ pub fn catalogue() -> Vec<Case> {
             "streak-weather",
             "the deep layer under the streak weather function",
             &functions_genus(|f| f.weather = STREAK_WEATHER),
+        ),
+        genus_case(
+            "grain-weather",
+            "the deep layer under the grain weather function (cellular noise evaluated in place)",
+            &functions_genus(|f| f.weather = GRAIN_WEATHER),
+        ),
+        genus_case(
+            "cell-rows-weather",
+            "the deep layer under the cell-rows weather function",
+            &functions_genus(|f| f.weather = CELL_ROWS_WEATHER),
         ),
         tangent_rays(),
         sun_case("sun-at-horizon", "sun at 0° (and ±0.01° either side)", 0.0),

@@ -13,6 +13,7 @@ use nimbus_dsl::shader;
 use super::bindings::{CLOUDS, LINEAR_REPEAT, WEATHER};
 use super::density::shape_altering;
 use super::layers::{LayerGroup, LayerGroupShader};
+use super::noise::hash3;
 use crate::functions::{HeightFn, WeatherFn};
 use crate::key::CloudKey;
 use crate::{height_fn, weather_fn};
@@ -81,6 +82,88 @@ pub fn cellular_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
         .pow(layers.weather_exponent)
 }
 
+/// Distance (in lattice units) from `p` to the nearest of the feature points, one per lattice
+/// cell, each placed in the middle 70 % of its cell: 2-D cellular noise evaluated in place,
+/// not read from a texture, so elements a hundred metres apart need no texture tile that would
+/// repeat across the sky. Keeping the points off the cell borders makes the elements nearly
+/// even in size and spacing, as the cells of cirrocumulus and altocumulus are.
+#[shader_fn]
+pub fn nearest_feature(p: Vec2, seed: u32) -> f32 {
+    let cell = p.floor();
+    let mut nearest = 4.0f32;
+    for dy in -1i32..2i32 {
+        for dx in -1i32..2i32 {
+            let c = cell + vec2(dx as f32, dy as f32);
+            // Negative lattice coordinates wrap to large words alike in Rust and the shaders.
+            let h = hash3(c.x as i32 as u32, c.y as i32 as u32, seed);
+            let jitter = vec2((h & 65535u32) as f32, (h >> 16u32) as f32) * (0.7 / 65535.0)
+                + Vec2::splat(0.15);
+            nearest = nearest.min((c + jitter - p).length());
+        }
+    }
+    nearest
+}
+
+/// Cumuliform elements about `spacing` metres apart, lined up in rows `rows` spacings apart
+/// across the wind (x), within the patches of the layer's weather channel: the cells "in groups
+/// and rows" of altocumulus and the grains and ripples of cirrocumulus, whose names differ by
+/// the elements' size (WMO: under 1° wide seen more than 30° above the horizon for
+/// cirrocumulus, 1° to 5° for altocumulus). The rows bend with a slow field, as billows do.
+///
+/// Elements smaller than a pixel would be noise: beyond `fade` metres from the camera they give
+/// way to a sheet at `level`, the signal whose density after the coverage remap is the
+/// elements' mean at the genus' coverage (the remap is not linear, so the signal's own mean,
+/// 0.19, is not that level in general). The distance is taken in the plane before the wind's
+/// drift, which an animation moves by far less than the fade's width.
+#[shader_fn]
+pub fn elements_in_rows(
+    xz: Vec2,
+    layers: LayerGroup,
+    spacing: f32,
+    rows: f32,
+    fade: f32,
+    level: f32,
+) -> Vec4 {
+    let u = CLOUDS.get();
+    let media = u.media;
+    let smp = LINEAR_REPEAT.get();
+    let uv = xz * media.weather_repeat + media.weather_offset;
+    let patch = (layers.channel_matrix * WEATHER.get().sample_level(&smp, uv, 0.0)).saturate();
+    let bend = WEATHER
+        .get()
+        .sample_level(&smp, uv * 23.0 + vec2(0.71, 0.29), 0.0)
+        .z;
+    let p = xz / spacing;
+    // 1 at a feature point, 0 from 0.75 spacings away: round elements, close-packed, with
+    // narrow gaps where the coverage cuts them.
+    let element = (1.0 - nearest_feature(p, 11u32) / 0.75).clamp(0.0, 1.0);
+    let phase = (p.x + bend * rows * 3.0) * (TAU / rows);
+    let row = 0.4 + 0.6 * phase.cos();
+    let camera = vec2(u.camera_offset.x, u.camera_offset.z);
+    let far = smoothstep(0.5 * fade, fade, (xz - camera).length());
+    let detail = mix(element * row, level, far);
+    (patch.pow(Vec4::splat(0.5)) * detail)
+        .saturate()
+        .pow(layers.weather_exponent)
+}
+
+/// A whole turn, for the rows' phase.
+const TAU: f32 = core::f32::consts::TAU;
+
+/// Cirrocumulus: grains 120 m apart (0.7° seen 45° up at 7 km), in ripples 2.5 grains apart;
+/// beyond 25 km a grain is under 0.3° and gives way to the sheet (level for coverage 0.65).
+#[shader_fn]
+pub fn grain_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
+    elements_in_rows(xz, layers, 120.0, 2.5, 25_000.0, 0.23)
+}
+
+/// Altocumulus: rounded cells 300 m apart (3.3° seen 35° up at 3 km), in rows 2 cells apart;
+/// beyond 60 km a cell is under 0.3° and gives way to the sheet (level for coverage 0.6).
+#[shader_fn]
+pub fn cell_rows_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
+    elements_in_rows(xz, layers, 300.0, 2.0, 60_000.0, 0.2)
+}
+
 /// The reference library's shape: `1 − x²` with `x = 2η^bias − 1`, zero at both ends of the
 /// layer, widest at `η = 0.5^(1/bias)`: clouds rounded at the top and the bottom.
 #[shader_fn]
@@ -127,6 +210,14 @@ pub const CELLULAR_WEATHER: WeatherFn = weather_fn!(
     cellular_weather,
     "patches of the weather texture broken into cells 9x finer, with gaps between them"
 );
+pub const GRAIN_WEATHER: WeatherFn = weather_fn!(
+    grain_weather,
+    "grains 120 m apart in ripples across the wind, within patches: cirrocumulus"
+);
+pub const CELL_ROWS_WEATHER: WeatherFn = weather_fn!(
+    cell_rows_weather,
+    "rounded cells 300 m apart in rows across the wind, within patches: altocumulus"
+);
 pub const ROUNDED_SHAPE: HeightFn = height_fn!(
     rounded_shape,
     "1 - (2 eta^bias - 1)^2: rounded at top and bottom (the reference library's)"
@@ -152,6 +243,8 @@ pub fn builtin_weather_fns() -> Vec<WeatherFn> {
         STREAK_WEATHER,
         CELLULAR_WEATHER,
         SPARSE_WEATHER,
+        GRAIN_WEATHER,
+        CELL_ROWS_WEATHER,
     ]
 }
 
