@@ -90,7 +90,9 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
         }
         .into());
     }
-    // Lowest clouds first, as the cloud atlases order the genera.
+    // Lowest clouds first, as the cloud atlases order the genera: by the base of the genus'
+    // first layer, its cloud (a later one may be what falls from it, as nimbostratus' rain
+    // reaches the ground).
     let mut frames = Vec::new();
     for (_, state) in &scenes {
         let mut frame = state.frame(width, height);
@@ -98,8 +100,10 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
         frame.validate()?;
         let base = state
             .genus
-            .altitude_range()
-            .map_or(f32::MAX, |(bottom, _)| bottom);
+            .layers
+            .iter()
+            .find(|l| l.is_enabled())
+            .map_or(f32::MAX, |l| l.altitude);
         frames.push((base, &state.scene, frame));
     }
     frames.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.name.cmp(&y.1.name)));
