@@ -17,7 +17,7 @@ use std::path::Path;
 
 use nimbus_output::{Overwrite, Signature, write_file};
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 use nimbus_clouds::model::march::total_density;
 use nimbus_clouds::model::shadow::altitude_at;
 use std::sync::Arc;
@@ -27,7 +27,7 @@ use nimbus_dsl::cpu::{Texture2d, Texture3d};
 
 use crate::error::RuntimeError;
 use crate::render::{Frame, Renderer, TextureSizes};
-use crate::textures::NoiseKind;
+use crate::textures::{NoiseKind, texel_value};
 
 /// A box of the local frame: x east, y altitude above the ground, z south (m), centred
 /// horizontally on the camera's ground point.
@@ -75,25 +75,19 @@ impl DensityGrid {
     }
 }
 
-fn unpack(word: u32) -> Vec4 {
-    Vec4::from_array(std::array::from_fn(|c| {
-        ((word >> (8 * c)) & 0xff) as f32 / 255.0
-    }))
-}
-
 /// Generates the textures on the CPU, texel for texel as the GPU kernels do (no shadow map:
 /// density does not read it).
 pub fn generate_cpu_textures(sizes: TextureSizes) -> CloudTextures {
     let plane = |kind: NoiseKind, n: u32| Texture2d {
         size: [n, n],
         texels: (0..n * n)
-            .map(|i| unpack(kind.cpu_texel(n, i % n, i / n, 0)))
+            .map(|i| texel_value(kind.cpu_texel(n, i % n, i / n, 0)))
             .collect(),
     };
     let cube = |kind: NoiseKind, n: u32| Texture3d {
         size: [n, n, n],
         texels: (0..n * n * n)
-            .map(|i| unpack(kind.cpu_texel(n, i % n, (i / n) % n, i / (n * n))))
+            .map(|i| texel_value(kind.cpu_texel(n, i % n, (i / n) % n, i / (n * n))))
             .collect(),
     };
     CloudTextures {

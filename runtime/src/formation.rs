@@ -287,9 +287,8 @@ impl<'g> FormationSim<'g> {
                 reason: e.to_string(),
             });
         }
-        Ok(self
-            .gpu
-            .texture_from_texels(NoiseKind::Weather, &self.texels, self.weather_size))
+        self.gpu
+            .texture_from_texels(NoiseKind::Weather, &self.texels, self.weather_size)
     }
 }
 

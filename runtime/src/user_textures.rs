@@ -12,7 +12,7 @@ use wgpu::util::DeviceExt;
 
 use crate::error::RuntimeError;
 use crate::gpu::Gpu;
-use crate::textures::GpuTexture;
+use crate::textures::{GpuTexture, texel_value};
 
 fn texture_error(file: &Path, reason: impl Into<String>) -> RuntimeError {
     RuntimeError::Texture {
@@ -37,6 +37,8 @@ pub fn raw_cube_side(bytes: usize) -> Option<(u32, u32)> {
 }
 
 impl Gpu {
+    /// Uploads RGBA8 texels widened to half floats, as the procedural textures are
+    /// ([`crate::textures::texel_value`]; why: [`Gpu::texture_from_texels`]).
     fn upload_rgba8(
         &self,
         label: &str,
@@ -44,6 +46,11 @@ impl Gpu {
         dimension: wgpu::TextureDimension,
         rgba: &[u8],
     ) -> GpuTexture {
+        let values: Vec<f32> = rgba
+            .chunks_exact(4)
+            .flat_map(|t| texel_value(u32::from_le_bytes([t[0], t[1], t[2], t[3]])).to_array())
+            .collect();
+        let halves: Vec<u16> = values.iter().map(|v| crate::gpu::f16_bits(*v)).collect();
         let texture = self.device().create_texture_with_data(
             self.queue(),
             &wgpu::TextureDescriptor {
@@ -52,19 +59,19 @@ impl Gpu {
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension,
-                format: wgpu::TextureFormat::Rgba8Unorm,
+                format: wgpu::TextureFormat::Rgba16Float,
                 usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,
-            rgba,
+            bytemuck::cast_slice(&halves),
         );
         let view = texture.create_view(&Default::default());
         // The red channel's means, for the detail level of detail.
-        let count = (rgba.len() / 4).max(1) as f64;
+        let count = (values.len() / 4).max(1) as f64;
         let (mut mean, mut sixth) = (0.0f64, 0.0f64);
-        for texel in rgba.chunks_exact(4) {
-            let r = f64::from(texel[0]) / 255.0;
+        for r in values.iter().step_by(4) {
+            let r = f64::from(*r);
             mean += r;
             sixth += r.powi(6);
         }
