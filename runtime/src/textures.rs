@@ -188,30 +188,13 @@ impl Gpu {
                 }
             }
         }
-        let texture = self.device().create_texture_with_data(
-            self.queue(),
-            &wgpu::TextureDescriptor {
-                label: Some(kind.name()),
-                size: wgpu::Extent3d {
-                    width: size,
-                    height: size,
-                    depth_or_array_layers: depth,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: if kind.is_3d() {
-                    wgpu::TextureDimension::D3
-                } else {
-                    wgpu::TextureDimension::D2
-                },
-                format: wgpu::TextureFormat::Rgba16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&halves),
-        );
-        let view = texture.create_view(&Default::default());
+        let dimension = if kind.is_3d() {
+            wgpu::TextureDimension::D3
+        } else {
+            wgpu::TextureDimension::D2
+        };
+        let (texture, view) =
+            self.half_float_texture(kind.name(), [size, size, depth], dimension, &halves);
         Ok(GpuTexture {
             texture,
             view,
@@ -221,29 +204,43 @@ impl Gpu {
         })
     }
 
-    /// A 1×1 texture holding `texel` (e.g. an empty shadow map).
-    pub fn constant_texture(&self, texel: [f32; 4]) -> GpuTexture {
-        let data: Vec<u16> = texel.iter().map(|v| crate::gpu::f16_bits(*v)).collect();
+    /// A sampled `Rgba16Float` texture of `size` (width, height, depth) holding `halves` (f16
+    /// bits, four per texel, x fastest), and its view: every texture the cloud passes read.
+    pub(crate) fn half_float_texture(
+        &self,
+        label: &str,
+        size: [u32; 3],
+        dimension: wgpu::TextureDimension,
+        halves: &[u16],
+    ) -> (wgpu::Texture, wgpu::TextureView) {
         let texture = self.device().create_texture_with_data(
             self.queue(),
             &wgpu::TextureDescriptor {
-                label: Some("constant"),
+                label: Some(label),
                 size: wgpu::Extent3d {
-                    width: 1,
-                    height: 1,
-                    depth_or_array_layers: 1,
+                    width: size[0],
+                    height: size[1],
+                    depth_or_array_layers: size[2],
                 },
                 mip_level_count: 1,
                 sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
+                dimension,
                 format: wgpu::TextureFormat::Rgba16Float,
                 usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&data),
+            bytemuck::cast_slice(halves),
         );
         let view = texture.create_view(&Default::default());
+        (texture, view)
+    }
+
+    /// A 1×1 texture holding `texel` (e.g. an empty shadow map).
+    pub fn constant_texture(&self, texel: [f32; 4]) -> GpuTexture {
+        let data: Vec<u16> = texel.iter().map(|v| crate::gpu::f16_bits(*v)).collect();
+        let (texture, view) =
+            self.half_float_texture("constant", [1, 1, 1], wgpu::TextureDimension::D2, &data);
         GpuTexture {
             texture,
             view,

@@ -8,8 +8,6 @@
 
 use std::path::{Path, PathBuf};
 
-use wgpu::util::DeviceExt;
-
 use crate::error::RuntimeError;
 use crate::gpu::Gpu;
 use crate::textures::{GpuTexture, texel_value};
@@ -51,22 +49,12 @@ impl Gpu {
             .flat_map(|t| texel_value(u32::from_le_bytes([t[0], t[1], t[2], t[3]])).to_array())
             .collect();
         let halves: Vec<u16> = values.iter().map(|v| crate::gpu::f16_bits(*v)).collect();
-        let texture = self.device().create_texture_with_data(
-            self.queue(),
-            &wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension,
-                format: wgpu::TextureFormat::Rgba16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&halves),
+        let (texture, view) = self.half_float_texture(
+            label,
+            [size.width, size.height, size.depth_or_array_layers],
+            dimension,
+            &halves,
         );
-        let view = texture.create_view(&Default::default());
         // The red channel's means, for the detail level of detail.
         let count = (values.len() / 4).max(1) as f64;
         let (mut mean, mut sixth) = (0.0f64, 0.0f64);

@@ -174,11 +174,16 @@ fn sun_in_view(sun_elevation: f64, pitch: f64) -> [f64; 3] {
     [0.0, a.sin(), a.cos()]
 }
 
+/// The gallery scene of `genus`, as its file holds it.
+fn gallery_scene(genus: &str) -> nimbus_clouds::ScenePreset {
+    let text = std::fs::read_to_string(gallery(genus)).expect("scene");
+    toml::from_str(&text).expect("a gallery scene")
+}
+
 /// The field of view of a gallery scene that faces the sun, and the sun's direction in its
 /// camera space, read from the scene file itself.
 fn sun_view(genus: &str) -> (f64, [f64; 3]) {
-    let text = std::fs::read_to_string(gallery(genus)).expect("scene");
-    let scene: nimbus_clouds::ScenePreset = toml::from_str(&text).expect("a gallery scene");
+    let scene = gallery_scene(genus);
     assert_eq!(
         scene.camera_yaw_deg, scene.sun_azimuth_deg,
         "{genus}: the gallery view no longer faces the sun"
@@ -464,8 +469,7 @@ fn nimbostratus_is_dark_grey_with_rain_under_it() {
     }
     let tmp = tempfile::tempdir().expect("tempdir");
     let view = |genus: &str| {
-        let text = std::fs::read_to_string(gallery(genus)).expect("scene");
-        let scene: nimbus_clouds::ScenePreset = toml::from_str(&text).expect("a gallery scene");
+        let scene = gallery_scene(genus);
         (f64::from(scene.fov_deg), f64::from(scene.camera_pitch_deg))
     };
     let (fov, pitch) = view("nimbostratus");
