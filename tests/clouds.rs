@@ -102,6 +102,7 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
             "composite_over_scene",
         ],
         Toggle::Orthographic => &["orthographic_ray", "ray_block", "clouds_input"],
+        Toggle::UntiledWeather => &["hex_corners", "vertex_offset"],
     }
 }
 

@@ -234,11 +234,12 @@ fn emit_and_explain_agree_on_the_scene_variant() {
         out.to_str().expect("utf8"),
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let name = "stratocumulus.high-light-shafts-ground-bounce";
-    let id = "clouds-detail-turb-haze-shadows-diffuse-powder-o1-dual-g1-cellular_weather";
+    // 6.5 km above the deck the view holds three weather tiles: the analysis untiles them.
+    let name = "stratocumulus.high-light-shafts-ground-bounce+untiled-weather";
+    let id = "clouds-detail-turb-haze-shadows-diffuse-powder-untile-o1-dual-g1-cellular_weather";
     let clouds = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("clouds");
     assert!(
-        out.join("shadow-detail-turb-g1-cellular_weather.wgsl")
+        out.join("shadow-detail-turb-untile-g1-cellular_weather.wgsl")
             .is_file()
     );
     // Shafts and ground bounce are out: their code is not in the shader.

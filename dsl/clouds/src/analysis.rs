@@ -208,6 +208,54 @@ pub fn ground_bounce(c: &SceneContent) -> Verdict {
     }
 }
 
+/// Camera this far above the highest layer top (m) sees the weather tile repeat: the layer lies
+/// open below it out to about 250 km (2.5 tiles of 100 km) and more, seen from above rather
+/// than squeezed against the horizon as from below.
+pub const UNTILED_WEATHER_ABOVE: f32 = 5000.0;
+
+/// The untiled weather: the camera is high above the clouds, where one view holds several
+/// weather tiles side by side and the tile's repetition shows as rows and columns of the same
+/// cloud fields. A judgement; from the ground the tiles beyond the first lie within a few
+/// degrees of the horizon, behind the air.
+pub fn untiled_weather(c: &SceneContent) -> Verdict {
+    let clouds = clouds_present(c);
+    if !clouds.visible {
+        return clouds;
+    }
+    let top = c
+        .genus
+        .layers
+        .iter()
+        .filter(|l| l.is_enabled())
+        .map(|l| l.altitude + l.height)
+        .fold(0.0f32, f32::max);
+    let above = c.camera_altitude - top;
+    if above < UNTILED_WEATHER_ABOVE {
+        return verdict(
+            false,
+            format!(
+                "camera at {} m, not {UNTILED_WEATHER_ABOVE} m above the clouds (top {top} m): \
+                 the weather tile's repetition lies at the horizon",
+                c.camera_altitude
+            ),
+        );
+    }
+    // How far the camera sees the layer's top: to where its line of sight grazes it.
+    let r = f64::from(crate::model::shell::EARTH_RADIUS);
+    let reach = ((r + f64::from(c.camera_altitude)).powi(2) - (r + f64::from(top)).powi(2))
+        .max(0.0)
+        .sqrt();
+    verdict(
+        true,
+        format!(
+            "camera {above} m above the clouds sees them out to {:.0} km, {:.0} weather tiles: \
+             the tile would repeat in rows and columns",
+            reach / 1000.0,
+            reach / 100_000.0
+        ),
+    )
+}
+
 /// Lowest base of a layer the flat 2D layer may stand for (m): cirrus and cirrostratus.
 pub const FLAT_LAYER_MIN_ALTITUDE: f32 = 6000.0;
 /// Thickest layer it may stand for (m): a sheet no pixel resolves the depth of from below.

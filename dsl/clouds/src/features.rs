@@ -155,6 +155,14 @@ effects! {
     /// preset, chosen by the host that has a scene (`--enable scene-depth`).
     SceneDepth, scene_depth, "scene-depth", tag "depth",
         presets [], rule None;
+    /// The weather without its tile's repetition: the 100 km weather tile read at an offset of
+    /// its own around each vertex of a lattice (hex tiling), blended between them. A view from
+    /// high above crosses tens of tiles, and the same cloud fields came back in rows and
+    /// columns. Not in a preset (its arithmetic costs about a fifth of a frame on a CPU
+    /// rasteriser); the scene analysis chooses it in every preset where the camera is high
+    /// above the clouds (`analysis::untiled_weather`).
+    UntiledWeather, untiled_weather, "untiled-weather", tag "untile",
+        presets [], rule Some(analysis::untiled_weather);
     /// An orthographic camera: parallel rays, each from its own point of the image plane. A
     /// camera's, not an effect: in no preset, chosen by the host (`--enable orthographic`).
     Orthographic, orthographic, "orthographic", tag "ortho",
@@ -166,11 +174,15 @@ fn first_line(doc: &[&'static str]) -> &'static str {
 }
 
 impl Toggle {
-    /// Whether the scene analysis may switch this approximation on at quality `q` when its rule
-    /// allows it (the real-time presets; `ultra` and `reference` always march the volume).
+    /// Whether the scene analysis may switch this toggle on at quality `q` when its rule allows
+    /// it (the flat high layer in the real-time presets, as `ultra` and `reference` always
+    /// march the volume; the untiled weather in all).
     pub fn chosen_in(self, q: Quality) -> bool {
         match self {
             Toggle::FlatHighLayer => matches!(q, Quality::Low | Quality::Medium | Quality::High),
+            // A picture's, not an approximation: the same in every preset, so that presets
+            // compared on one view see the same weather.
+            Toggle::UntiledWeather => true,
             _ => false,
         }
     }

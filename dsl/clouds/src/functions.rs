@@ -40,15 +40,18 @@ pub struct HeightFn {
     pub shader: fn(shader::Vec4, LayerGroupShader) -> shader::Vec4,
 }
 
-/// The weather signal of four layers at a point: `(xz, layers) → signal per lane`, with `xz`
-/// the point's ground-plane position in metres (noise space: camera offset included).
+/// The weather signal of four layers at a point: `(xz, uv, layers) → signal per lane`, with
+/// `xz` the point's ground-plane position in metres (noise space: camera offset included) and
+/// `uv` where it reads the weather tile (`xz · weather_repeat + weather_offset`, shifted where
+/// the key breaks up the tile's repetition: `model::untiled_weather`). Read the weather texture
+/// at `uv`; measure distances, and place noise computed in place, with `xz`.
 #[derive(Clone, Copy)]
 pub struct WeatherFn {
     pub name: &'static str,
     pub path: &'static str,
     pub about: &'static str,
-    pub cpu: fn(Vec2, LayerGroup) -> Vec4,
-    pub shader: fn(shader::Vec2, LayerGroupShader) -> shader::Vec4,
+    pub cpu: fn(Vec2, Vec2, LayerGroup) -> Vec4,
+    pub shader: fn(shader::Vec2, shader::Vec2, LayerGroupShader) -> shader::Vec4,
 }
 
 /// Makes a [`HeightFn`] from a `#[shader_fn] fn f(eta: Vec4, layers: LayerGroup) -> Vec4`:
@@ -66,7 +69,8 @@ macro_rules! height_fn {
     };
 }
 
-/// Makes a [`WeatherFn`] from a `#[shader_fn] fn f(xz: Vec2, layers: LayerGroup) -> Vec4`:
+/// Makes a [`WeatherFn`] from a `#[shader_fn] fn f(xz: Vec2, uv: Vec2, layers: LayerGroup) ->
+/// Vec4`:
 /// `weather_fn!(f, "what it is for")`.
 #[macro_export]
 macro_rules! weather_fn {
@@ -76,7 +80,7 @@ macro_rules! weather_fn {
             path: ::core::concat!(::core::module_path!(), "::", ::core::stringify!($f)),
             about: $about,
             cpu: $f,
-            shader: |xz, layers| $f::shader(xz, layers),
+            shader: |xz, uv, layers| $f::shader(xz, uv, layers),
         }
     };
 }

@@ -217,10 +217,10 @@ impl CloudKey {
     }
 
     /// Every canonical key of the built-in genus functions: each combination of the toggles
-    /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer with
-    /// any of them, the engine's scene depth and an orthographic camera with any of them), 1–12 octaves (one with the
-    /// diffusion, which replaces the others), the five phase kinds and one or two lane groups:
-    /// (1,536 × 12 + 1,536) × 5 × 2 = 199,680 keys. A genus' own
+    /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer, the
+    /// untiled weather, the engine's scene depth and an orthographic camera with any of them),
+    /// 1–12 octaves (one with the diffusion, which replaces the others), the five phase kinds
+    /// and one or two lane groups: (3,072 × 12 + 3,072) × 5 × 2 = 399,360 keys. A genus' own
     /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL
@@ -274,6 +274,7 @@ impl CloudKey {
         self.uses_shadow_map().then_some(ShadowKey {
             shape_detail: self.features.shape_detail,
             turbulence: self.features.turbulence,
+            untiled_weather: self.features.untiled_weather,
             groups: self.groups,
             functions: self.functions,
         })
@@ -296,6 +297,8 @@ impl SpecValue for CloudKey {
 pub struct ShadowKey {
     pub shape_detail: bool,
     pub turbulence: bool,
+    /// The weather without its tile's repetition, as the clouds it shadows have it.
+    pub untiled_weather: bool,
     pub groups: u32,
     /// The genus functions the density is made of.
     pub functions: GenusFunctions,
@@ -311,19 +314,24 @@ impl ShadowKey {
         if self.turbulence {
             parts.push(Toggle::Turbulence.tag().to_string());
         }
+        if self.untiled_weather {
+            parts.push(Toggle::UntiledWeather.tag().to_string());
+        }
         parts.push(format!("g{}", self.groups));
         parts.extend(function_tags(&self.functions));
         parts.join("-")
     }
 
-    /// Every shadow key: with or without shape detail and turbulence, one or two lane groups.
+    /// Every shadow key: with or without shape detail, turbulence and the untiled weather, one
+    /// or two lane groups.
     pub fn reachable() -> Vec<ShadowKey> {
         let mut out = Vec::new();
-        for bits in 0..4u32 {
+        for bits in 0..8u32 {
             for groups in 1..=2 {
                 out.push(ShadowKey {
                     shape_detail: bits & 1 != 0,
                     turbulence: bits & 2 != 0,
+                    untiled_weather: bits & 4 != 0,
                     groups,
                     functions: GenusFunctions::default(),
                 });
@@ -344,6 +352,7 @@ impl ShadowKey {
         }
         features.shape_detail = self.shape_detail;
         features.turbulence = self.turbulence;
+        features.untiled_weather = self.untiled_weather;
         CloudKey {
             features,
             phase: PhaseKind::Isotropic,

@@ -24,7 +24,7 @@ fn spec_of(kind: PhaseKind) -> PhaseSpec {
 fn reachable_keys_are_canonical_distinct_and_named_apart() {
     let keys = CloudKey::reachable();
     // Twelve octave counts without the diffusion, one with it (it replaces the octaves).
-    assert_eq!(keys.len(), (1536 * 12 + 1536) * 5 * 2);
+    assert_eq!(keys.len(), (3072 * 12 + 3072) * 5 * 2);
     let names: BTreeSet<String> = keys.iter().map(CloudKey::name).collect();
     assert_eq!(names.len(), keys.len(), "two keys share a name");
     for k in &keys {
@@ -33,5 +33,5 @@ fn reachable_keys_are_canonical_distinct_and_named_apart() {
     }
     let shadows = ShadowKey::reachable();
     let names: BTreeSet<String> = shadows.iter().map(ShadowKey::name).collect();
-    assert_eq!((shadows.len(), names.len()), (8, 8));
+    assert_eq!((shadows.len(), names.len()), (16, 16));
 }

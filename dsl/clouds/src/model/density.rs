@@ -8,10 +8,11 @@ use glam::{Vec2, Vec3, Vec4};
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER};
-use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, gate};
+use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, UNTILED_WEATHER, gate};
 use super::genus_fns::{genus_profile, genus_shape, genus_weather};
 use super::layers::LayerGroup;
 use super::noise::{DETAIL_MOMENTS, DETAIL_SIZE};
+use super::untiled_weather::untiled_weather;
 use crate::key::CloudKey;
 
 /// Sampling frequencies and offsets of the textures, and the coverage.
@@ -146,7 +147,13 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32, #[spec] key: C
     let layers = CLOUDS.get().groups[group as usize];
     let media = CLOUDS.get().media;
     let drifted = wind_drifted(position, altitude);
-    let weather = genus_weather(key, vec2(drifted.x, drifted.z), layers);
+    let xz = vec2(drifted.x, drifted.z);
+    let uv = xz * media.weather_repeat + media.weather_offset;
+    let weather = if gate(key, UNTILED_WEATHER) {
+        untiled_weather(xz, uv, layers, key)
+    } else {
+        genus_weather(key, xz, uv, layers)
+    };
     let eta = height_fraction(altitude, layers);
     let shape = genus_shape(key, eta, layers);
     let coverage = planet_coverage(position, drifted, media.coverage);

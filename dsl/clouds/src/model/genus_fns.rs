@@ -21,9 +21,7 @@ use crate::{height_fn, weather_fn};
 /// The reference library's weather: each layer reads its channel of the weather texture,
 /// raised to its weather exponent.
 #[shader_fn]
-pub fn texture_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
-    let media = CLOUDS.get().media;
-    let uv = xz * media.weather_repeat + media.weather_offset;
+pub fn texture_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
     let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
     (layers.channel_matrix * rgba)
         .saturate()
@@ -34,12 +32,12 @@ pub fn texture_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
 /// a cell becomes a streak tens of kilometres long and a few wide, as cirrus uncinus and
 /// fibratus are drawn out by the shear of the jet stream.
 #[shader_fn]
-pub fn streak_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
-    let media = CLOUDS.get().media;
-    // The offset (the wind) moves the field before it is stretched, as in every weather
-    // function, so that all genera drift alike.
-    let uv = (xz * media.weather_repeat + media.weather_offset) * vec2(1.0 / 12.0, 3.0);
-    let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
+pub fn streak_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
+    // `uv` holds the offset (the wind), so the field moves before it is stretched, as in every
+    // weather function, and all genera drift alike.
+    let rgba = WEATHER
+        .get()
+        .sample_level(&LINEAR_REPEAT.get(), uv * vec2(1.0 / 12.0, 3.0), 0.0);
     (layers.channel_matrix * rgba)
         .saturate()
         .pow(layers.weather_exponent)
@@ -49,10 +47,10 @@ pub fn streak_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
 /// handful of cells 10–20 km across, each the footprint of one storm (cumulonimbus stand apart,
 /// not as a field of heaps).
 #[shader_fn]
-pub fn sparse_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
-    let media = CLOUDS.get().media;
-    let uv = (xz * media.weather_repeat + media.weather_offset) * 0.2;
-    let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
+pub fn sparse_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
+    let rgba = WEATHER
+        .get()
+        .sample_level(&LINEAR_REPEAT.get(), uv * 0.2, 0.0);
     (layers.channel_matrix * rgba)
         .saturate()
         .pow(layers.weather_exponent)
@@ -63,10 +61,8 @@ pub fn sparse_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
 /// cellular look of stratocumulus, altocumulus and cirrocumulus, whose cells are a few hundred
 /// metres to a few kilometres across).
 #[shader_fn]
-pub fn cellular_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
-    let media = CLOUDS.get().media;
+pub fn cellular_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
     let smp = LINEAR_REPEAT.get();
-    let uv = xz * media.weather_repeat + media.weather_offset;
     let patches = WEATHER.get().sample_level(&smp, uv, 0.0);
     // The fine cells come from another part of the texture (offset), so they do not line up
     // with the patches they sit in.
@@ -118,6 +114,7 @@ pub fn nearest_feature(p: Vec2, seed: u32) -> f32 {
 #[shader_fn]
 pub fn elements_in_rows(
     xz: Vec2,
+    uv: Vec2,
     layers: LayerGroup,
     spacing: f32,
     rows: f32,
@@ -125,9 +122,7 @@ pub fn elements_in_rows(
     level: f32,
 ) -> Vec4 {
     let u = CLOUDS.get();
-    let media = u.media;
     let smp = LINEAR_REPEAT.get();
-    let uv = xz * media.weather_repeat + media.weather_offset;
     let patch = (layers.channel_matrix * WEATHER.get().sample_level(&smp, uv, 0.0)).saturate();
     let bend = WEATHER
         .get()
@@ -153,15 +148,15 @@ const TAU: f32 = core::f32::consts::TAU;
 /// Cirrocumulus: grains 120 m apart (0.7° seen 45° up at 7 km), in ripples 2.5 grains apart;
 /// beyond 25 km a grain is under 0.3° and gives way to the sheet (level for coverage 0.65).
 #[shader_fn]
-pub fn grain_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
-    elements_in_rows(xz, layers, 120.0, 2.5, 25_000.0, 0.23)
+pub fn grain_weather(xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
+    elements_in_rows(xz, uv, layers, 120.0, 2.5, 25_000.0, 0.23)
 }
 
 /// Altocumulus: rounded cells 300 m apart (3.3° seen 35° up at 3 km), in rows 2 cells apart;
 /// beyond 60 km a cell is under 0.3° and gives way to the sheet (level for coverage 0.6).
 #[shader_fn]
-pub fn cell_rows_weather(xz: Vec2, layers: LayerGroup) -> Vec4 {
-    elements_in_rows(xz, layers, 300.0, 2.0, 60_000.0, 0.2)
+pub fn cell_rows_weather(xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
+    elements_in_rows(xz, uv, layers, 300.0, 2.0, 60_000.0, 0.2)
 }
 
 /// The reference library's shape: `1 − x²` with `x = 2η^bias − 1`, zero at both ends of the
@@ -248,9 +243,10 @@ pub fn builtin_weather_fns() -> Vec<WeatherFn> {
     ]
 }
 
-/// One call through the key's genus function of `slot`: the CPU twin calls the function's CPU
-/// twin, the shader twin (`$name::shader`, found by the `#[shader_fn]` call convention of
-/// `nimbus_dsl::twin`) records its shader twin. Written once for the three slots.
+/// One call through the key's genus height function of `slot`: the CPU twin calls the
+/// function's CPU twin, the shader twin (`$name::shader`, found by the `#[shader_fn]` call
+/// convention of `nimbus_dsl::twin`) records its shader twin. Written once for the two height
+/// slots ([`genus_weather`] takes the tile coordinates besides).
 macro_rules! genus_slot {
     ($(#[$doc:meta])* $name:ident, $twin:ident, $slot:ident, $arg:ident: $cpu:ty => $dsl:ty) => {
         $(#[$doc])*
@@ -276,10 +272,29 @@ macro_rules! genus_slot {
     };
 }
 
-genus_slot!(
-    /// The weather signal of the key's genus at `xz` (CPU twin).
-    genus_weather, __shader_twin_genus_weather, weather, xz: Vec2 => shader::Vec2
-);
+/// The weather signal of the key's genus at `xz`, read from the weather tile at `uv` (CPU
+/// twin; see [`WeatherFn`]).
+pub fn genus_weather(key: CloudKey, xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
+    (key.functions.weather.cpu)(xz, uv, layers)
+}
+
+#[doc(hidden)]
+pub use genus_weather::shader as __shader_twin_genus_weather;
+
+/// Shader twin of [`genus_weather()`](fn@genus_weather).
+pub mod genus_weather {
+    use super::*;
+
+    pub fn shader(
+        key: CloudKey,
+        xz: impl Into<shader::Vec2>,
+        uv: impl Into<shader::Vec2>,
+        layers: impl Into<LayerGroupShader>,
+    ) -> shader::Vec4 {
+        (key.functions.weather.shader)(xz.into(), uv.into(), layers.into())
+    }
+}
+
 genus_slot!(
     /// The coverage shape of the key's genus at height fractions `eta` (CPU twin).
     genus_shape, __shader_twin_genus_shape, shape, eta: Vec4 => shader::Vec4

@@ -28,3 +28,4 @@ pub mod sky;
 pub mod sun;
 pub mod tonemap;
 pub mod transmission;
+pub mod untiled_weather;
