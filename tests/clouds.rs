@@ -259,8 +259,9 @@ fn cloud_variant_manifest_is_pinned() {
 fn representative_cloud_keys_are_pinned_per_target() {
     let lib = library();
     // Three distinct cloud keys (low, high, and a Henyey–Greenstein genus at medium), the
-    // shadow pass of high, and the flat high layer the analysis chooses for high cirrus; stratus at high runs the same shader as cumulus at high (the genus
-    // is uniform values). Cirrus names its own weather function (`streak_weather`).
+    // shadow pass of high, and the flat high layer the analysis chooses for high cirrus; the
+    // reference library's default genus at high runs the same shader as cumulus at high (the
+    // genus is uniform values; stratus has the droplets' phase function, a key of its own). Cirrus names its own weather function (`streak_weather`).
     let mut keys = Vec::new();
     for (genus, q) in [
         ("cumulus", Quality::Low),
@@ -271,7 +272,7 @@ fn representative_cloud_keys_are_pinned_per_target() {
         keys.push(ShaderKey::Clouds(v.key));
     }
     let high = CloudVariant::new(
-        lib.genus("stratus").expect("genus"),
+        lib.genus("takram-default").expect("genus"),
         Quality::High,
         Quality::High.features(),
     );

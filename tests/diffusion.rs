@@ -202,7 +202,7 @@ fn the_slab_fluence_matches_a_random_walk() {
 #[test]
 fn the_sunlit_face_is_the_top_of_a_deck_and_the_side_of_a_tower() {
     let (mu0, cos_theta, view_up) = (0.26f32, 0.4f32, -0.7f32);
-    let deck = sunlit_face(10.0, 10.0 * mu0, cos_theta, view_up, mu0);
+    let deck = sunlit_face(10.0, 10.0 * mu0, cos_theta, view_up, mu0, 1.0);
     assert!((deck.x - mu0).abs() < 1e-5, "deck: face cosine {}", deck.x);
     assert!(
         (deck.y - view_up).abs() < 1e-4,
@@ -210,13 +210,13 @@ fn the_sunlit_face_is_the_top_of_a_deck_and_the_side_of_a_tower() {
         deck.y
     );
     // Under a thinner top than the slant path crossed (a neighbour's shadow): still the top.
-    let shaded = sunlit_face(10.0, 1.0, cos_theta, view_up, mu0);
+    let shaded = sunlit_face(10.0, 1.0, cos_theta, view_up, mu0, 1.0);
     assert!(
         (shaded.x - mu0).abs() < 1e-5,
         "shaded: face cosine {}",
         shaded.x
     );
-    let tower = sunlit_face(2.0, 30.0, cos_theta, view_up, mu0);
+    let tower = sunlit_face(2.0, 30.0, cos_theta, view_up, mu0, 1.0);
     assert!(
         (tower.x - 1.0).abs() < 1e-5,
         "tower: face cosine {}",
@@ -231,7 +231,7 @@ fn the_sunlit_face_is_the_top_of_a_deck_and_the_side_of_a_tower() {
     // sun's vertical plane sees it at the angle between.
     let (sun_h, view) = ((1.0 - mu0 * mu0).sqrt(), [0.6f32, 0.8f32]);
     let view_cos_sun = view[0] * sun_h + view[1] * mu0;
-    let half = sunlit_face(10.0, 6.0, view_cos_sun, view[1], mu0);
+    let half = sunlit_face(10.0, 6.0, view_cos_sun, view[1], mu0, 1.0);
     assert!(
         (half.x - 0.6).abs() < 1e-5,
         "halfway: face cosine {}",
@@ -247,4 +247,18 @@ fn the_sunlit_face_is_the_top_of_a_deck_and_the_side_of_a_tower() {
     );
     // Control: the face the old model took, always the top, is wrong for the tower.
     assert!((deck.x - tower.x).abs() > 0.5);
+    // A deck as the real-time presets' estimates read it (the vertical depth 2.1 times the
+    // slab's share of the sun's, the nimbostratus): within their tolerance, still the top;
+    // taken at its word (tolerance 1), a face tilted most of the way to the sun.
+    let estimated = sunlit_face(10.0, 21.0 * mu0, cos_theta, view_up, mu0, 3.0);
+    assert!(
+        (estimated.x - mu0).abs() < 1e-5,
+        "estimated deck: face cosine {}",
+        estimated.x
+    );
+    let literal = sunlit_face(10.0, 21.0 * mu0, cos_theta, view_up, mu0, 1.0);
+    assert!(literal.x > 1.5 * mu0, "control: {}", literal.x);
+    // A tower's side stays a side: its sun path is far shorter than the tolerance explains.
+    let tower_estimated = sunlit_face(2.0, 30.0, cos_theta, view_up, mu0, 3.0);
+    assert!((tower_estimated.x - 1.0).abs() < 1e-5);
 }

@@ -41,8 +41,8 @@ fn field(genus: &str, untiled: bool) -> Field {
     u.media.planet_weather = 0.0;
     let mut features = Quality::High.features();
     features.untiled_weather = untiled;
-    let key = CloudKey::new(features, &g.phase, g.layer_groups() as u32)
-        .with_functions(g.functions);
+    let key =
+        CloudKey::new(features, &g.phase, g.layer_groups() as u32).with_functions(g.functions);
     let textures = generate_cpu_textures(TextureSizes {
         weather: 128,
         shape: 16,

@@ -475,7 +475,20 @@ fn nimbostratus_is_dark_grey_with_rain_under_it() {
     let (fov, pitch) = view("nimbostratus");
     let (st_fov, st_pitch) = view("stratus");
     let deck = render(tmp.path(), "nimbostratus", &gallery("nimbostratus"), &[]);
-    let stratus = render(tmp.path(), "stratus", &gallery("stratus"), &[]);
+    // Like with like: the stratus with the nimbostratus' phase function (the default dual
+    // lobe, not the droplets' that stratus has), so that the two bases differ by their depth.
+    let same_phase = data_with(&tmp.path().join("stratus"), "stratus", |body| {
+        body.lines()
+            .filter(|l| !l.starts_with("phase = "))
+            .collect::<Vec<_>>()
+            .join("\n")
+    });
+    let stratus = render(
+        tmp.path(),
+        "stratus",
+        &gallery("stratus"),
+        &["--data", same_phase.to_str().expect("utf8")],
+    );
     let (base, saturation) = band_look(&deck, fov, pitch, BASE);
     let (stratus_base, _) = band_look(&stratus, st_fov, st_pitch, BASE);
     let (distance, _) = band_look(&deck, fov, pitch, DISTANCE);

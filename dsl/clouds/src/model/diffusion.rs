@@ -41,6 +41,19 @@ const INV_FOUR_PI: f32 = 0.079_577_47;
 /// diffuse and divide by zero.
 const MAX_PEAK: f32 = 0.99;
 
+/// How far the real-time presets' sun depth may fall short of the slab's before a sample is
+/// taken to be lit through a side. Their two sun steps and the shadow map (whose mean extinction
+/// is that of the first optical depths below the top, where a rounded layer is thin) read a
+/// deck's sun depth low, and their one vertical step (a midpoint, where the layer is densest)
+/// its vertical depth high: `tau_up / (tau_sun·μ0)`, 1.00 in the reference for any uniform
+/// deck, read 1.75 for the stratus deck and 2.1 for the nimbostratus (3.5 km). Taken at its
+/// word, every sample of such a deck was lit through a face straight across the beam, and its
+/// base was bright towards the sun and dark away from it (0.30 against 0.85 of the zenith's
+/// luminance 15° up, where the reference is even in azimuth). A side that faces the sun reads
+/// tens (a tower's side under a 35° sun, 2 optical depths in from it and 30 below its top: 26),
+/// so 3 keeps the sides and leaves decks lit through their tops.
+const REAL_TIME_TOLERANCE: f32 = 3.0;
+
 /// Mean cosine `g` of the key's phase function (its first Legendre moment).
 #[shader_fn]
 pub fn phase_asymmetry(#[spec] key: CloudKey) -> f32 {
@@ -128,9 +141,20 @@ pub fn forward_peak(tau_sun: f32, cos_theta: f32, f: f32, g_star: f32) -> f32 {
 /// the face's cosine to the sun is `tau_up / tau_sun`, up to 1 (the face straight across the
 /// beam). Returns (cosine to the sun, the view ray's cosine to the face's normal), the normal
 /// taken in the vertical plane of the sun.
+///
+/// `tolerance` is how far short of the slab's the sun's depth may fall from the estimates
+/// alone: 1 where both are marched the whole way (the reference), [`REAL_TIME_TOLERANCE`]
+/// where the sun's comes from two steps and the shadow map and the vertical from one step.
 #[shader_fn]
-pub fn sunlit_face(tau_sun: f32, tau_up: f32, cos_theta: f32, view_up: f32, mu0: f32) -> Vec2 {
-    let mu_face = (tau_up / tau_sun.max(1e-6)).clamp(mu0, 1.0);
+pub fn sunlit_face(
+    tau_sun: f32,
+    tau_up: f32,
+    cos_theta: f32,
+    view_up: f32,
+    mu0: f32,
+    tolerance: f32,
+) -> Vec2 {
+    let mu_face = (tau_up / (tau_sun * tolerance).max(1e-6)).clamp(mu0, 1.0);
     // The normal is the vertical tilted towards the sun by `alpha`.
     let alpha = (mu0.acos() - mu_face.acos()).max(0.0);
     let sun_across = (1.0 - mu0 * mu0).max(0.0).sqrt().max(1e-4);
@@ -156,8 +180,10 @@ pub fn diffuse_scattering(
     view_up: f32,
     #[spec] key: CloudKey,
 ) -> f32 {
-    let mu0 = CLOUDS.get().light.sun_direction.y.max(0.01);
-    let face = sunlit_face(tau_sun, tau_up, cos_theta, view_up, mu0);
+    let u = CLOUDS.get();
+    let mu0 = u.light.sun_direction.y.max(0.01);
+    let tolerance = select(REAL_TIME_TOLERANCE, 1.0, u.march.secondary_full_path > 0u32);
+    let face = sunlit_face(tau_sun, tau_up, cos_theta, view_up, mu0, tolerance);
     let g = phase_asymmetry(key);
     let f = forward_peak_weight(g, phase_second_moment(key));
     let g_star = (g - f) / (1.0 - f);

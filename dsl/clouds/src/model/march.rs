@@ -390,7 +390,12 @@ pub fn sun_optical_depth(
 ) -> f32 {
     let m = CLOUDS.get().march;
     let l = CLOUDS.get().light;
-    let full_path = m.secondary_full_path > 0u32 || h > m.shadow_top_height;
+    // Without a map the march is all there is: cut at its reach, it read a deck's sun depth
+    // at 0.55 of the slab's and the diffusion took the deck for one lit from the side.
+    let mut full_path = true;
+    if gate(key, SHADOWS) {
+        full_path = m.secondary_full_path > 0u32 || h > m.shadow_top_height;
+    }
     let mut tau = secondary_optical_depth(
         p,
         h,
