@@ -19,7 +19,7 @@ use super::choices::{
     SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
 };
 use super::density::{MediaParams, eroded_density, layer_density, weather_density};
-use super::diffusion::{diffuse_scattering, sky_diffuse_scattering};
+use super::diffusion::{diffuse_scattering, phase_asymmetry, sky_diffuse_scattering};
 use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
@@ -188,6 +188,22 @@ pub fn altitude_along(camera_altitude: f32, mu: f32, t: f32, radius: f32) -> f32
         + t * t;
     let r = (radius * radius + num).max(0.0).sqrt();
     num / (r + radius)
+}
+
+/// The haze's phase function: the clouds' (the look the scenes were built on), but never a
+/// diffraction peak: for the droplets' approximate Mie and the ice crystals' phase, a
+/// Henyey–Greenstein lobe of the same mean cosine. The Mie peak, hundreds of times the lobe's
+/// a degree from the sun, lit the haze under a deck of 75 optical depths wherever the shadow
+/// map let a trace of sunlight through, and showed the sun as a spot through it.
+#[shader_fn]
+pub fn haze_phase(cos_theta: f32, #[spec] key: CloudKey) -> f32 {
+    if phase_is(key, APPROXIMATE_MIE) {
+        return henyey_greenstein(cos_theta, phase_asymmetry(key));
+    }
+    if phase_is(key, ICE_CRYSTAL) {
+        return henyey_greenstein(cos_theta, phase_asymmetry(key));
+    }
+    cloud_phase(cos_theta, 1.0, key)
 }
 
 /// Phase function with the anisotropy scaled by `g_scale` (the octave attenuation `cᵏ`).
@@ -1002,7 +1018,7 @@ pub fn haze_light(direction: Vec3, distance: f32, jitter: f32, #[spec] key: Clou
     }
     let albedo = u.haze.scattering_coefficient
         / (u.haze.scattering_coefficient + u.haze.absorption_coefficient).max(1e-6);
-    (u.light.sun_irradiance * (cloud_phase(direction.dot(sun), 1.0, key) * sunlit)
+    (u.light.sun_irradiance * (haze_phase(direction.dot(sun), key) * sunlit)
         + haze_ambient(u.light, u.sky, sun.y, u.media.coverage))
         * albedo
 }
