@@ -181,6 +181,16 @@ pub fn turbulence(c: &SceneContent) -> Verdict {
     }
 }
 
+/// The top of the highest enabled layer (m).
+fn highest_top(c: &SceneContent) -> f32 {
+    c.genus
+        .layers
+        .iter()
+        .filter(|l| l.is_enabled())
+        .map(|l| l.altitude + l.height)
+        .fold(0.0f32, f32::max)
+}
+
 /// Ground bounce: light from the ground reaches cloud bases the camera can see. A judgement,
 /// not exact: seen from far above, the bases it brightens are hidden by the clouds.
 pub fn ground_bounce(c: &SceneContent) -> Verdict {
@@ -188,13 +198,7 @@ pub fn ground_bounce(c: &SceneContent) -> Verdict {
     if !clouds.visible {
         return clouds;
     }
-    let top = c
-        .genus
-        .layers
-        .iter()
-        .filter(|l| l.is_enabled())
-        .map(|l| l.altitude + l.height)
-        .fold(0.0f32, f32::max);
+    let top = highest_top(c);
     if c.camera_altitude > top + GROUND_BOUNCE_VISIBLE_ABOVE {
         verdict(
             false,
@@ -222,13 +226,7 @@ pub fn untiled_weather(c: &SceneContent) -> Verdict {
     if !clouds.visible {
         return clouds;
     }
-    let top = c
-        .genus
-        .layers
-        .iter()
-        .filter(|l| l.is_enabled())
-        .map(|l| l.altitude + l.height)
-        .fold(0.0f32, f32::max);
+    let top = highest_top(c);
     let above = c.camera_altitude - top;
     if above < UNTILED_WEATHER_ABOVE {
         return verdict(
