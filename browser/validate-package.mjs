@@ -20,6 +20,7 @@ const ajv = new Ajv2020({ allErrors: true, strict: true });
 const integer = (bits) => (x) => Number.isInteger(x) && x >= 0 && x < 2 ** bits;
 for (const [name, check] of [
   ['uint', integer(64)],
+  ['uint16', integer(16)],
   ['uint32', integer(32)],
   ['uint64', integer(64)],
   ['double', Number.isFinite],

@@ -65,8 +65,15 @@ impl NoiseKind {
 /// the nearest half float, on the GPU ([`Gpu::texture_from_texels`]) and in the CPU twins alike.
 pub fn texel_value(word: u32) -> glam::Vec4 {
     glam::Vec4::from_array(std::array::from_fn(|c| {
-        half::f16::from_f32(((word >> (8 * c)) & 0xff) as f32 / 255.0).to_f32()
+        half::f16::from_bits(texel_half_bits((word >> (8 * c)) as u8)).to_f32()
     }))
+}
+
+/// The half float (IEEE 754 binary16 bits) an 8-bit texel channel `k` stands for: `k/255`
+/// rounded to the nearest half float, as [`texel_value`] reads it. Engine packages print this
+/// table so their hosts widen the texture files' bytes exactly as the runtime does.
+pub fn texel_half_bits(k: u8) -> u16 {
+    half::f16::from_f32(f32::from(k) / 255.0).to_bits()
 }
 
 /// Texels per row in the buffer: rows padded to 256 bytes.

@@ -444,6 +444,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         targets: targets(),
         textures,
         textures_generated_by: texels.generated_by.clone(),
+        texel_halves: (0..=u8::MAX)
+            .map(nimbus_runtime::textures::texel_half_bits)
+            .collect(),
         pairs,
     };
     files.push((PACKAGE_FILE.to_string(), pretty(&description)));
@@ -1087,7 +1090,9 @@ fn readme(engine: Engine, table: &[Assignment]) -> String {
          uniform block's size, members (offset, type, value) and which members to set when; \
          `bytes_hex` is the whole block.\n\
          - `textures/`: the noise textures (2D PNG, 3D raw RGBA8; see `textures` in \
-         `{PACKAGE_FILE}`).\n\
+         `{PACKAGE_FILE}`), uploaded as half floats (`rgba16float`), each byte widened \
+         through `texel_halves` as Nimbus's runtime does: a GPU that filters 8-bit textures \
+         in 8-bit arithmetic leaves a faint halo of opacity round every cloud.\n\
          - the shader files, named `<module>-<key>.<entry>.<ext>`, with a `.json` binding \
          manifest beside each GLSL, HLSL and MSL file.\n\n\
          ## A frame\n\n{frame}\n\

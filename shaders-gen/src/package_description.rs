@@ -50,6 +50,12 @@ pub(crate) struct PackageDescription {
     pub textures: Vec<TextureDescriptor>,
     /// What made the texels.
     pub textures_generated_by: String,
+    /// The half float (IEEE 754 binary16 bits) that each byte `k` of a texture file stands
+    /// for, indexed by `k`: `k/255` rounded to the nearest half float. The textures are
+    /// uploaded as half floats through this table, as Nimbus's runtime holds them: a GPU that
+    /// filters an 8-bit texture in 8-bit arithmetic rounds every filtered value, and the
+    /// coverage threshold keeps that rounding as a faint halo of opacity around each cloud.
+    pub texel_halves: Vec<u16>,
     /// Each genus × preset pair: its uniform file and its passes.
     pub pairs: Vec<Pair>,
 }
@@ -125,8 +131,11 @@ pub(crate) struct TextureDescriptor {
     pub dimension: TextureDimension,
     /// Texels per side: two numbers for 2D, three for 3D.
     pub size: Vec<u32>,
-    /// Its texel format, in WebGPU's spelling.
+    /// The texel format to create, in WebGPU's spelling (`rgba16float`: the file's bytes
+    /// widened through `texel_halves`).
     pub format: String,
+    /// The texel format of the file, in WebGPU's spelling.
+    pub file_format: String,
     /// How the file's bytes are laid out.
     pub layout: String,
     pub colour_space: String,

@@ -94,7 +94,7 @@ fn make_texture_files(
                 format!("textures/{}.rgba8", kind.name()),
                 rgba,
                 "raw RGBA8, 4 bytes per texel (R, G, B, A), x fastest, then y, then z; no header \
-                 or padding",
+                 or padding; upload each byte widened through texel_halves",
             )
         } else {
             let image = image::RgbaImage::from_raw(size, size, rgba)
@@ -104,7 +104,8 @@ fn make_texture_files(
             (
                 format!("textures/{}.png", kind.name()),
                 png,
-                "PNG, RGBA8, linear values (not sRGB: load without colour conversion)",
+                "PNG, RGBA8, linear values (not sRGB: load without colour conversion or \
+                 premultiplication); upload as half floats, each byte k the value k/255",
             )
         };
         let descriptor = TextureDescriptor {
@@ -120,7 +121,8 @@ fn make_texture_files(
             } else {
                 vec![size, size]
             },
-            format: "rgba8unorm".into(),
+            format: "rgba16float".into(),
+            file_format: "rgba8unorm".into(),
             layout: layout.into(),
             colour_space: "linear".into(),
             address_mode: "repeat".into(),

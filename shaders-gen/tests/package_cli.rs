@@ -469,3 +469,79 @@ fn the_three_package_timeline_drifts_and_changes_as_nimbus_does() {
         TIMES.len()
     );
 }
+
+/// The packages hold their textures as RGBA8 files but tell the host to upload half floats,
+/// and the shipped host module (`widenTexels` in nimbus-host.js, run by node) widens every byte
+/// of a texture file to exactly the value Nimbus's runtime samples (`texel_value`): the
+/// engines filter in float as the runtime does, with no 8-bit halo round the clouds.
+#[test]
+fn the_package_host_widens_texels_to_what_the_runtime_samples() {
+    if !nimbus_testkit::skip::browser_tools_present(
+        "the texel widening test",
+        nimbus_testkit::skip::node_missing(),
+    ) {
+        return;
+    }
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let pkg = tmp.path().join("pkg");
+    let (p, _) = package("three", &pkg);
+    for t in p["textures"].as_array().expect("textures") {
+        assert_eq!(t["format"], "rgba16float", "{t}");
+        assert_eq!(t["file_format"], "rgba8unorm", "{t}");
+    }
+    let detail = std::fs::read(pkg.join("textures/detail.rgba8")).expect("detail texture");
+    let sample: Vec<u8> = detail.iter().take(4096).copied().collect();
+    let every_byte: Vec<u8> = (0..=u8::MAX).collect();
+    let runner = tmp.path().join("widen.mjs");
+    std::fs::write(
+        &runner,
+        format!(
+            "import {{ readFileSync }} from 'node:fs';\n\
+             import {{ widenTexels }} from {module};\n\
+             const pkg = JSON.parse(readFileSync({json}, 'utf8'));\n\
+             const widen = (bytes) => Array.from(widenTexels(Uint8Array.from(bytes), pkg.texel_halves));\n\
+             let refused = '';\n\
+             try {{ widenTexels(Uint8Array.from([1]), pkg.texel_halves.slice(1)); }} catch (e) {{ refused = e.message; }}\n\
+             console.log(JSON.stringify({{ every: widen({every}), sample: widen({sample}), refused }}));\n",
+            module = json!(format!("file://{}", pkg.join("nimbus-host.js").display())),
+            json = json!(pkg.join("nimbus-package.json").display().to_string()),
+            every = json!(every_byte),
+            sample = json!(sample),
+        ),
+    )
+    .expect("write runner");
+    let o = Command::new("node").arg(&runner).output().expect("node");
+    assert!(o.status.success(), "node: {}", text(&o.stderr));
+    let got: Value = serde_json::from_slice(&o.stdout).expect("node's JSON");
+    let values = |key: &str| -> Vec<f32> {
+        got[key]
+            .as_array()
+            .expect("halves")
+            .iter()
+            .map(|h| half::f16::from_bits(h.as_u64().expect("u16") as u16).to_f32())
+            .collect()
+    };
+    let runtime = |bytes: &[u8]| -> Vec<f32> {
+        bytes
+            .chunks_exact(4)
+            .flat_map(|t| {
+                nimbus_runtime::textures::texel_value(u32::from_le_bytes([t[0], t[1], t[2], t[3]]))
+                    .to_array()
+            })
+            .collect()
+    };
+    assert_eq!(values("every"), runtime(&every_byte), "every byte value");
+    assert_eq!(
+        values("sample"),
+        runtime(&sample),
+        "the detail texture's first texels"
+    );
+    // The widened value is the byte's own, not its 8-bit neighbour's: 1/255 apart at each step.
+    let every = values("every");
+    assert!((every[128] - 128.0 / 255.0).abs() < 5e-4, "{}", every[128]);
+    let refused = got["refused"].as_str().unwrap_or_default();
+    assert!(
+        refused.contains("texel_halves"),
+        "a short table is refused: {refused:?}"
+    );
+}

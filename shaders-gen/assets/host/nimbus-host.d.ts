@@ -58,6 +58,12 @@ export interface Blocks {
   scene?: Block;
 }
 
+/**
+ * The bytes of an RGBA8 texture file as half floats (binary16 bits), each byte through the
+ * package's `texel_halves` table.
+ */
+export declare function widenTexels(bytes: Uint8Array, texelHalves: ArrayLike<number>): Uint16Array;
+
 /** Fetches the package description at `base` for `engine`, its pair and its blocks. */
 export declare function loadPackage(
   base: URL | string,

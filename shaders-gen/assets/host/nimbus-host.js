@@ -131,6 +131,22 @@ export function invert(m) {
 }
 
 /**
+ * The bytes of a texture file (`bytes`, RGBA8) as the half floats a host uploads (a
+ * Uint16Array of binary16 bits), each byte through the package's `texel_halves` table: Nimbus's
+ * runtime holds its textures so, because a GPU that filters an 8-bit texture in 8-bit
+ * arithmetic rounds the filtered value and the coverage threshold keeps the rounding as a halo.
+ */
+export function widenTexels(bytes, texelHalves) {
+  if (!texelHalves || texelHalves.length !== 256) {
+    throw new Error('nimbus-package.json: texel_halves must hold 256 half floats (one per byte value)');
+  }
+  const table = Uint16Array.from(texelHalves);
+  const halves = new Uint16Array(bytes.length);
+  for (let i = 0; i < bytes.length; i += 1) halves[i] = table[bytes[i]];
+  return halves;
+}
+
+/**
  * Fetches the package description at `base` for `engine`, its pair (`options.pair`, or the
  * first) and the pair's uniform blocks. `get(path, 'json' | 'text' | 'bytes')` fetches any
  * other file of the package.

@@ -31,14 +31,18 @@
 // `clouds.render(renderer, null, { scene })` over it.
 
 import * as THREE from 'three';
-import { NimbusHost, loadPackage } from './nimbus-host.js';
+import { NimbusHost, loadPackage, widenTexels } from './nimbus-host.js';
 
 /** GLSL as three's RawShaderMaterial takes it: three writes the #version line itself. */
 function withoutVersion(source) {
   return source.replace(/^#version[^\n]*\n/, '');
 }
 
-async function loadTexture(url, t) {
+/**
+ * One noise texture, as half floats (RGBA16F): 3D files widened through the package's
+ * `texel_halves`, 2D images converted by WebGL's upload (each byte k to k/255).
+ */
+async function loadTexture(url, t, texelHalves) {
   const response = await fetch(url);
   if (!response.ok) throw new Error(`${url}: ${response.status}`);
   let texture;
@@ -46,7 +50,7 @@ async function loadTexture(url, t) {
     const data = new Uint8Array(await response.arrayBuffer());
     const [w, h, d] = t.size;
     if (data.length !== w * h * d * 4) throw new Error(`${url}: ${data.length} bytes, expected ${w * h * d * 4}`);
-    texture = new THREE.Data3DTexture(data, w, h, d);
+    texture = new THREE.Data3DTexture(widenTexels(data, texelHalves), w, h, d);
     texture.wrapR = THREE.RepeatWrapping;
   } else {
     // Texel values are data, not colours: no premultiplication, no colour conversion.
@@ -59,7 +63,8 @@ async function loadTexture(url, t) {
     texture.flipY = false;
   }
   texture.format = THREE.RGBAFormat;
-  texture.type = THREE.UnsignedByteType;
+  texture.type = THREE.HalfFloatType;
+  texture.internalFormat = 'RGBA16F';
   texture.colorSpace = THREE.NoColorSpace;
   texture.premultiplyAlpha = false;
   texture.generateMipmaps = false;
@@ -96,7 +101,7 @@ export class NimbusClouds extends NimbusHost {
   static async load(base, options = {}) {
     const { pkg, pair, blocks, url, get } = await loadPackage(base, 'three', options);
     const textures = {};
-    for (const t of pkg.textures) textures[t.name] = await loadTexture(url(t.file), t);
+    for (const t of pkg.textures) textures[t.name] = await loadTexture(url(t.file), t, pkg.texel_halves);
     const sources = {};
     for (const pass of pair.passes) {
       const file = (stage) => pass.files.find((f) => f.stage === stage).file;

@@ -23,12 +23,16 @@
 // light through the clouds at each pixel's surface), the scene, and `clouds.render(view,
 // { depth })` over it.
 
-import { NimbusHost, loadPackage } from './nimbus-host.js';
+import { NimbusHost, loadPackage, widenTexels } from './nimbus-host.js';
 
 /** Every intermediate target: linear HDR radiance, alpha the clouds' opacity. */
 const HDR = 'rgba16float';
 
-async function loadTexture(device, get, t) {
+/**
+ * One noise texture, as half floats (`t.format`, `rgba16float`): 3D files widened through the
+ * package's `texel_halves`, 2D images converted by the copy (each byte k to k/255).
+ */
+async function loadTexture(device, get, t, texelHalves) {
   const [w, h, d = 1] = t.size;
   const texture = device.createTexture({
     label: t.name,
@@ -40,7 +44,8 @@ async function loadTexture(device, get, t) {
   if (t.dimension === '3d') {
     const data = await get(t.file, 'bytes');
     if (data.length !== w * h * d * 4) throw new Error(`${t.file}: ${data.length} bytes, expected ${w * h * d * 4}`);
-    device.queue.writeTexture({ texture }, data, { bytesPerRow: w * 4, rowsPerImage: h }, [w, h, d]);
+    const halves = widenTexels(data, texelHalves);
+    device.queue.writeTexture({ texture }, halves, { bytesPerRow: w * 8, rowsPerImage: h }, [w, h, d]);
   } else {
     // Texel values are data, not colours: no premultiplication, no colour conversion.
     const bitmap = await createImageBitmap(await get(t.file, 'blob'), {
@@ -65,7 +70,7 @@ export class NimbusWebGPU extends NimbusHost {
       throw new Error(`the pair ${pair.pair} has an orthographic camera, which the WebGPU host does not draw yet`);
     }
     const textures = {};
-    for (const t of pkg.textures) textures[t.name] = await loadTexture(device, get, t);
+    for (const t of pkg.textures) textures[t.name] = await loadTexture(device, get, t, pkg.texel_halves);
     const modules = {};
     for (const pass of pair.passes) {
       const code = await get(pass.files[0].file);
