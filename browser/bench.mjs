@@ -4,7 +4,8 @@
 // coverage value, median ms/frame over timed frames after warm-up; Nimbus's shadow atlas drawn
 // every frame (as takram does) and cached. Writes a Markdown table to stdout.
 //
-//   npm run bench            (uses ../target/release/nimbus; NIMBUS=path to override)
+//   npm run bench            (uses ../target/release/nimbus; NIMBUS=path to override;
+//                             BENCH_PRESETS=ultra,high for some presets only)
 //
 // Timings on SwiftShader (a CPU WebGL) are only comparable within one run.
 import { execFileSync } from 'node:child_process';
@@ -25,7 +26,8 @@ const frames = Number(process.env.BENCH_FRAMES ?? 5);
 const takramCoverage = process.env.TAKRAM_COVERAGE ?? '0.6';
 const rows = [];
 const median = (text) => Number(/median ms\/frame: ([0-9.]+)/.exec(text)?.[1]);
-for (const quality of ['low', 'medium', 'high']) {
+const presets = (process.env.BENCH_PRESETS ?? 'low,medium,high,ultra').split(',');
+for (const quality of presets) {
   const scene = join(work, `${quality}.toml`);
   writeFileSync(scene, [
     `name = "${quality}"`, 'description = "The browser benchmark\'s scene."',

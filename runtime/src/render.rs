@@ -792,8 +792,8 @@ impl<'g> Renderer<'g> {
             .create_command_encoder(&Default::default());
         if let Some(key) = shadow_key {
             let s = u.shadow;
-            let (w, h) = (s.map_size as u32 * s.cascade_count, s.map_size as u32);
-            self.check_size("the shadow atlas (cascades side by side)", w, h)?;
+            let (w, h) = s.atlas_size();
+            self.check_size("the shadow atlas (its cascades in a grid)", w, h)?;
             if !matches!(&self.shadow, Some(p) if size_of(&p.atlas) == (w, h)) {
                 let uniform = match self.shadow.take() {
                     Some(p) => p.uniform,

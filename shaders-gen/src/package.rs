@@ -18,6 +18,7 @@ use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::resource::Resource;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
+use nimbus_clouds::model::shadow::ShadowParams;
 use nimbus_codegen::external::{ExternalCheck, check_file};
 use nimbus_codegen::{
     BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_dts, print_js,
@@ -196,6 +197,26 @@ pub(crate) struct Package {
     pub textures_from: String,
 }
 
+/// Whether the shadow atlas of pair `pair` fits the textures every device of `engine` can
+/// make.
+fn check_atlas(pair: &str, shadow: &ShadowParams, engine: Engine) -> Result<(), CliError> {
+    let limits = engine.limits();
+    let (width, height) = shadow.atlas_size();
+    if width.max(height) <= limits.texture_2d {
+        return Ok(());
+    }
+    Err(CliError::EngineLimit {
+        engine: engine.name(),
+        what: format!(
+            "{pair}: the shadow atlas ({} cascades of {} px, {width}×{height})",
+            shadow.cascade_count, shadow.map_size
+        ),
+        size: width.max(height),
+        limit: limits.texture_2d,
+        basis: limits.source,
+    })
+}
+
 /// Every file of the package for `resolved`, or the first reason the engine cannot run it.
 pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliError> {
     let Resolved {
@@ -208,21 +229,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     let sizes = TextureSizes::default();
     for (a, u) in table.iter().zip(uniforms) {
         if a.shadow.is_some() {
-            let width = u.shadow.map_size as u32 * u.shadow.cascade_count;
-            if width > limits.texture_2d {
-                return Err(CliError::EngineLimit {
-                    engine: engine.name(),
-                    what: format!(
-                        "{}: the shadow atlas ({} cascades of {} px side by side)",
-                        a.name(),
-                        u.shadow.cascade_count,
-                        u.shadow.map_size
-                    ),
-                    size: width,
-                    limit: limits.texture_2d,
-                    basis: limits.source,
-                });
-            }
+            check_atlas(&a.name(), &u.shadow, engine)?;
         }
     }
     for (what, size, limit) in [
@@ -330,9 +337,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
                 CameraKind::Perspective
             },
             scene_depth: a.clouds.features.scene_depth,
-            shadow_atlas: a.shadow.map(|_| AtlasSize {
-                width: u.shadow.map_size as u32 * u.shadow.cascade_count,
-                height: u.shadow.map_size as u32,
+            shadow_atlas: a.shadow.map(|_| {
+                let (width, height) = u.shadow.atlas_size();
+                AtlasSize { width, height }
             }),
             passes,
         });
@@ -806,7 +813,7 @@ fn targets() -> Targets {
                  each cascade)"
                     .into(),
             ),
-            ..hdr("the pair's shadow_atlas width × height (cascades side by side)")
+            ..hdr("the pair's shadow_atlas width × height (its cascades in a grid of tiles)")
         },
         clouds_hdr: hdr("the output size, or ceil(width / 4) × ceil(height / 4) when upscaling"),
         scene_shadow: hdr(
@@ -1156,5 +1163,56 @@ fn host_section(engine: Engine) -> &'static str {
              and `media.coverage`).\n\n"
         }
         Engine::Wgpu | Engine::Vulkan | Engine::Unity | Engine::Metal => "",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nimbus_clouds::Quality;
+
+    /// Every preset's atlas fits every engine (`ultra` and `reference` in WebGL2's 2,048 since
+    /// the tiles lie in a grid), and an atlas that cannot is refused with its size and why.
+    #[test]
+    fn atlases_fit_every_engine_or_are_refused() {
+        let engines = [
+            Engine::Three,
+            Engine::Webgpu,
+            Engine::Wgpu,
+            Engine::Vulkan,
+            Engine::Unity,
+            Engine::Metal,
+        ];
+        for q in Quality::WITH_REFERENCE {
+            let shadow = ShadowParams::for_quality(&q.settings());
+            for engine in engines {
+                assert!(
+                    check_atlas(q.name(), &shadow, engine).is_ok(),
+                    "{} on {}: {:?}",
+                    q.name(),
+                    engine.name(),
+                    shadow.atlas_size()
+                );
+            }
+        }
+        let ultra = ShadowParams::for_quality(&Quality::Ultra.settings());
+        assert_eq!(
+            ultra.atlas_size(),
+            (2048, 2048),
+            "three tiles of 1,024 in a 2×2 grid"
+        );
+        let huge = ShadowParams {
+            map_size: 2048.0,
+            ..ultra
+        };
+        let err = check_atlas("cumulus.huge", &huge, Engine::Three)
+            .expect_err("4,096 texels is past WebGL2's 2,048")
+            .to_string();
+        assert!(
+            err.contains("cumulus.huge: the shadow atlas (3 cascades of 2048 px, 4096×4096)")
+                && err.contains("2048"),
+            "{err}"
+        );
+        assert!(check_atlas("cumulus.huge", &huge, Engine::Webgpu).is_ok());
     }
 }

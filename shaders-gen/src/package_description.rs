@@ -152,7 +152,7 @@ pub(crate) enum CameraKind {
     Orthographic,
 }
 
-/// The size of a pair's shadow atlas (cascades side by side).
+/// The size of a pair's shadow atlas (its cascades in a grid of tiles).
 #[derive(Serialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
 pub(crate) struct AtlasSize {

@@ -43,7 +43,7 @@ struct View {
     yaw: f32,
 }
 
-const VIEWS: [View; 4] = [
+const VIEWS: [View; 5] = [
     View {
         name: "sun-high",
         quality: "low",
@@ -78,6 +78,18 @@ const VIEWS: [View; 4] = [
     View {
         name: "sun-low-medium",
         quality: "medium",
+        coverage: 0.35,
+        sun_elevation: 8.0,
+        sun_azimuth: 230.0,
+        pitch: 12.0,
+        yaw: 0.0,
+    },
+    // `ultra`: three shadow cascades of 1,024 texels, in a 2×2 grid of tiles (side by side
+    // they were 3,072 wide, past WebGL2's 2,048); a low sun over a broken field reads the
+    // shadows of every cascade, the third from the grid's second row.
+    View {
+        name: "sun-low-ultra",
+        quality: "ultra",
         coverage: 0.35,
         sun_elevation: 8.0,
         sun_azimuth: 230.0,
@@ -138,7 +150,7 @@ struct Case {
     upscale: bool,
 }
 
-const CASES: [Case; 7] = [
+const CASES: [Case; 8] = [
     Case {
         name: "sun-high",
         package: 0,
@@ -176,6 +188,14 @@ const CASES: [Case; 7] = [
         name: "sun-low-medium",
         package: 3,
         view: 3,
+        move_sun: false,
+        frames: 1,
+        upscale: false,
+    },
+    Case {
+        name: "sun-low-ultra",
+        package: 4,
+        view: 4,
         move_sun: false,
         frames: 1,
         upscale: false,

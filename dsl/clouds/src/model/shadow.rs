@@ -1,4 +1,4 @@
-//! Beer shadow map (Hillaire 2020) with cascades, packed side by side in one atlas texture.
+//! Beer shadow map (Hillaire 2020) with cascades, packed in a grid in one atlas texture.
 //!
 //! Each texel marches the clouds once along the sun and stores front depth, mean extinction,
 //! maximum optical depth and a tail for early termination; a shading point then gets its
@@ -7,7 +7,9 @@
 //! Cascades are nested squares around the camera, each four times the side of the previous,
 //! projected along the sun onto the plane at the top of the shadow-casting layers. One atlas
 //! with a tile per cascade keeps the pass to one colour attachment and one draw, whatever the
-//! device's colour-attachment limit (WebGL2 guarantees only four draw buffers).
+//! device's colour-attachment limit (WebGL2 guarantees only four draw buffers). The tiles lie
+//! in a grid as square as the count allows ([`atlas_columns`]): side by side, `ultra`'s three
+//! cascades of 1,024 texels made an atlas 3,072 wide, past the 2,048 WebGL2 guarantees.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -49,6 +51,32 @@ pub fn altitude_at(p: Vec3, camera_altitude: f32, radius: f32) -> f32 {
     y + d2 / ((r * r + d2).sqrt() + r)
 }
 
+/// Columns of the atlas's grid of `count` cascade tiles (tile `k` in column `k % columns`, row
+/// `k / columns`): 1 for one cascade, else 2, so four tiles make a square and three leave one
+/// corner empty (its texels are never drawn on: [`shadow_fragment`] returns at once).
+#[shader_fn]
+pub fn atlas_columns(count: u32) -> u32 {
+    select(1u32, 2u32, count > 1u32)
+}
+
+/// Rows of the atlas's grid of `count` cascade tiles.
+#[shader_fn]
+pub fn atlas_rows(count: u32) -> u32 {
+    let columns = atlas_columns(count);
+    (count + columns - 1u32) / columns
+}
+
+impl ShadowParams {
+    /// The atlas's width and height in texels.
+    pub fn atlas_size(&self) -> (u32, u32) {
+        let side = self.map_size as u32;
+        (
+            side * atlas_columns(self.cascade_count),
+            side * atlas_rows(self.cascade_count),
+        )
+    }
+}
+
 /// The atlas texel of the finest cascade that holds camera-relative `p`, its optical depth
 /// faded out towards the edge of the last cascade; an empty texel (no optical depth) outside
 /// every cascade.
@@ -68,9 +96,13 @@ pub fn shadow_texel(p: Vec3) -> Vec4 {
     }
     let k = count - n;
     let local = base / s.cascade_scales[k as u32 as usize] + Vec2::splat(0.5);
+    let columns = atlas_columns(s.cascade_count) as f32;
+    let rows = atlas_rows(s.cascade_count) as f32;
+    let row = (k / columns).floor();
+    let column = k - row * columns;
     let texel = SHADOW_MAP.get().sample_level(
         &LINEAR_REPEAT.get(),
-        vec2((k + local.x) / count, local.y),
+        vec2((column + local.x) / columns, (row + local.y) / rows),
         0.0,
     );
     // Fade the optical depth out over the outer fifth of the last cascade: beyond it nothing
@@ -93,8 +125,18 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     let s = u.shadow;
     let m = u.march;
     let sun = u.light.sun_direction;
-    let k = (frag_coord.x / s.map_size).floor();
-    let local = vec2(frag_coord.x - k * s.map_size, frag_coord.y) / s.map_size - Vec2::splat(0.5);
+    let column = (frag_coord.x / s.map_size).floor();
+    let row = (frag_coord.y / s.map_size).floor();
+    let k = column + row * atlas_columns(s.cascade_count) as f32;
+    if k >= s.cascade_count as f32 {
+        // The grid's empty corner: no cascade, never sampled.
+        return Vec4::ZERO;
+    }
+    let local = vec2(
+        frag_coord.x - column * s.map_size,
+        frag_coord.y - row * s.map_size,
+    ) / s.map_size
+        - Vec2::splat(0.5);
     let base = local * s.cascade_scales[k as u32 as usize] + Vec2::splat(0.5);
     let top = (s.inverse_matrix * vec4(base.x, base.y, 0.0, 1.0)).xyz();
     let sigma_ratio = u.light.scattering_coefficient + u.light.absorption_coefficient;
