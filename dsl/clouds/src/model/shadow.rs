@@ -59,11 +59,10 @@ pub fn atlas_columns(count: u32) -> u32 {
     select(1u32, 2u32, count > 1u32)
 }
 
-/// Rows of the atlas's grid of `count` cascade tiles.
+/// Rows of the atlas's grid of `count` cascade tiles (at most four, two to a row).
 #[shader_fn]
 pub fn atlas_rows(count: u32) -> u32 {
-    let columns = atlas_columns(count);
-    (count + columns - 1u32) / columns
+    select(1u32, 2u32, count > 2u32)
 }
 
 impl ShadowParams {
