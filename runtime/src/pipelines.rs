@@ -31,6 +31,8 @@ pub struct CachedPipeline {
 pub struct PipelineCache {
     map: HashMap<ShaderKey, CachedPipeline>,
     built: Vec<ShaderKey>,
+    /// Pipelines being built on threads of their own ([`Self::request`]).
+    pending: HashMap<ShaderKey, std::thread::JoinHandle<Result<CachedPipeline, RuntimeError>>>,
     /// Bind uniform blocks as `vec4` word arrays, as engine packages for three.js do
     /// ([`flatten_uniform_blocks`]); the bytes written are the same.
     flat_uniforms: bool,
@@ -132,89 +134,143 @@ impl PipelineCache {
             .ok_or_else(|| RuntimeError::Kernel(format!("pipeline `{}` was not built", key.id())))
     }
 
-    /// The pipeline for `key`, recording and compiling its module on a miss.
+    /// The pipeline for `key`: built earlier, finished by a background build (waited for),
+    /// or recorded and compiled now.
     pub fn get_or_build(
         &mut self,
         gpu: &Gpu,
         key: ShaderKey,
     ) -> Result<&CachedPipeline, RuntimeError> {
-        if let std::collections::hash_map::Entry::Vacant(slot) = self.map.entry(key) {
-            let label = key.id();
-            let mut module = key.record()?;
-            if self.flat_uniforms {
-                flatten_uniform_blocks(&mut module);
-            }
-            if gpu.info().cpu {
-                // CPU drivers re-load uniforms at every read inside loops; a per-invocation copy
-                // made the cloud pass 30 % faster on llvmpipe (see the pass's docs).
-                copy_uniforms_per_invocation(&mut module);
-            }
-            let generated = generate(module, &key.variant(), &[Target::Wgsl])?;
-            let entry_of = |stage: Stage| {
-                generated
-                    .ir
-                    .entry_points
-                    .iter()
-                    .find(|e| e.stage == stage)
-                    .map(|e| e.function.clone())
-                    .ok_or_else(|| {
-                        RuntimeError::Kernel(format!("`{label}` has no {stage:?} entry point"))
-                    })
+        if !self.map.contains_key(&key) {
+            let built = match self.pending.remove(&key) {
+                Some(handle) => handle.join().map_err(|_| {
+                    RuntimeError::Kernel(format!("the background build of `{}` panicked", key.id()))
+                })??,
+                None => build(&BuildTarget::of(gpu, self.flat_uniforms), key)?,
             };
-            let (vs, fs) = (entry_of(Stage::Vertex)?, entry_of(Stage::Fragment)?);
-            let device = gpu.device();
-            let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let layout = bind_group_layout(device, &label, &generated.bindings)?;
-            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(&label),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(&label),
-                source: wgpu::ShaderSource::Wgsl(generated.wgsl.as_str().into()),
-            });
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&label),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some(&vs),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(&fs),
-                    compilation_options: Default::default(),
-                    // The resolve writes the history, which keeps full precision where it can.
-                    targets: &[Some(
-                        match key {
-                            ShaderKey::Resolve => gpu.accumulation_format(),
-                            _ => HDR_FORMAT,
-                        }
-                        .into(),
-                    )],
-                }),
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                multiview_mask: None,
-                cache: None,
-            });
-            if let Some(e) = pollster::block_on(scope.pop()) {
-                return Err(RuntimeError::Pipeline {
-                    what: format!("render pipeline `{label}`"),
-                    reason: e.to_string(),
-                });
-            }
-            slot.insert(CachedPipeline {
-                pipeline,
-                layout,
-                bindings: generated.bindings,
-            });
+            self.map.insert(key, built);
             self.built.push(key);
         }
         self.get(&key)
     }
+
+    /// Starts building `key`'s pipeline on a thread of its own, unless it is built or being
+    /// built: recording, generating and the driver's compile all happen off the caller's
+    /// thread, and [`Self::ready`] says when it can be drawn with.
+    pub fn request(&mut self, gpu: &Gpu, key: ShaderKey) {
+        if self.map.contains_key(&key) || self.pending.contains_key(&key) {
+            return;
+        }
+        let target = BuildTarget::of(gpu, self.flat_uniforms);
+        let handle = std::thread::spawn(move || build(&target, key));
+        self.pending.insert(key, handle);
+    }
+
+    /// Whether `key`'s pipeline can be drawn with now: built, or its background build has
+    /// finished (its result, or its error, is taken then). Never waits.
+    pub fn ready(&mut self, gpu: &Gpu, key: ShaderKey) -> Result<bool, RuntimeError> {
+        if self.map.contains_key(&key) {
+            return Ok(true);
+        }
+        if self.pending.get(&key).is_some_and(|h| h.is_finished()) {
+            self.get_or_build(gpu, key)?;
+            return Ok(true);
+        }
+        Ok(false)
+    }
+}
+
+/// What a pipeline build needs of the GPU, owned, so a build can run on another thread.
+struct BuildTarget {
+    device: wgpu::Device,
+    cpu: bool,
+    accumulation: wgpu::TextureFormat,
+    flat_uniforms: bool,
+}
+
+impl BuildTarget {
+    fn of(gpu: &Gpu, flat_uniforms: bool) -> Self {
+        BuildTarget {
+            device: gpu.device().clone(),
+            cpu: gpu.info().cpu,
+            accumulation: gpu.accumulation_format(),
+            flat_uniforms,
+        }
+    }
+}
+
+/// Records `key`'s module, generates its WGSL and compiles its render pipeline.
+fn build(target: &BuildTarget, key: ShaderKey) -> Result<CachedPipeline, RuntimeError> {
+    let label = key.id();
+    let mut module = key.record()?;
+    if target.flat_uniforms {
+        flatten_uniform_blocks(&mut module);
+    }
+    if target.cpu {
+        // CPU drivers re-load uniforms at every read inside loops; a per-invocation copy
+        // made the cloud pass 30 % faster on llvmpipe (see the pass's docs).
+        copy_uniforms_per_invocation(&mut module);
+    }
+    let generated = generate(module, &key.variant(), &[Target::Wgsl])?;
+    let entry_of = |stage: Stage| {
+        generated
+            .ir
+            .entry_points
+            .iter()
+            .find(|e| e.stage == stage)
+            .map(|e| e.function.clone())
+            .ok_or_else(|| RuntimeError::Kernel(format!("`{label}` has no {stage:?} entry point")))
+    };
+    let (vs, fs) = (entry_of(Stage::Vertex)?, entry_of(Stage::Fragment)?);
+    let device = &target.device;
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let layout = bind_group_layout(device, &label, &generated.bindings)?;
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&label),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(&label),
+        source: wgpu::ShaderSource::Wgsl(generated.wgsl.as_str().into()),
+    });
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(&label),
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &shader,
+            entry_point: Some(&vs),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: &shader,
+            entry_point: Some(&fs),
+            compilation_options: Default::default(),
+            // The resolve writes the history, which keeps full precision where it can.
+            targets: &[Some(
+                match key {
+                    ShaderKey::Resolve => target.accumulation,
+                    _ => HDR_FORMAT,
+                }
+                .into(),
+            )],
+        }),
+        primitive: Default::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    });
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(RuntimeError::Pipeline {
+            what: format!("render pipeline `{label}`"),
+            reason: e.to_string(),
+        });
+    }
+    Ok(CachedPipeline {
+        pipeline,
+        layout,
+        bindings: generated.bindings,
+    })
 }

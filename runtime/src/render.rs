@@ -23,6 +23,7 @@ use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
+use nimbus_clouds::model::shadow::atlas_columns;
 use nimbus_clouds::wind::Drift;
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -147,7 +148,15 @@ struct ShadowPass {
     /// What the atlas was last rendered from (key and uniform bytes): it is redrawn only when
     /// the sun, the layers, the weather or the key change.
     inputs: Option<(ShaderKey, Vec<u8>)>,
+    /// A change of the pass's key alone being spread over frames (no-stall): the new key and
+    /// how many bands of cascade tiles ([`REFRESH_BAND`]), finest first, it has redrawn.
+    refreshing: Option<(ShaderKey, u32)>,
 }
+
+/// Texel rows of the shadow atlas redrawn per frame when only the shadow key changed (with
+/// no-stall): a 512-texel tile of `high` in four bands, each about the cost of a frame at
+/// 160×90 on llvmpipe (a whole tile was five).
+const REFRESH_BAND: u32 = 128;
 
 /// The cloud pass: its uniform buffer, bind group and low-resolution target.
 struct CloudPass {
@@ -216,6 +225,12 @@ pub struct Renderer<'g> {
     /// The uber-shader's key uniforms, and the stand-in shadow map it binds when the frame
     /// has no shadow pass.
     uber_resources: Option<(wgpu::Buffer, Target)>,
+    /// No stall when the effects change ([`Self::set_no_stall`]).
+    no_stall: bool,
+    /// The last specialised cloud key drawn with: the stand-in while a new key is built.
+    last_clouds: Option<CloudKey>,
+    /// Whether the last frame drew its clouds with a stand-in while its own key was built.
+    stand_in: bool,
     /// Every frame's uniform bytes, while logging (tests that hold engine hosts to the
     /// runtime's frame sequence).
     uniform_log: Option<Vec<WrittenFrame>>,
@@ -328,9 +343,31 @@ impl<'g> Renderer<'g> {
             gpu_time_ms: None,
             uber: false,
             uber_resources: None,
+            no_stall: false,
+            last_clouds: None,
+            stand_in: false,
             uniform_log: None,
             scene: None,
         }
+    }
+
+    /// No stall when a scene's effects change (a toggle, a genus of another key), for game
+    /// loops: the pipelines of a key this renderer has not drawn with are built on threads of
+    /// their own, and until they are ready the clouds are drawn with a stand-in — the key
+    /// drawn before (the same genus functions: the effects switch a few frames late), else
+    /// the uber-shader (built in the background from the first frame on) — and the shadow
+    /// atlas drawn before stays. When the shadow pass's key changes and nothing else does (the
+    /// clouds and the sun where they were), the atlas is redrawn a band of a cascade tile per
+    /// frame ([`REFRESH_BAND`] texel rows), the finest cascade first. Only the very first frame, with nothing to draw with, waits. Off by
+    /// default: an image rendered once is drawn whole with its own key.
+    pub fn set_no_stall(&mut self, on: bool) {
+        self.no_stall = on;
+    }
+
+    /// Whether the last frame drew its clouds with a stand-in because its own key's pipeline
+    /// was still being built ([`Self::set_no_stall`]).
+    pub fn drew_stand_in(&self) -> bool {
+        self.stand_in
     }
 
     /// Renders the cloud pass with the uber-shader: the same model with every generation-time
@@ -418,6 +455,38 @@ impl<'g> Renderer<'g> {
     }
 
     /// Builds the pipeline of `key`, the textures and samplers its bindings name.
+    /// The cloud key this frame draws with for `wanted`: `wanted` itself, unless no-stall is
+    /// on and its pipeline is still being built (requested here, never waited for); then
+    /// the key drawn before when it has the same genus functions and is built, else the
+    /// uber-shader `uber` once built, else (nothing built to draw with) `wanted` after all.
+    fn clouds_key_for(
+        &mut self,
+        wanted: CloudKey,
+        uber: ShaderKey,
+    ) -> Result<ShaderKey, RuntimeError> {
+        let key = ShaderKey::Clouds(wanted);
+        if !self.no_stall {
+            return Ok(key);
+        }
+        self.pipelines.request(self.gpu, uber);
+        if self.pipelines.ready(self.gpu, key)? {
+            return Ok(key);
+        }
+        self.pipelines.request(self.gpu, key);
+        if let Some(previous) = self.last_clouds
+            && previous.functions == wanted.functions
+            && self
+                .pipelines
+                .ready(self.gpu, ShaderKey::Clouds(previous))?
+        {
+            return Ok(ShaderKey::Clouds(previous));
+        }
+        if self.pipelines.ready(self.gpu, uber)? {
+            return Ok(uber);
+        }
+        Ok(key)
+    }
+
     fn prepare(&mut self, key: ShaderKey) -> Result<(), RuntimeError> {
         let pipeline = self.pipelines.get_or_build(self.gpu, key)?;
         let mut kinds = Vec::new();
@@ -648,13 +717,19 @@ impl<'g> Renderer<'g> {
         self.ensure_readback(frame.width, frame.height);
         let frames = frame.frames.max(1);
         let variant = frame.variant();
-        let clouds_key = ShaderKey::Clouds(if self.uber {
-            // The functions are the genus' code, not a run-time choice: the uber-shader has
-            // them too.
-            CloudKey::uber().with_functions(variant.key.functions)
+        // The functions are the genus' code, not a run-time choice: the uber-shader has them
+        // too.
+        let uber_key = ShaderKey::Clouds(CloudKey::uber().with_functions(variant.key.functions));
+        let clouds_key = if self.uber {
+            uber_key
         } else {
-            variant.key
-        });
+            self.clouds_key_for(variant.key, uber_key)?
+        };
+        self.stand_in = clouds_key != ShaderKey::Clouds(variant.key) && !self.uber;
+        if !self.stand_in && !self.uber {
+            self.last_clouds = Some(variant.key);
+        }
+        let uber = clouds_key == uber_key;
         let shadow_key = variant.key.shadow_key().map(ShaderKey::Shadow);
         self.passes.clear();
         self.gpu_time_ms = None;
@@ -673,7 +748,9 @@ impl<'g> Renderer<'g> {
             let moments = t.red_moments.unwrap_or(u.media.detail_moments);
             u.media = u.media.with_detail_lod(t.size, moments);
         }
-        if self.uber {
+        // The uber-shader's key uniforms; a stand-in (the key drawn before) may bind a shadow
+        // map this frame's key has dropped: the stand-in map serves both.
+        if uber || self.stand_in {
             if self.uber_resources.is_none() {
                 let key = uniform_buffer(
                     self.gpu,
@@ -688,7 +765,20 @@ impl<'g> Renderer<'g> {
                 self.gpu.queue().write_buffer(b, 0, &bytes);
             }
         }
-        if let Some(k) = shadow_key {
+        // A shadow key still being built: the atlas drawn with the previous one stands in (when
+        // its layout is this frame's), redrawn once the key's pipeline is ready.
+        let keep_atlas = match shadow_key {
+            Some(k) if self.no_stall && !self.pipelines.ready(self.gpu, k)? => {
+                self.pipelines.request(self.gpu, k);
+                self.shadow
+                    .as_ref()
+                    .is_some_and(|p| size_of(&p.atlas) == u.shadow.atlas_size())
+            }
+            _ => false,
+        };
+        if let Some(k) = shadow_key
+            && !keep_atlas
+        {
             self.prepare(k)?;
         }
         // The engine's depth: a new texture each frame (its bind group follows), the camera's
@@ -790,7 +880,9 @@ impl<'g> Renderer<'g> {
             .gpu
             .device()
             .create_command_encoder(&Default::default());
-        if let Some(key) = shadow_key {
+        if keep_atlas {
+            // No shadow pass this frame: the atlas stands as it was.
+        } else if let Some(key) = shadow_key {
             let s = u.shadow;
             let (w, h) = s.atlas_size();
             self.check_size("the shadow atlas (its cascades in a grid)", w, h)?;
@@ -804,6 +896,7 @@ impl<'g> Renderer<'g> {
                     group: None,
                     atlas: target(self.gpu, "shadow atlas", w, h),
                     inputs: None,
+                    refreshing: None,
                 });
                 self.epoch += 1;
             }
@@ -816,6 +909,7 @@ impl<'g> Renderer<'g> {
                 .shadow
                 .as_ref()
                 .is_some_and(|p| p.inputs.as_ref() != Some(&inputs));
+            let mut continue_refresh = false;
             if stale {
                 let rebuild = !matches!(&self.shadow, Some(ShadowPass { group: Some(g), .. })
                     if g.key == key && g.epoch == self.epoch);
@@ -832,19 +926,54 @@ impl<'g> Renderer<'g> {
                 let pipeline = self.pipelines.get(&key)?;
                 let p = self.shadow.as_ref().ok_or_else(missing)?;
                 let group = p.group.as_ref().ok_or_else(missing)?;
+                // Only the key changed (the clouds and the sun stand where they were): with
+                // no-stall, one band of a tile per frame, the finest cascade first; the bands
+                // not yet redrawn hold the same shadows, drawn by the previous key.
+                let tile = (self.no_stall
+                    && p.inputs.as_ref().is_some_and(|(_, b)| *b == inputs.1))
+                .then(|| match p.refreshing {
+                    Some((k, done)) if k == key => done,
+                    _ => 0,
+                });
+                let side = s.map_size as u32;
+                let bands = side.div_ceil(REFRESH_BAND).max(1);
+                let regions = s.cascade_count * bands;
+                let region = tile.map(|i| {
+                    let (k, band) = (i / bands, i % bands);
+                    let columns = atlas_columns(s.cascade_count);
+                    let rows = side / bands;
+                    [
+                        (k % columns) * side,
+                        (k / columns) * side + band * rows,
+                        side,
+                        rows,
+                    ]
+                });
                 self.gpu
                     .queue()
                     .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
-                draw(
+                draw_region(
                     &mut encoder,
                     "shadow",
                     &p.atlas.view,
                     &pipeline.pipeline,
                     &group.group,
                     PassTimer::next(&mut timer),
+                    region,
                 );
                 self.passes.push("shadow");
                 if let Some(p) = &mut self.shadow {
+                    match tile {
+                        Some(k) if k + 1 < regions => {
+                            p.refreshing = Some((key, k + 1));
+                            continue_refresh = true;
+                        }
+                        _ => p.refreshing = None,
+                    }
+                }
+                if let Some(p) = &mut self.shadow
+                    && !continue_refresh
+                {
                     p.inputs = Some(inputs);
                 }
             }
@@ -1192,6 +1321,27 @@ fn draw(
     group: &wgpu::BindGroup,
     timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
+    draw_region(
+        encoder,
+        label,
+        view,
+        pipeline,
+        group,
+        timestamp_writes,
+        None,
+    );
+}
+
+/// [`draw`], or within `region` (x, y, width, height) alone, the rest of the target kept.
+fn draw_region(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    pipeline: &wgpu::RenderPipeline,
+    group: &wgpu::BindGroup,
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    region: Option<[u32; 4]>,
+) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         timestamp_writes,
@@ -1200,7 +1350,10 @@ fn draw(
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                load: match region {
+                    Some(_) => wgpu::LoadOp::Load,
+                    None => wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                },
                 store: wgpu::StoreOp::Store,
             },
         })],
@@ -1208,5 +1361,8 @@ fn draw(
     });
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, group, &[]);
+    if let Some([x, y, w, h]) = region {
+        pass.set_scissor_rect(x, y, w, h);
+    }
     pass.draw(0..3, 0..1);
 }

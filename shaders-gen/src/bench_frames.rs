@@ -9,7 +9,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use nimbus_clouds::Quality;
+use nimbus_clouds::{Quality, Toggle};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
@@ -97,6 +97,91 @@ fn ms_of(rows: &[(Quality, bool, f64)], q: Quality, upscale: bool) -> f64 {
     rows.iter()
         .find(|(rq, ru, _)| *rq == q && *ru == upscale)
         .map_or(f64::NAN, |r| r.2)
+}
+
+/// Frames per state of [`run_effect_changes`]: enough that a compile in the background
+/// finishes within the state on a software adapter.
+const FRAMES_PER_STATE: usize = 8;
+
+/// A game loop whose scene changes its effects: `base` (one frame per call, the history
+/// continued), then one more toggle flipped every [`FRAMES_PER_STATE`] frames, each state a
+/// key the renderer has not drawn with. Run twice on fresh renderers, compiling each new key
+/// on the frame path (what a host without background compiles gets) and in the background
+/// (the uber-shader and the atlas already drawn standing in), and reports each run's median
+/// frame, its worst frame, and their ratio.
+pub(crate) fn run_effect_changes(
+    data: Option<&Path>,
+    args: &RenderArgs,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut base = frame(data, args)?;
+    base.frames = 1;
+    base.continue_history = true;
+    let gpu = Gpu::new()?;
+    say!("adapter: {}", gpu.info());
+    gpu.check_picture("the image", base.width, base.height)?;
+    // Every toggle a scene may switch (scene depth and the orthographic camera follow the
+    // host's camera and depth, not the scene's effects).
+    let toggles: Vec<Toggle> = Toggle::ALL
+        .iter()
+        .copied()
+        .filter(|t| !matches!(t, Toggle::SceneDepth | Toggle::Orthographic))
+        .collect();
+    let mut states = vec![base.clone()];
+    for &t in &toggles {
+        let mut next = states[states.len() - 1].clone();
+        let on = t.get(&next.features);
+        t.set(&mut next.features, !on);
+        states.push(next);
+    }
+    say!(
+        "scene: genus {}, {} preset, {}x{}; {} states of {FRAMES_PER_STATE} frames, each \
+         flipping one more toggle ({})",
+        base.genus.name,
+        base.quality.name(),
+        base.width,
+        base.height,
+        states.len(),
+        toggles
+            .iter()
+            .map(|t| t.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    say!();
+    say!(
+        "| compiles | median ms/frame | worst ms/frame | worst / median | frames drawn by a stand-in |"
+    );
+    say!("|---|---:|---:|---:|---:|");
+    for background in [false, true] {
+        let mut renderer = Renderer::new(&gpu, TextureSizes::default());
+        renderer.set_no_stall(background);
+        // The first frame builds what any first frame needs (textures, the first key): untimed.
+        let mut first = base.clone();
+        first.continue_history = false;
+        renderer.render(&first)?;
+        let mut times = Vec::new();
+        let mut stand_ins = 0;
+        for state in &states {
+            for _ in 0..FRAMES_PER_STATE {
+                let start = Instant::now();
+                renderer.render(state)?;
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+                stand_ins += usize::from(renderer.drew_stand_in());
+            }
+        }
+        let worst = times.iter().copied().fold(0.0, f64::max);
+        let median = median(times);
+        say!(
+            "| {} | {median:.1} | {worst:.1} | {:.2} | {stand_ins} |",
+            if background {
+                "in the background"
+            } else {
+                "on the frame path"
+            },
+            worst / median
+        );
+    }
+    Ok(())
 }
 
 /// `base` at preset `quality` with its features, one frame per call; upscaled frames continue

@@ -179,6 +179,11 @@ pub(crate) enum Command {
         /// uniform and a run-time branch) against its specialised shader.
         #[arg(long)]
         uber: bool,
+        /// Instead of the presets: a game loop whose scene flips one more toggle every few
+        /// frames, its worst frame against its median, with each new key compiled on the
+        /// frame path and in the background.
+        #[arg(long, conflicts_with = "uber")]
+        effect_changes: bool,
     },
     /// Time per frame of each example scene's derived variant against its all-effects
     /// variant, as a ratio.
@@ -277,8 +282,14 @@ pub fn main() -> ExitCode {
         Command::Animate(args) => animate::run(data, args),
         Command::BenchFrames {
             render,
+            effect_changes: true,
+            ..
+        } => bench_frames::run_effect_changes(data, render),
+        Command::BenchFrames {
+            render,
             iterations,
             uber,
+            ..
         } => bench_frames::run(data, render, (*iterations).max(1), *uber),
         Command::BenchScenes {
             resolution,
