@@ -127,3 +127,51 @@ fn a_toggle_draws_a_stand_in_then_the_new_key_and_the_atlas_refreshes_band_by_ba
          whole redraw (half-way it differed by {control:.3})"
     );
 }
+
+/// A genus of other genus functions has no stand-in (every pipeline that draws its shapes,
+/// the uber-shader's too, holds its code): its first frame waits for its own key and is its
+/// own picture, where a toggle's first frame is the previous key's (the test above).
+#[test]
+fn a_genus_of_other_functions_waits_for_its_own_key() {
+    let Some(gpu) = common::gpu() else { return };
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let before = frame(true);
+    let functions = before.variant().key.functions;
+    let other = lib
+        .genera
+        .values()
+        .map(|(_, g)| g)
+        .find(|g| {
+            let mut f = before.clone();
+            f.genus = (*g).clone();
+            f.variant().key.functions != functions
+        })
+        .expect("a genus with functions of its own");
+    let mut after = before.clone();
+    after.genus = other.clone();
+
+    let mut stalls = Renderer::new(gpu, SIZES);
+    let want = stalls.render(&after).expect("render");
+
+    let mut smooth = Renderer::new(gpu, SIZES);
+    smooth.set_no_stall(true);
+    let old = smooth.render(&before).expect("render");
+    let first = smooth.render(&after).expect("render");
+    assert!(
+        !smooth.drew_stand_in(),
+        "nothing built can draw {}",
+        other.name
+    );
+    let d = largest_difference(&first, &want);
+    assert!(
+        d < 1e-5,
+        "{}'s first frame differs from its own by {d}",
+        other.name
+    );
+    let control = largest_difference(&first, &old);
+    assert!(
+        control > 1e-3,
+        "the two genera look alike ({control}): no control"
+    );
+}

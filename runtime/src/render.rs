@@ -351,12 +351,12 @@ impl<'g> Renderer<'g> {
         }
     }
 
-    /// No stall when a scene's effects change (a toggle, a genus of another key), for game
-    /// loops: the pipelines of a key this renderer has not drawn with are built on threads of
-    /// their own, and until they are ready the clouds are drawn with a stand-in — the key
-    /// drawn before (the same genus functions: the effects switch a few frames late), else
-    /// the uber-shader (built in the background from the first frame on) — and the shadow
-    /// atlas drawn before stays. When the shadow pass's key changes and nothing else does (the
+    /// No stall when a scene's effects change (a toggle, a preset), for game loops: the
+    /// pipelines of a key this renderer has not drawn with are built on threads of their own,
+    /// and until they are ready the clouds are drawn with the key drawn before (the same genus
+    /// functions: the effects switch a few frames late) and the shadow atlas drawn before
+    /// stays. A genus of other functions waits for its own key: no pipeline without its code
+    /// can draw its shapes. When the shadow pass's key changes and nothing else does (the
     /// clouds and the sun where they were), the atlas is redrawn a band of a cascade tile per
     /// frame ([`REFRESH_BAND`] texel rows), the finest cascade first. Only the very first frame, with nothing to draw with, waits. Off by
     /// default: an image rendered once is drawn whole with its own key.
@@ -456,33 +456,23 @@ impl<'g> Renderer<'g> {
 
     /// Builds the pipeline of `key`, the textures and samplers its bindings name.
     /// The cloud key this frame draws with for `wanted`: `wanted` itself, unless no-stall is
-    /// on and its pipeline is still being built (requested here, never waited for); then
-    /// the key drawn before when it has the same genus functions and is built, else the
-    /// uber-shader `uber` once built, else (nothing built to draw with) `wanted` after all.
-    fn clouds_key_for(
-        &mut self,
-        wanted: CloudKey,
-        uber: ShaderKey,
-    ) -> Result<ShaderKey, RuntimeError> {
+    /// on and its pipeline is still being built (requested here, never waited for); then the
+    /// key drawn before, when it has the same genus functions. A genus of other functions has
+    /// no stand-in (every pipeline that draws its shapes holds its code, the uber-shader's
+    /// too): its first frame waits for its own key.
+    fn clouds_key_for(&mut self, wanted: CloudKey) -> Result<ShaderKey, RuntimeError> {
         let key = ShaderKey::Clouds(wanted);
-        if !self.no_stall {
+        if !self.no_stall || self.pipelines.ready(self.gpu, key)? {
             return Ok(key);
         }
-        self.pipelines.request(self.gpu, uber);
-        if self.pipelines.ready(self.gpu, key)? {
-            return Ok(key);
-        }
-        self.pipelines.request(self.gpu, key);
         if let Some(previous) = self.last_clouds
             && previous.functions == wanted.functions
             && self
                 .pipelines
                 .ready(self.gpu, ShaderKey::Clouds(previous))?
         {
+            self.pipelines.request(self.gpu, key);
             return Ok(ShaderKey::Clouds(previous));
-        }
-        if self.pipelines.ready(self.gpu, uber)? {
-            return Ok(uber);
         }
         Ok(key)
     }
@@ -717,19 +707,18 @@ impl<'g> Renderer<'g> {
         self.ensure_readback(frame.width, frame.height);
         let frames = frame.frames.max(1);
         let variant = frame.variant();
-        // The functions are the genus' code, not a run-time choice: the uber-shader has them
-        // too.
-        let uber_key = ShaderKey::Clouds(CloudKey::uber().with_functions(variant.key.functions));
         let clouds_key = if self.uber {
-            uber_key
+            // The functions are the genus' code, not a run-time choice: the uber-shader has
+            // them too.
+            ShaderKey::Clouds(CloudKey::uber().with_functions(variant.key.functions))
         } else {
-            self.clouds_key_for(variant.key, uber_key)?
+            self.clouds_key_for(variant.key)?
         };
-        self.stand_in = clouds_key != ShaderKey::Clouds(variant.key) && !self.uber;
+        self.stand_in = !self.uber && clouds_key != ShaderKey::Clouds(variant.key);
         if !self.stand_in && !self.uber {
             self.last_clouds = Some(variant.key);
         }
-        let uber = clouds_key == uber_key;
+        let uber = self.uber;
         let shadow_key = variant.key.shadow_key().map(ShaderKey::Shadow);
         self.passes.clear();
         self.gpu_time_ms = None;
@@ -765,14 +754,23 @@ impl<'g> Renderer<'g> {
                 self.gpu.queue().write_buffer(b, 0, &bytes);
             }
         }
-        // A shadow key still being built: the atlas drawn with the previous one stands in (when
-        // its layout is this frame's), redrawn once the key's pipeline is ready.
+        // The camera's orientation and the image size do not enter the atlas.
+        let atlas_bytes = {
+            let mut inputs = u;
+            inputs.inverse_view_projection = Mat4::IDENTITY;
+            inputs.resolution = Vec2::ZERO;
+            inputs.to_uniform_bytes()?
+        };
+        // A shadow key still being built: the atlas drawn with the previous one stands in when
+        // only the key changed (the same clouds, sun and layout), redrawn once the key's
+        // pipeline is ready; anything else waits for the key.
         let keep_atlas = match shadow_key {
             Some(k) if self.no_stall && !self.pipelines.ready(self.gpu, k)? => {
                 self.pipelines.request(self.gpu, k);
-                self.shadow
-                    .as_ref()
-                    .is_some_and(|p| size_of(&p.atlas) == u.shadow.atlas_size())
+                self.shadow.as_ref().is_some_and(|p| {
+                    size_of(&p.atlas) == u.shadow.atlas_size()
+                        && p.inputs.as_ref().is_some_and(|(_, b)| *b == atlas_bytes)
+                })
             }
             _ => false,
         };
@@ -900,11 +898,7 @@ impl<'g> Renderer<'g> {
                 });
                 self.epoch += 1;
             }
-            // The camera's orientation and the image size do not enter the atlas.
-            let mut inputs = u;
-            inputs.inverse_view_projection = Mat4::IDENTITY;
-            inputs.resolution = Vec2::ZERO;
-            let inputs = (key, inputs.to_uniform_bytes()?);
+            let inputs = (key, atlas_bytes);
             let stale = self
                 .shadow
                 .as_ref()
