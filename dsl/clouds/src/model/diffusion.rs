@@ -123,14 +123,77 @@ pub fn slab_diffuse_fluence(z: f32, total: f32, mu0: f32, nu: f32) -> Vec2 {
     vec2(fluence.max(0.0), c - mu0 * beam)
 }
 
+/// Below this much absorption per scattering (`1 − ω`, δ-scaled) a slab is taken to be
+/// conservative ([`slab_diffuse_fluence`]): the absorbing solution's two exponentials then
+/// nearly cancel, and in single precision its error outgrows what the absorption changes.
+const CONSERVATIVE_BELOW: f32 = 1e-4;
+
+/// Fluence (x) and downward net flux (y) of the diffuse light at optical depth `t` below the
+/// top of a slab of optical depth `total` that absorbs: single-scattering albedo `omega` < 1
+/// and mean cosine `g`, both δ-scaled like the depths, lit by a sunbeam of irradiance `beam`
+/// at up-cosine `mu0` that dims as `e^(−t/mu0)` and by diffuse light of flux `sky` entering
+/// its top (none its base).
+///
+/// The Eddington equations `F′ = ω·beam·e^(−t/μ0) − (1 − ω)φ` (the beam's scattered light
+/// gained, the diffuse light's absorbed lost) and `φ′ = −3(1 − ωg)F + 3ωgμ0·beam·e^(−t/μ0)`
+/// solve to `φ = A e^(−k(T−t)) + B e^(−kt) + α e^(−t/μ0)`, with `k² = 3(1 − ω)(1 − ωg)`:
+/// in a thick absorbing cloud the diffuse light dies out over `1/k` optical depths instead of
+/// falling linearly through the whole slab. `A` and `B` follow from Marshak's conditions
+/// `φ + 2F = 4·sky` at the top and `φ − 2F = 0` at the base, written with `e^(−kT)` so no
+/// exponential overflows however thick the slab.
+#[shader_fn]
+pub fn absorbing_slab(
+    t: f32,
+    total: f32,
+    mu0: f32,
+    omega: f32,
+    g: f32,
+    beam: f32,
+    sky: f32,
+) -> Vec2 {
+    let a = 1.0 - omega * g;
+    let k = (3.0 * (1.0 - omega) * a).max(0.0).sqrt();
+    let p = k / (3.0 * a);
+    // The beam's particular solution φ = αe^(−t/μ0), F = βe^(−t/μ0); at kμ0 = 1 the beam
+    // and a homogeneous solution coincide, and a cosine 0.1 % off stands in for it.
+    let m = select(mu0, mu0 * 1.001, (k * mu0 - 1.0).abs() < 1e-3);
+    let alpha = beam * 3.0 * omega * m * m * (1.0 + g * (1.0 - omega)) / (k * k * m * m - 1.0);
+    let beta = m * ((1.0 - omega) * alpha - omega * beam);
+    let x = (-k * total).exp();
+    // The 2×2 system [[x(1 − 2P), 1 + 2P], [1 + 2P, x(1 − 2P)]]·(A, B) = (r1, r2).
+    let outer = x * (1.0 - 2.0 * p);
+    let inner = 1.0 + 2.0 * p;
+    let r1 = 4.0 * sky - alpha - 2.0 * beta;
+    let r2 = -(alpha - 2.0 * beta) * (-total / m).exp();
+    let det = (outer * outer - inner * inner).min(-1e-12);
+    let from_base = (r1 * outer - inner * r2) / det;
+    let from_top = (outer * r2 - inner * r1) / det;
+    let up = (-k * (total - t)).exp();
+    let down = (-k * t).exp();
+    let s = (-t / m).exp();
+    vec2(
+        (from_base * up + from_top * down + alpha * s).max(0.0),
+        -p * (from_base * up - from_top * down) + beta * s,
+    )
+}
+
 /// The sunlight that reached a sample `tau_sun` deep by scattering within the forward peak
 /// (weight `f`), scattered once more towards the camera by the rest of the phase function
 /// (Henyey–Greenstein of `g_star`): what the δ-scaled beam `e^(−(1 − f)τ)` carries beyond the
 /// unscattered `e^(−τ)`.
+///
+/// `omega` is the single-scattering albedo: the peak scatters `ω·f` of what the beam loses.
 #[shader_fn]
-pub fn forward_peak(tau_sun: f32, cos_theta: f32, f: f32, g_star: f32) -> f32 {
-    let carried = (-(1.0 - f) * tau_sun).exp() - (-tau_sun).exp();
+pub fn forward_peak(tau_sun: f32, cos_theta: f32, f: f32, g_star: f32, omega: f32) -> f32 {
+    let carried = (-(1.0 - omega * f) * tau_sun).exp() - (-tau_sun).exp();
     (1.0 - f) * henyey_greenstein(cos_theta, g_star) * carried
+}
+
+/// Single-scattering albedo of the clouds' medium, `σs / (σs + σa)`.
+#[shader_fn]
+pub fn cloud_albedo() -> f32 {
+    let l = CLOUDS.get().light;
+    l.scattering_coefficient / (l.scattering_coefficient + l.absorption_coefficient).max(1e-12)
 }
 
 /// Up-cosine of the sunlit face a sample lies under, and its cosine to the sun: a horizontally
@@ -187,11 +250,29 @@ pub fn diffuse_scattering(
     let g = phase_asymmetry(key);
     let f = forward_peak_weight(g, phase_second_moment(key));
     let g_star = (g - f) / (1.0 - f);
+    let omega = cloud_albedo();
+    // δ-scaled: the peak's scattering is no event, so depths shrink by 1 − ωf and the albedo
+    // of what is left is (1 − f)ω / (1 − ωf).
+    let scale = 1.0 - omega * f;
+    let omega_star = (1.0 - f) * omega / scale;
     let z = (1.0 - g) * tau_sun * face.x;
-    let total = z + (1.0 - g) * tau_down;
-    let diffuse = slab_diffuse_fluence(z, total, face.x, (1.0 - g_star) * face.x);
+    let mut diffuse =
+        slab_diffuse_fluence(z, z + (1.0 - g) * tau_down, face.x, (1.0 - g_star) * face.x);
+    // A branch on a uniform: the genera that absorb nothing never take it.
+    if 1.0 - omega_star >= CONSERVATIVE_BELOW {
+        let depth = scale * tau_sun * face.x;
+        diffuse = absorbing_slab(
+            depth,
+            depth + scale * tau_down,
+            face.x,
+            omega_star,
+            g_star,
+            1.0,
+            0.0,
+        );
+    }
     let seen = (diffuse.x + 3.0 * g * diffuse.y * face.y).max(0.0) * INV_FOUR_PI;
-    seen + forward_peak(tau_sun, cos_theta, f, g_star)
+    seen + forward_peak(tau_sun, cos_theta, f, g_star, omega)
 }
 
 /// The sky's diffuse light scattered towards the camera, per unit of the sky's horizontal
@@ -215,6 +296,24 @@ pub fn sky_diffuse_scattering(
     let z = (1.0 - g) * tau_up;
     let total = z + (1.0 - g) * tau_down;
     let flux = 4.0 / (3.0 * total + 4.0);
-    let fluence = 4.0 - 2.0 * flux - 3.0 * flux * z;
-    (fluence + 3.0 * g * flux * view_up).max(0.0) * INV_FOUR_PI
+    let mut diffuse = vec2(4.0 - 2.0 * flux - 3.0 * flux * z, flux);
+    // With absorption, the same light in δ-scaled depths (see `diffuse_scattering`).
+    let f = forward_peak_weight(g, phase_second_moment(key));
+    let omega = cloud_albedo();
+    let scale = 1.0 - omega * f;
+    let omega_star = (1.0 - f) * omega / scale;
+    if 1.0 - omega_star >= CONSERVATIVE_BELOW {
+        let depth = scale * tau_up;
+        let g_star = (g - f) / (1.0 - f);
+        diffuse = absorbing_slab(
+            depth,
+            depth + scale * tau_down,
+            1.0,
+            omega_star,
+            g_star,
+            0.0,
+            1.0,
+        );
+    }
+    (diffuse.x + 3.0 * g * diffuse.y * view_up).max(0.0) * INV_FOUR_PI
 }
