@@ -13,12 +13,7 @@ use std::time::Duration;
 use nimbus_clouds::{CloudLibrary, Quality, Toggle};
 use nimbus_runtime::render::{Frame, Image, Renderer, TextureSizes};
 
-const SIZES: TextureSizes = TextureSizes {
-    weather: 32,
-    shape: 16,
-    detail: 8,
-    turbulence: 16,
-};
+const SIZES: TextureSizes = common::SMALL_TEXTURES;
 
 /// Cumulus at `high` (three cascades of 512 texels: 4 bands of 128 rows each), seen from
 /// the ground, one frame per call and each call afresh (no history to blend stand-ins in).

@@ -10,12 +10,7 @@ use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::render::{Frame, RenderStats, Renderer, TextureSizes, TextureSource};
 use nimbus_runtime::textures::NoiseKind;
 
-const SIZES: TextureSizes = TextureSizes {
-    weather: 32,
-    shape: 16,
-    detail: 8,
-    turbulence: 16,
-};
+const SIZES: TextureSizes = common::SMALL_TEXTURES;
 
 fn frame() -> Frame {
     let lib =

@@ -10,12 +10,7 @@ use std::path::Path;
 use nimbus_clouds::{CloudLibrary, Quality};
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
-const SIZES: TextureSizes = TextureSizes {
-    weather: 32,
-    shape: 16,
-    detail: 8,
-    turbulence: 16,
-};
+const SIZES: TextureSizes = common::SMALL_TEXTURES;
 
 #[test]
 fn frames_after_the_first_create_no_buffer_texture_or_bind_group() {

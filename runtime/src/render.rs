@@ -946,7 +946,7 @@ impl<'g> Renderer<'g> {
                 self.gpu
                     .queue()
                     .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
-                draw_region(
+                draw(
                     &mut encoder,
                     "shadow",
                     &p.atlas.view,
@@ -1046,6 +1046,7 @@ impl<'g> Renderer<'g> {
                 &pipeline.pipeline,
                 &group.group,
                 PassTimer::next(&mut timer),
+                None,
             );
             self.passes.push("clouds");
             if let (Some(h), Some(pass)) = (&self.history, &self.resolve) {
@@ -1099,6 +1100,7 @@ impl<'g> Renderer<'g> {
                     &pipeline.pipeline,
                     &group.group,
                     PassTimer::next(&mut timer),
+                    None,
                 );
                 self.passes.push("resolve");
             }
@@ -1203,6 +1205,7 @@ impl<'g> Renderer<'g> {
             &pipeline.pipeline,
             &group,
             None,
+            None,
         );
         self.gpu.queue().submit([encoder.finish()]);
         self.ensure_readback(width, height);
@@ -1306,28 +1309,9 @@ fn missing() -> RuntimeError {
     RuntimeError::Kernel("a pass's resources are missing after creation".into())
 }
 
-/// One full-screen draw into `view`, cleared first.
+/// One full-screen draw into `view`: the whole target, cleared first, or (`region`: x, y,
+/// width, height) within the region alone, the rest of the target kept.
 fn draw(
-    encoder: &mut wgpu::CommandEncoder,
-    label: &str,
-    view: &wgpu::TextureView,
-    pipeline: &wgpu::RenderPipeline,
-    group: &wgpu::BindGroup,
-    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) {
-    draw_region(
-        encoder,
-        label,
-        view,
-        pipeline,
-        group,
-        timestamp_writes,
-        None,
-    );
-}
-
-/// [`draw`], or within `region` (x, y, width, height) alone, the rest of the target kept.
-fn draw_region(
     encoder: &mut wgpu::CommandEncoder,
     label: &str,
     view: &wgpu::TextureView,

@@ -5,7 +5,17 @@ use std::sync::OnceLock;
 
 use nimbus_dsl::ir::{ExprId, Type};
 use nimbus_runtime::Gpu;
+use nimbus_runtime::render::TextureSizes;
 use nimbus_testkit::parity::{KernelFn, run_on_gpu};
+
+/// Tiny noise textures, for tests of what the renderer creates and draws rather than of the
+/// clouds' look: made in milliseconds.
+pub const SMALL_TEXTURES: TextureSizes = TextureSizes {
+    weather: 32,
+    shape: 16,
+    detail: 8,
+    turbulence: 16,
+};
 
 /// The GPU for parity tests, or `None` with the reason printed. With `NIMBUS_REQUIRE_GPU=1`
 /// (set by .ci/run, which installs lavapipe) a missing adapter is a failure, not a skip.
