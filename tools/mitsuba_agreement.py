@@ -15,6 +15,9 @@
    difference of the two renders carries two renders' noise, so divided by sqrt(2) it is one
    render's noise, the floor Nimbus-vs-Mitsuba (which carries Mitsuba's noise once) is measured
    against. Agreement means Nimbus is as close to Mitsuba as one Mitsuba render is to the truth.
+   The bar for a mean (the image's, the thin edges') is the standard error of one render's
+   mean, from the two renders' per-pixel differences (`mean_noise`): the difference of the two
+   means is a single draw of that noise and can come out near zero by chance.
    A view with no cloud is refused before Mitsuba renders (nothing to agree on): at the export
    when the grid holds none, else by Nimbus's transmittance.
 
@@ -86,6 +89,18 @@ def absolute(a, b, mask):
     }
 
 
+def mean_noise(m0, m1, mask):
+    """The noise of one Mitsuba render's mean over the masked pixels, relative to that mean:
+    the standard error from the pixels' own scatter. Two renders differ per pixel by noise of
+    variance 2σ², so σ = std(m1 − m0)/√2, and a mean over N independent pixels carries σ/√N.
+    (The difference of the two renders' means is one draw of that noise, and can come out near
+    zero by chance: a bar from it alone is not a fair one.)"""
+    d = (m1 - m0)[mask]
+    if d.size < 2:
+        return float("nan")
+    return float(d.std(ddof=1) / np.sqrt(2.0 * d.size) / abs(m0[mask].mean()))
+
+
 def one_render(pair):
     """The figures of the difference of two independent renders, scaled to one render's noise:
     the difference of two renders of equal noise has sqrt(2) times the noise of either."""
@@ -105,7 +120,7 @@ def thin_edges(nimbus_l, mit_l, edge):
     return {
         "pixels": pixels,
         "nimbus_vs_mitsuba": compare(nimbus_l, mit_l[0], edge)["mean_signed"],
-        "noise_floor": abs(compare(mit_l[1], mit_l[0], edge)["mean_signed"]) / np.sqrt(2.0),
+        "noise_floor": mean_noise(mit_l[0], mit_l[1], edge),
     }
 
 
@@ -215,7 +230,7 @@ def print_suite(reports, a):
         ms_cell = (f"{ms['diffusion']['ratio']:.3f} | {ms['octaves']['ratio']:.3f} | ±{100 * ms['noise_floor']:.1f} %"
                    if ms else "— | — | —")
         print(f"| {os.path.basename(r['scene'])} | {r['cloudy_pixels']} | "
-              f"{pct(s['nimbus_vs_mitsuba']['mean_signed'])} | ±{100 * abs(s['noise_floor']['mean_signed']):.2f} % | "
+              f"{pct(s['nimbus_vs_mitsuba']['mean_signed'])} | ±{100 * s['mean_noise']:.2f} % | "
               f"{s['nimbus_vs_mitsuba']['mean_abs'] / max(s['noise_floor']['mean_abs'], 1e-12):.2f} | "
               f"{t['nimbus_vs_mitsuba']['mean_abs']:.4f} / {t['noise_floor']['mean_abs']:.4f} | "
               f"{edge_cell(r['thin_edges'])} | {ms_cell} |")
@@ -279,6 +294,8 @@ def agree(a, mi, scene_path, reach, work, voxel):
             "nimbus_vs_mitsuba": compare(nimbus_l, mit_l[0], mask),
             "mitsuba_vs_mitsuba": compare(mit_l[1], mit_l[0], mask),
             "noise_floor": one_render(compare(mit_l[1], mit_l[0], mask)),
+            # The noise of one render's image mean (the bar the image mean is held to).
+            "mean_noise": mean_noise(mit_l[0], mit_l[1], mask),
             "mean_ratio": float(nimbus_l[mask].mean() / (0.5 * (mit_l[0] + mit_l[1]))[mask].mean()),
         },
         "thin_edges": thin_edges(nimbus_l, mit_l, edge),
@@ -306,9 +323,9 @@ def agree(a, mi, scene_path, reach, work, voxel):
         report["multiple_scattering"] = {
             "mitsuba_mean": float(mean),
             "mitsuba_spp": spp,
-            # The image mean of one render against the other's, scaled to one render's noise;
-            # the ratios below are against the mean of the two, whose noise is 1/sqrt(2) of it.
-            "noise_floor": float(abs(full[1][mask].mean() - full[0][mask].mean()) / mean / np.sqrt(2.0)),
+            # The noise of one render's image mean (its standard error over the pixels); the
+            # ratios below are against the mean of the two, whose noise is 1/sqrt(2) of it.
+            "noise_floor": mean_noise(full[0], full[1], mask),
             "single_over_full_mitsuba": float(0.5 * (mit_l[0] + mit_l[1])[mask].mean() / mean),
         }
         for model, image in models.items():
@@ -322,6 +339,7 @@ def agree(a, mi, scene_path, reach, work, voxel):
     with open(os.path.join(work, "agreement.json"), "w") as f:
         json.dump(report, f, indent=2)
     np.save(os.path.join(work, "mitsuba_single.npy"), 0.5 * (mit_l[0] + mit_l[1]))
+    np.save(os.path.join(work, "mitsuba_renders.npy"), np.stack(mit_l + mit_t))
     # Side by side: Nimbus, Mitsuba, and their difference ×4 (red: Nimbus brighter, blue:
     # darker), scaled so the brightest cloud pixel is white.
     scale = 1.0 / max(np.percentile(mit_l[0][mask], 99.5), 1e-12)
@@ -358,7 +376,9 @@ def print_report(report, work):
                        ("transmittance, one Mitsuba render's noise (floor)", "noise_floor")):
         r = t[key]
         print(f"| {label} (absolute) | {r['mean_signed']:+.4f} | {r['mean_abs']:.4f} | {r['p95_abs']:.4f} |")
-    print(f"\nthin edges (transmittance >= {THIN_EDGE}), single scattering: {edge_cell(report['thin_edges'])}")
+    print(f"\nimage mean, single scattering: {pct(report['single_scattering']['nimbus_vs_mitsuba']['mean_signed'])} "
+          f"± {100 * report['single_scattering']['mean_noise']:.2f} % (one render's standard error)")
+    print(f"thin edges (transmittance >= {THIN_EDGE}), single scattering: {edge_cell(report['thin_edges'])}")
     if "multiple_scattering" in report:
         m = report["multiple_scattering"]
         print(f"\nmultiple scattering against Mitsuba's full path tracer ({m['mitsuba_spp']} spp x 2, "
