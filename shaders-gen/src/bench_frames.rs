@@ -106,9 +106,10 @@ const FRAMES_PER_STATE: usize = 8;
 /// A game loop whose scene changes its effects: `base` (one frame per call, the history
 /// continued), then one more toggle flipped every [`FRAMES_PER_STATE`] frames, each state a
 /// key the renderer has not drawn with. Run twice on fresh renderers, compiling each new key
-/// on the frame path (what a host without background compiles gets) and in the background
-/// (the uber-shader and the atlas already drawn standing in), and reports each run's median
-/// frame, its worst frame, and their ratio.
+/// on the frame path (what a host without background compiles gets) and with no-stall (built
+/// in the background, the key and the atlas drawn before standing in, a changed atlas redrawn
+/// a band per frame: `Renderer::set_no_stall`), and reports each run's median frame, its worst
+/// frame, and their ratio.
 pub(crate) fn run_effect_changes(
     data: Option<&Path>,
     args: &RenderArgs,
@@ -174,7 +175,7 @@ pub(crate) fn run_effect_changes(
         say!(
             "| {} | {median:.1} | {worst:.1} | {:.2} | {stand_ins} |",
             if background {
-                "in the background"
+                "no-stall"
             } else {
                 "on the frame path"
             },
