@@ -9,7 +9,8 @@
 //
 // Timings on SwiftShader (a CPU WebGL) are only comparable within one run.
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { inflateSync } from 'node:zlib';
 import { tmpdir } from 'node:os';
 import { join, dirname, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -19,19 +20,129 @@ const nimbus = process.env.NIMBUS ?? resolve(here, '../target/release/nimbus');
 const work = mkdtempSync(join(tmpdir(), 'nimbus-bench-'));
 const frames = Number(process.env.BENCH_FRAMES ?? 5);
 // The scenes match: the same camera and sun, and Nimbus's `takram-default` genus, which is
-// takram's four default layers. Coverage means nearly the same in both then: the fraction of
+// takram's four default layers, at coverage 0.6. The two coverages do not mean the same sky, so
+// the bench matches them itself before it times anything: the cloud fraction (the share of the
 // pixels above the horizon that differ by more than 12/255 from a coverage-0 render of the same
-// view (low preset, 640×360) is 0.877 for Nimbus and 0.902 for takram at 0.6 (measured once
-// on this machine; TAKRAM_COVERAGE overrides takram's).
-const takramCoverage = process.env.TAKRAM_COVERAGE ?? '0.6';
+// view, `low`, 640×360) is measured for Nimbus, and takram's coverage bisected until its own
+// fraction is the same (TAKRAM_COVERAGE skips the search).
+const coverage = 0.6;
+const view = { width: 640, height: 360, pitch: 10, fov: 60 };
 const rows = [];
 const median = (text) => Number(/median ms\/frame: ([0-9.]+)/.exec(text)?.[1]);
 const presets = (process.env.BENCH_PRESETS ?? 'low,medium,high,ultra').split(',');
+
+/** Decodes an 8-bit, non-interlaced RGB or RGBA PNG (what Chromium's canvas writes). */
+function decodePng(bytes) {
+  let at = 8;
+  let width = 0;
+  let height = 0;
+  let channels = 4;
+  const idat = [];
+  while (at < bytes.length) {
+    const length = bytes.readUInt32BE(at);
+    const type = bytes.toString('ascii', at + 4, at + 8);
+    const data = bytes.subarray(at + 8, at + 8 + length);
+    if (type === 'IHDR') {
+      width = data.readUInt32BE(0);
+      height = data.readUInt32BE(4);
+      if (data[8] !== 8 || data[12] !== 0) throw new Error('only 8-bit non-interlaced PNGs');
+      channels = { 2: 3, 6: 4 }[data[9]];
+      if (!channels) throw new Error(`PNG colour type ${data[9]}`);
+    } else if (type === 'IDAT') idat.push(data);
+    at += 12 + length;
+  }
+  const raw = inflateSync(Buffer.concat(idat));
+  const stride = width * channels;
+  const out = new Uint8Array(height * stride);
+  for (let y = 0; y < height; y++) {
+    const filter = raw[y * (stride + 1)];
+    for (let x = 0; x < stride; x++) {
+      const v = raw[y * (stride + 1) + 1 + x];
+      const a = x >= channels ? out[y * stride + x - channels] : 0;
+      const b = y > 0 ? out[(y - 1) * stride + x] : 0;
+      const c = x >= channels && y > 0 ? out[(y - 1) * stride + x - channels] : 0;
+      let p = 0;
+      if (filter === 1) p = a;
+      else if (filter === 2) p = b;
+      else if (filter === 3) p = (a + b) >> 1;
+      else if (filter === 4) {
+        const e = a + b - c;
+        const [pa, pb, pc] = [Math.abs(e - a), Math.abs(e - b), Math.abs(e - c)];
+        p = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+      }
+      out[y * stride + x] = (v + p) & 255;
+    }
+  }
+  return { width, height, channels, data: out };
+}
+
+/** The share of the pixels above the horizon where `cloudy` differs from `clear` by > 12/255. */
+function cloudFraction(cloudyPng, clearPng) {
+  const a = decodePng(readFileSync(cloudyPng));
+  const b = decodePng(readFileSync(clearPng));
+  // The horizon's row: the camera pitched up `pitch` with a vertical field of view `fov`.
+  const tan = (deg) => Math.tan((deg * Math.PI) / 180);
+  const horizon = Math.floor((a.height / 2) * (1 + tan(view.pitch) / tan(view.fov / 2)));
+  let differ = 0;
+  for (let y = 0; y < horizon; y++) {
+    for (let x = 0; x < a.width; x++) {
+      const i = (y * a.width + x) * a.channels;
+      const j = (y * b.width + x) * b.channels;
+      if ([0, 1, 2].some((k) => Math.abs(a.data[i + k] - b.data[j + k]) > 12)) differ += 1;
+    }
+  }
+  return differ / (horizon * a.width);
+}
+
+const size = [`width=${view.width}`, `height=${view.height}`, `pitch=${view.pitch}`, `fov=${view.fov}`];
+const takramAt = (out, c, extra = []) => execFileSync('node', ['takram.mjs', out, ...size, 'quality=low',
+  `coverage=${c}`, 'sun=35,150', 'altitude=2', 'yaw=0', 'upscale=0', ...extra], { cwd: here, encoding: 'utf8' });
+
+/** Nimbus's cloud fraction at the bench's coverage, and takram's coverage of the same fraction. */
+function matchedTakramCoverage() {
+  const scene = join(work, 'fraction.toml');
+  writeFileSync(scene, [
+    'name = "fraction"', 'description = "The browser benchmark\'s cloud fraction."',
+    'genus = "takram-default"', 'quality = "low"', `coverage = ${coverage}`, 'sun_elevation_deg = 35.0',
+    'sun_azimuth_deg = 150.0', 'camera_altitude = 2.0', `camera_pitch_deg = ${view.pitch}.0`, '',
+  ].join('\n'));
+  const pkg = join(work, 'package-fraction');
+  execFileSync(nimbus, ['emit', '--engine', 'three', '--scene', scene, '-o', pkg], { stdio: ['ignore', 'ignore', 'inherit'] });
+  const nimbusAt = (out, weather) => execFileSync('node', ['render.mjs', pkg, out, ...size, ...weather],
+    { cwd: here, encoding: 'utf8' });
+  const [cloudy, clear] = [join(work, 'nimbus-cloudy.png'), join(work, 'nimbus-clear.png')];
+  nimbusAt(cloudy, []);
+  nimbusAt(clear, ['weather=0']);
+  const target = cloudFraction(cloudy, clear);
+  const takramClear = join(work, 'takram-clear.png');
+  takramAt(takramClear, 0);
+  const fractionAt = (c) => {
+    const out = join(work, `takram-${c.toFixed(4)}.png`);
+    takramAt(out, c);
+    return cloudFraction(out, takramClear);
+  };
+  let [lo, hi] = [0.2, 1.0];
+  for (let i = 0; i < 8; i++) {
+    const mid = (lo + hi) / 2;
+    if (fractionAt(mid) < target) lo = mid;
+    else hi = mid;
+  }
+  const matched = (lo + hi) / 2;
+  return { target, matched, reached: fractionAt(matched) };
+}
+
+let takramCoverage = process.env.TAKRAM_COVERAGE;
+if (takramCoverage === undefined) {
+  const m = matchedTakramCoverage();
+  takramCoverage = m.matched.toFixed(4);
+  console.error(`cloud fraction above the horizon: Nimbus ${m.target.toFixed(3)} at coverage ${coverage}; `
+    + `takram ${m.reached.toFixed(3)} at coverage ${takramCoverage} (bisected)`);
+}
 for (const quality of presets) {
   const scene = join(work, `${quality}.toml`);
   writeFileSync(scene, [
     `name = "${quality}"`, 'description = "The browser benchmark\'s scene."',
-    'genus = "takram-default"', `quality = "${quality}"`, 'coverage = 0.6', 'sun_elevation_deg = 35.0',
+    'genus = "takram-default"', `quality = "${quality}"`, `coverage = ${coverage}`, 'sun_elevation_deg = 35.0',
     'sun_azimuth_deg = 150.0', 'camera_altitude = 2.0', 'camera_pitch_deg = 10.0', '',
   ].join('\n'));
   const pkg = join(work, `package-${quality}`);

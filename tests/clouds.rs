@@ -103,6 +103,7 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
         ],
         Toggle::Orthographic => &["orthographic_ray", "ray_block", "clouds_input"],
         Toggle::UntiledWeather => &["hex_corners", "vertex_offset"],
+        Toggle::AccurateAirLight => &["air_integrals"],
     }
 }
 
@@ -120,6 +121,11 @@ fn each_toggle_off_removes_its_code_and_bindings_from_every_target() {
     let flat_on = build(&lib, "cirrus", Quality::High, flat);
     let on = build(&lib, "cumulus", Quality::High, all_on);
     for &t in Toggle::ALL {
+        if t == Toggle::AccurateAirLight {
+            // It swaps code rather than adding it, and an orthographic camera (on here) has
+            // it whatever the toggle says: `the_air_table_stands_in_for_the_air_integrals`.
+            continue;
+        }
         let (on, all_on) = if t == Toggle::FlatHighLayer {
             (&flat_on, flat)
         } else {
@@ -197,6 +203,37 @@ fn each_toggle_off_removes_its_code_and_bindings_from_every_target() {
     }
 }
 
+/// Without `accurate-air-light` the composite reads the air table (its binding, its lookup)
+/// and integrates nothing per pixel; with it, the reverse. An orthographic camera integrates
+/// whatever the toggle says, so its key drops the toggle.
+#[test]
+fn the_air_table_stands_in_for_the_air_integrals() {
+    let lib = library();
+    let table = build(&lib, "cumulus", Quality::High, Quality::High.features());
+    let mut accurate = Quality::High.features();
+    accurate.accurate_air_light = true;
+    let integral = build(&lib, "cumulus", Quality::High, accurate);
+    assert!(table.wgsl.contains("var air_table"), "{}", table.wgsl);
+    assert!(table.wgsl.contains("fn air_from_table("));
+    assert!(!table.wgsl.contains("fn air_integrals("));
+    assert!(integral.wgsl.contains("fn air_integrals("));
+    assert!(!integral.wgsl.contains("var air_table"));
+    assert!(!integral.wgsl.contains("fn air_from_table("));
+    assert_eq!(integral.stats.bindings + 1, table.stats.bindings);
+    let genus = lib.genus("cumulus").expect("genus");
+    let mut ortho = Quality::High.features();
+    ortho.orthographic = true;
+    let plain = CloudVariant::new(genus, Quality::High, ortho).key;
+    ortho.accurate_air_light = true;
+    assert_eq!(CloudVariant::new(genus, Quality::High, ortho).key, plain);
+    assert!(!plain.reads_air_table());
+    assert!(
+        CloudVariant::new(genus, Quality::High, Quality::High.features())
+            .key
+            .reads_air_table()
+    );
+}
+
 /// The uber-shader reads every generation-time choice from the key uniforms: it validates on
 /// every target, declares the `key` binding, loops to run-time bounds and keeps every effect's
 /// code; a specialised shader has none of that.
@@ -259,7 +296,7 @@ fn cloud_variant_manifest_is_pinned() {
 fn representative_cloud_keys_are_pinned_per_target() {
     let lib = library();
     // Three distinct cloud keys (low, high, and a Henyey–Greenstein genus at medium), the
-    // shadow pass of high, and the flat high layer the analysis chooses for high cirrus; the
+    // shadow pass of high, the air table, and the flat high layer the analysis chooses for high cirrus; the
     // reference library's default genus at high runs the same shader as cumulus at high (the
     // genus is uniform values; stratus has the droplets' phase function, a key of its own). Cirrus names its own weather function (`streak_weather`).
     let mut keys = Vec::new();
@@ -278,6 +315,9 @@ fn representative_cloud_keys_are_pinned_per_target() {
     );
     assert_eq!(keys[1], ShaderKey::Clouds(high.key));
     keys.extend(high.key.shadow_key().map(ShaderKey::Shadow));
+    // The air table every real-time key reads.
+    assert!(high.key.reads_air_table());
+    keys.push(ShaderKey::AirTable);
     // The flat high layer, as the analysis derives it for the high-cirrus scene.
     let scene = &lib.scenes["high-cirrus"].1;
     let cirrus = lib.genus("cirrus").expect("genus");

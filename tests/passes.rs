@@ -105,8 +105,9 @@ fn one_full_resolution_frame_has_no_resolve_pass_or_history() {
     assert!(has(&b.pipelines, "resolve") && has(&b.textures, "history"));
     assert_eq!(
         b.passes,
-        ["shadow", "clouds", "resolve", "clouds", "resolve"],
-        "the shadow atlas is made once per render, clouds and resolve once per frame"
+        ["shadow", "air", "clouds", "resolve", "clouds", "resolve"],
+        "the shadow atlas and the air table are made once per render, clouds and resolve once \
+         per frame"
     );
 }
 
@@ -130,16 +131,21 @@ fn the_atlas_is_redrawn_only_when_its_inputs_change() {
     let mut r = Renderer::new(gpu, SIZES);
     let mut f = frame();
     r.render(&f).expect("first");
-    assert_eq!(r.stats().passes, ["shadow", "clouds"]);
-    // Turning the camera does not move a shadow.
+    assert_eq!(r.stats().passes, ["shadow", "air", "clouds"]);
+    // Turning the camera does not move a shadow, nor change the air's light (the air table is
+    // indexed by the angle to the sun's vertical plane, not the camera's heading).
     f.camera_yaw_deg = 30.0;
     r.render(&f).expect("turned");
     assert_eq!(r.stats().passes, ["clouds"]);
-    // Moving the sun does.
+    // Moving the sun does both.
     f.sun_elevation_deg += 5.0;
     r.render(&f).expect("sun moved");
-    assert_eq!(r.stats().passes, ["shadow", "clouds"]);
-    // So does the wind.
+    assert_eq!(r.stats().passes, ["shadow", "air", "clouds"]);
+    // Climbing relights the air (and moves the cascades, which follow the camera).
+    f.camera_altitude += 100.0;
+    r.render(&f).expect("camera climbed");
+    assert_eq!(r.stats().passes, ["shadow", "air", "clouds"]);
+    // So does the wind, the shadows only.
     f.weather_offset.x += 0.01;
     r.render(&f).expect("weather moved");
     assert_eq!(r.stats().passes, ["shadow", "clouds"]);

@@ -52,14 +52,15 @@ fn renders_clouds_deterministically_and_caches_pipelines() {
     assert!(cloudy > 20, "no clouds in the frame");
     let b = r.render(&frame(Quality::Low)).expect("render again");
     assert_eq!(a.pixels, b.pixels, "same frame, same pixels");
-    // Low: the shadow atlas and the clouds.
-    assert_eq!(r.pipeline_count(), 2, "{:?}", r.stats().pipelines);
+    // Low: the shadow atlas, the air table and the clouds.
+    assert_eq!(r.pipeline_count(), 3, "{:?}", r.stats().pipelines);
+    // Medium: its own clouds and shadow pass; the air table is every key's.
     r.render(&frame(Quality::Medium)).expect("medium");
-    assert_eq!(r.pipeline_count(), 4, "{:?}", r.stats().pipelines);
+    assert_eq!(r.pipeline_count(), 5, "{:?}", r.stats().pipelines);
     r.render(&frame(Quality::Low)).expect("low again");
     assert_eq!(
         r.pipeline_count(),
-        4,
+        5,
         "switching back reuses the cached pipelines"
     );
 }

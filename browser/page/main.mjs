@@ -42,10 +42,14 @@ async function run(result) {
   if (q.has('time')) clouds.setTime(number('time', 0));
   const gl = renderer.getContext();
   if (q.has('bench')) {
-    // Milliseconds per frame (timing.mjs). The shadow atlas is redrawn every
-    // frame with shadow=every (as @takram/three-clouds does), else only when stale.
+    // Milliseconds per frame (timing.mjs). The shadow atlas (as @takram/three-clouds
+    // redraws its own) and the air table are redrawn every frame with shadow=every, as for
+    // a sun that moves every frame; else only when stale.
     const draw = () => {
-      if (q.get('shadow') === 'every') clouds.shadowDirty = true;
+      if (q.get('shadow') === 'every') {
+        clouds.shadowDirty = true;
+        clouds.airDirty = true;
+      }
       clouds.render(renderer);
     };
     Object.assign(result, timeFrames(gl, draw, number('warmup', 3), number('bench', 10)));

@@ -19,6 +19,7 @@ use nimbus_clouds::CloudKey;
 use nimbus_clouds::Quality;
 use nimbus_clouds::catalog::ShaderKey;
 use nimbus_clouds::frame_sequence::{cloud_frame, resolve_frame};
+use nimbus_clouds::model::air_table::{AirTableInputs, air_table_size};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
@@ -158,6 +159,16 @@ struct ShadowPass {
 /// 160×90 on llvmpipe (a whole tile was five).
 const REFRESH_BAND: u32 = 128;
 
+/// The air table pass: its uniform buffer, bind group and table, kept across frames and
+/// redrawn only when what the table depends on changes (the sun, the camera's altitude, the
+/// atmosphere).
+struct AirPass {
+    uniform: wgpu::Buffer,
+    group: Option<BoundGroup>,
+    table: Target,
+    inputs: Option<AirTableInputs>,
+}
+
 /// The cloud pass: its uniform buffer, bind group and low-resolution target.
 struct CloudPass {
     uniform: wgpu::Buffer,
@@ -210,6 +221,7 @@ pub struct Renderer<'g> {
     samplers: HashMap<SamplerDesc, wgpu::Sampler>,
     pipelines: PipelineCache,
     shadow: Option<ShadowPass>,
+    air: Option<AirPass>,
     clouds: Option<CloudPass>,
     resolve: Option<ResolvePass>,
     history: Option<History>,
@@ -333,6 +345,7 @@ impl<'g> Renderer<'g> {
             samplers: HashMap::new(),
             pipelines: PipelineCache::default(),
             shadow: None,
+            air: None,
             clouds: None,
             resolve: None,
             history: None,
@@ -427,6 +440,9 @@ impl<'g> Renderer<'g> {
         textures.extend(self.user.keys().map(|k| format!("{} (user)", role(k))));
         if let Some(s) = &self.shadow {
             textures.push(format!("shadow_map ({}x{})", s.atlas.width, s.atlas.height));
+        }
+        if let Some(a) = &self.air {
+            textures.push(format!("air_table ({}x{})", a.table.width, a.table.height));
         }
         if let Some(h) = &self.history {
             textures.push(format!(
@@ -537,6 +553,10 @@ impl<'g> Renderer<'g> {
                     .as_ref()
                     .map(|(_, t)| wgpu::BindingResource::TextureView(&t.view)),
                 CloudBinding::Scene => self.scene.as_ref().map(|(b, _)| b.as_entire_binding()),
+                CloudBinding::AirTable => self
+                    .air
+                    .as_ref()
+                    .map(|a| wgpu::BindingResource::TextureView(&a.table.view)),
                 CloudBinding::Weather
                 | CloudBinding::Shape
                 | CloudBinding::Detail
@@ -623,6 +643,82 @@ impl<'g> Renderer<'g> {
         }))
     }
 
+    /// The air table's pipeline and target, for a cloud pipeline that reads it (made with the
+    /// other targets, before any bind group of the frame), or none.
+    fn ensure_air_table(
+        &mut self,
+        clouds_key: ShaderKey,
+        uniform_size: usize,
+    ) -> Result<(), RuntimeError> {
+        let reads = cloud_bindings(self.pipelines.get(&clouds_key)?)
+            .any(|(_, c)| c == CloudBinding::AirTable);
+        if !reads {
+            return Ok(());
+        }
+        self.prepare(ShaderKey::AirTable)?;
+        if self.air.is_none() {
+            let (w, h) = air_table_size();
+            self.air = Some(AirPass {
+                uniform: uniform_buffer(self.gpu, "air table uniforms", uniform_size),
+                group: None,
+                table: target(self.gpu, "air table", w, h),
+                inputs: None,
+            });
+            self.epoch += 1;
+        }
+        Ok(())
+    }
+
+    /// Redraws the air table when the sun, the camera's altitude or the atmosphere changed
+    /// since it was drawn.
+    fn draw_air_table(
+        &mut self,
+        u: &CloudUniforms,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<PassTimer>,
+    ) -> Result<(), RuntimeError> {
+        if self.air.is_none() {
+            return Ok(());
+        }
+        let key = ShaderKey::AirTable;
+        let inputs = AirTableInputs::of(u);
+        if self.air.as_ref().is_some_and(|a| a.inputs == Some(inputs)) {
+            return Ok(());
+        }
+        let epoch = self.epoch;
+        let rebuild =
+            !matches!(&self.air, Some(AirPass { group: Some(g), .. }) if g.epoch == epoch);
+        if rebuild {
+            let group = {
+                let a = self.air.as_ref().ok_or_else(missing)?;
+                self.cloud_group(key, &a.uniform)?
+            };
+            if let Some(a) = &mut self.air {
+                a.group = Some(BoundGroup { group, key, epoch });
+            }
+        }
+        let pipeline = self.pipelines.get(&key)?;
+        let a = self.air.as_ref().ok_or_else(missing)?;
+        let group = a.group.as_ref().ok_or_else(missing)?;
+        self.gpu
+            .queue()
+            .write_buffer(&a.uniform, 0, &u.to_uniform_bytes()?);
+        draw(
+            encoder,
+            "air table",
+            &a.table.view,
+            &pipeline.pipeline,
+            &group.group,
+            PassTimer::next(timer),
+            None,
+        );
+        self.passes.push("air");
+        if let Some(a) = &mut self.air {
+            a.inputs = Some(inputs);
+        }
+        Ok(())
+    }
+
     /// The uniforms of `frame` at frame index 0 ([`Frame::uniforms`], the model's).
     pub fn uniforms(frame: &Frame) -> CloudUniforms {
         frame.uniforms()
@@ -634,8 +730,8 @@ impl<'g> Renderer<'g> {
         if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             return None;
         }
-        // Shadow, then clouds and resolve per frame: two timestamps each.
-        let capacity = (2 * (1 + 2 * frames)).min(4096);
+        // Shadow and air, then clouds and resolve per frame: two timestamps each.
+        let capacity = (2 * (2 + 2 * frames)).min(4096);
         if let Some(mut t) = self.timer.take()
             && t.capacity >= capacity
         {
@@ -873,6 +969,8 @@ impl<'g> Renderer<'g> {
             self.epoch += 1;
         }
 
+        self.ensure_air_table(clouds_key, uniform_size)?;
+
         // Shadow atlas: kept while its size holds, redrawn only when its inputs change.
         let mut encoder = self
             .gpu
@@ -975,6 +1073,7 @@ impl<'g> Renderer<'g> {
             // No shadows in this key: the atlas of an earlier one is not kept.
             self.epoch += 1;
         }
+        self.draw_air_table(&u, &mut encoder, &mut timer)?;
         self.gpu.queue().submit([encoder.finish()]);
 
         // Bind groups, remade only when a resource or the key changed.

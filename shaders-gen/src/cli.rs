@@ -230,7 +230,7 @@ pub(crate) enum Command {
         /// Timed repetitions per measurement (the median is reported).
         #[arg(short, long, default_value_t = 20)]
         iterations: u32,
-        /// Also generate and validate every reachable key (399,360 cloud keys and 16 shadow
+        /// Also generate and validate every reachable key (599,040 cloud keys and 16 shadow
         /// keys), on every core, and report the time (minutes on 2 cores).
         #[arg(long)]
         reachable: bool,

@@ -10,6 +10,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use nimbus_clouds::catalog::{Assignment, ShaderKey};
+use nimbus_clouds::model::air_table::air_table_size;
 use nimbus_clouds::model::bindings::{
     CloudBinding, DisplayBinding, ResolveBinding, SunLightBinding,
 };
@@ -315,6 +316,11 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         {
             passes.push(pass_description(Pass::SceneShadow, g, engine)?);
         }
+        if a.clouds.reads_air_table()
+            && let Some(g) = shader(ShaderKey::AirTable)
+        {
+            passes.push(pass_description(Pass::Air, g, engine)?);
+        }
         if let Some(g) = shader(ShaderKey::Clouds(a.clouds)) {
             passes.push(pass_description(Pass::Clouds, g, engine)?);
         }
@@ -339,6 +345,10 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             scene_depth: a.clouds.features.scene_depth,
             shadow_atlas: a.shadow.map(|_| {
                 let (width, height) = u.shadow.atlas_size();
+                AtlasSize { width, height }
+            }),
+            air_table: a.clouds.reads_air_table().then(|| {
+                let (width, height) = air_table_size();
                 AtlasSize { width, height }
             }),
             passes,
@@ -533,7 +543,7 @@ fn resource_at(pass: Pass, b: &BindingInfo) -> Option<Resource> {
     let (group, binding) = (b.group, b.binding);
     match pass {
         Pass::SunLight => SunLightBinding::at(group, binding).map(SunLightBinding::resource),
-        Pass::Shadow | Pass::SceneShadow | Pass::Clouds => {
+        Pass::Shadow | Pass::SceneShadow | Pass::Air | Pass::Clouds => {
             CloudBinding::at(group, binding).map(CloudBinding::resource)
         }
         Pass::Resolve => ResolveBinding::at(group, binding).map(ResolveBinding::resource),
@@ -786,6 +796,9 @@ fn frame_order(engine: Engine) -> Vec<&'static str> {
         "shadow: draw into shadow_atlas when the pair has one and the sun, the layers or any \
          media member (weather offset, wind drift, coverage) changed since it was last drawn \
          (Nimbus's runtime caches it; drawing it every frame is correct too)",
+        "air (pairs with an air pass): draw into air_table when light.sun_direction, \
+         camera_altitude or the sky block changed since it was last drawn (its whole size, \
+         once; drawing it every frame is correct too)",
         "scene_shadow (pairs that read the engine's depth and have a shadow atlas): after the \
          engine's depth and the shadow atlas, draw into scene_shadow (the depth buffer's size): \
          per pixel, the sun's light through the clouds at the engine's surface (1 where it drew \
@@ -814,6 +827,18 @@ fn targets() -> Targets {
                     .into(),
             ),
             ..hdr("the pair's shadow_atlas width × height (its cascades in a grid of tiles)")
+        },
+        air_table: Target {
+            sampled_as: Some(
+                "with the clouds pass's linear, repeat sampler (the shader keeps its coordinates \
+                 inside each slice and band)"
+                    .into(),
+            ),
+            ..hdr(&format!(
+                "{} × {} (the same for every pair)",
+                air_table_size().0,
+                air_table_size().1
+            ))
         },
         clouds_hdr: hdr("the output size, or ceil(width / 4) × ceil(height / 4) when upscaling"),
         scene_shadow: hdr(

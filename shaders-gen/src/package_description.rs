@@ -91,6 +91,7 @@ impl ResourceEntry {
 #[schemars(deny_unknown_fields)]
 pub(crate) struct Targets {
     pub shadow_atlas: Target,
+    pub air_table: Target,
     pub clouds_hdr: Target,
     pub scene_shadow: Target,
     pub history_a: Target,
@@ -152,7 +153,7 @@ pub(crate) enum CameraKind {
     Orthographic,
 }
 
-/// The size of a pair's shadow atlas (its cascades in a grid of tiles).
+/// The size of a pair's shadow atlas (its cascades in a grid of tiles) or air table.
 #[derive(Serialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
 pub(crate) struct AtlasSize {
@@ -177,6 +178,8 @@ pub(crate) struct Pair {
     pub scene_depth: bool,
     /// The shadow atlas's size, when the pair has one.
     pub shadow_atlas: Option<AtlasSize>,
+    /// The air table's size, when the pair has an air pass.
+    pub air_table: Option<AtlasSize>,
     /// Its passes, in the order of a frame.
     pub passes: Vec<PassDescription>,
 }
@@ -189,6 +192,8 @@ pub(crate) enum Pass {
     Shadow,
     /// The clouds' shadow on the engine's objects.
     SceneShadow,
+    /// The air table the clouds pass reads (`air_table`).
+    Air,
     Clouds,
     Resolve,
     Display,

@@ -52,15 +52,21 @@ fn every_engine_gets_a_complete_package() {
             .iter()
             .filter_map(|x| x["pass"].as_str())
             .collect();
-        // cumulus at low samples a shadow map, so it draws all four passes; hosts without
-        // JavaScript first complete the block on the GPU (the sun_light kernel).
+        // cumulus at low samples a shadow map and reads the air table, so it draws all five
+        // passes; hosts without JavaScript first complete the block on the GPU (the sun_light
+        // kernel).
         let javascript = matches!(engine, "three" | "webgpu");
         let expected: &[&str] = if javascript {
-            &["shadow", "clouds", "resolve", "display"]
+            &["shadow", "air", "clouds", "resolve", "display"]
         } else {
-            &["sun_light", "shadow", "clouds", "resolve", "display"]
+            &["sun_light", "shadow", "air", "clouds", "resolve", "display"]
         };
         assert_eq!(passes, expected, "{engine}");
+        assert_eq!(
+            pair["air_table"],
+            serde_json::json!({ "width": 256, "height": 384 }),
+            "{engine}"
+        );
         assert_eq!(
             out.join("nimbus-sun.js").is_file(),
             javascript,

@@ -11,7 +11,7 @@ use nimbus_dsl::{DslError, ShaderVariant, SpecValue};
 
 use crate::key::{CloudKey, ShadowKey};
 use crate::model::clouds::{
-    CloudVariant, cloud_module, display_module, resolve_module, shadow_module,
+    CloudVariant, air_table_module, cloud_module, display_module, resolve_module, shadow_module,
 };
 use crate::model::preview::{PhaseModel, preview_module};
 use crate::{CloudLibrary, Features, Genus, Quality};
@@ -25,6 +25,8 @@ pub enum ShaderKey {
     Clouds(CloudKey),
     /// The beer shadow map atlas.
     Shadow(ShadowKey),
+    /// The air table (one for every key that reads it).
+    AirTable,
     /// Temporal upscaling and accumulation (one for every key).
     Resolve,
     /// The display transform: HDR to display sRGB (one for every key).
@@ -44,6 +46,7 @@ impl ShaderKey {
             ShaderKey::Preview(m) => m.suffix(),
             ShaderKey::Clouds(k) => k.name(),
             ShaderKey::Shadow(k) => k.name(),
+            ShaderKey::AirTable => "table".into(),
             ShaderKey::Resolve => "temporal".into(),
             ShaderKey::Display => "aces-srgb".into(),
             ShaderKey::SunLight => "light".into(),
@@ -57,10 +60,11 @@ impl ShaderKey {
             ShaderKey::Preview(_) => 0,
             ShaderKey::Clouds(_) => 1,
             ShaderKey::Shadow(_) => 2,
-            ShaderKey::Resolve => 3,
-            ShaderKey::Display => 4,
-            ShaderKey::SunLight => 5,
-            ShaderKey::SceneShadow => 6,
+            ShaderKey::AirTable => 3,
+            ShaderKey::Resolve => 4,
+            ShaderKey::Display => 5,
+            ShaderKey::SunLight => 6,
+            ShaderKey::SceneShadow => 7,
         };
         (m, self.key_name())
     }
@@ -72,6 +76,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Preview(_) => "preview",
             ShaderKey::Clouds(_) => "clouds",
             ShaderKey::Shadow(_) => "shadow",
+            ShaderKey::AirTable => "air",
             ShaderKey::Resolve => "resolve",
             ShaderKey::Display => "display",
             ShaderKey::SunLight => "sun",
@@ -88,6 +93,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Preview(m) => preview_module(*m),
             ShaderKey::Clouds(k) => cloud_module(k),
             ShaderKey::Shadow(k) => shadow_module(k),
+            ShaderKey::AirTable => air_table_module(),
             ShaderKey::Resolve => resolve_module(),
             ShaderKey::Display => display_module(),
             ShaderKey::SunLight => crate::model::sun::sun_light_module(),
@@ -115,6 +121,9 @@ impl Assignment {
     pub fn keys(&self) -> Vec<ShaderKey> {
         let mut keys = vec![ShaderKey::Clouds(self.clouds)];
         keys.extend(self.shadow.map(ShaderKey::Shadow));
+        if self.clouds.reads_air_table() {
+            keys.push(ShaderKey::AirTable);
+        }
         keys
     }
 }
@@ -147,6 +156,9 @@ fn describe(key: &ShaderKey) -> String {
         ShaderKey::Preview(_) => "false-colour density profile and phase function preview".into(),
         ShaderKey::Clouds(_) => "cloud march over sky and ground".into(),
         ShaderKey::Shadow(_) => "beer shadow map atlas".into(),
+        ShaderKey::AirTable => {
+            "the air's light per direction and distance (sky view and aerial perspective)".into()
+        }
         ShaderKey::Resolve => {
             "temporal upscaling and accumulation, reprojection, history clipping".into()
         }

@@ -167,6 +167,14 @@ effects! {
     /// camera's, not an effect: in no preset, chosen by the host (`--enable orthographic`).
     Orthographic, orthographic, "orthographic", tag "ortho",
         presets [], rule None;
+    /// The air's light (the sky behind the clouds and the air in front of them) integrated along
+    /// each pixel's ray, twelve samples for each, instead of read from the air table
+    /// (`model::air_table`), which a pass of its own fills when the sun or the camera's altitude
+    /// changes. In `reference` only: the integrals cost a third of `low`'s frame in the browser
+    /// benchmark. An orthographic camera always integrates (each of its rays starts at its own
+    /// altitude, which one table cannot hold).
+    AccurateAirLight, accurate_air_light, "accurate-air-light", tag "air",
+        presets [Reference], rule None;
 }
 
 fn first_line(doc: &[&'static str]) -> &'static str {

@@ -144,6 +144,8 @@ impl CloudKey {
         features.accurate_phase_function = false;
         // The shaft march only scales the haze's sunlight: without haze it has no output.
         features.light_shafts &= features.haze;
+        // An orthographic camera integrates the air per ray whatever the toggle says.
+        features.accurate_air_light &= !features.orthographic;
         // Diffusion replaces the octaves beyond the first (single scattering).
         if features.diffusion {
             features.octaves = 1;
@@ -217,10 +219,11 @@ impl CloudKey {
     }
 
     /// Every canonical key of the built-in genus functions: each combination of the toggles
-    /// (light shafts only with haze; the Mie toggle is a phase kind; the flat high layer, the
+    /// (light shafts only with haze; the Mie toggle is a phase kind; the accurate air light not
+    /// with an orthographic camera, which integrates the air anyway; the flat high layer, the
     /// untiled weather, the engine's scene depth and an orthographic camera with any of them),
     /// 1–12 octaves (one with the diffusion, which replaces the others), the five phase kinds
-    /// and one or two lane groups: (3,072 × 12 + 3,072) × 5 × 2 = 399,360 keys. A genus' own
+    /// and one or two lane groups: (4,608 × 12 + 4,608) × 5 × 2 = 599,040 keys. A genus' own
     /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL
@@ -238,6 +241,9 @@ impl CloudKey {
                 t.set(&mut features, bits & (1 << i) != 0);
             }
             if features.light_shafts && !features.haze {
+                continue;
+            }
+            if features.accurate_air_light && features.orthographic {
                 continue;
             }
             let most_octaves = if features.diffusion { 1 } else { 12 };
@@ -267,6 +273,15 @@ impl CloudKey {
     pub fn uses_shadow_map(&self) -> bool {
         let f = self.features;
         f.shadows || (f.haze && f.light_shafts)
+    }
+
+    /// Whether the shader reads the air table (`model::air_table`), which its own pass fills:
+    /// every key that composites the air's light and does not integrate it per pixel.
+    pub fn reads_air_table(&self) -> bool {
+        let f = self.features;
+        !f.accurate_air_light
+            && !f.orthographic
+            && matches!(self.output, PixelOutput::Composite | PixelOutput::Samples)
     }
 
     /// The key of this shader's shadow pass, when it samples a shadow map.

@@ -111,6 +111,8 @@ export declare class NimbusHost {
   readonly temporal: boolean;
   /** Redraw the shadow atlas on the next frame. */
   shadowDirty: boolean;
+  /** Redraw the air table (the sky and the air in front of the clouds) on the next frame. */
+  airDirty: boolean;
   /** Linear radiance is scaled by this before the tone curve. */
   exposure: number;
   /** The sun's direction (unit, x east, y up, z south). */

@@ -200,6 +200,8 @@ export class NimbusHost {
     this.accumulateOn = false;
     this.seed = 0;
     this.shadowDirty = true;
+    // The air table follows the sun and the camera's altitude.
+    this.airDirty = true;
     // Seconds since the timeline's start, and its wind and weather states (none: still air,
     // the package's coverage).
     this.time = 0;
@@ -318,6 +320,7 @@ export class NimbusHost {
     u.setFloats('shadow.matrix', light.shadow_matrix.flat());
     u.setFloats('shadow.inverse_matrix', light.shadow_inverse_matrix.flat());
     this.shadowDirty = true;
+    this.airDirty = true;
   }
 
   /**

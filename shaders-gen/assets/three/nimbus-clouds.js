@@ -125,6 +125,9 @@ export class NimbusClouds extends NimbusHost {
     this.shadowTarget = pair.shadow_atlas
       ? hdrTarget(pair.shadow_atlas.width, pair.shadow_atlas.height, THREE.RepeatWrapping)
       : null;
+    this.airTarget = pair.air_table
+      ? hdrTarget(pair.air_table.width, pair.air_table.height, THREE.RepeatWrapping)
+      : null;
     this.cloudTarget = hdrTarget(1, 1, THREE.ClampToEdgeWrapping);
     // The clouds' shadow on the engine's objects, one texel per pixel of its depth buffer.
     this.sceneShadowTarget = pair.passes.some((p) => p.pass === 'scene_shadow')
@@ -188,6 +191,7 @@ export class NimbusClouds extends NimbusHost {
   targets() {
     return {
       shadow_atlas: this.shadowTarget,
+      air_table: this.airTarget,
       clouds_hdr: this.cloudTarget,
       shown: this.cloudTarget,
       history_read: this.history[0],
@@ -299,6 +303,7 @@ export class NimbusClouds extends NimbusHost {
     const index = this.beginFrame();
     const previous = renderer.getRenderTarget();
     this.drawShadowAtlas(renderer);
+    this.drawAirTable(renderer);
     this.draw(renderer, this.passes.clouds, this.cloudTarget);
     let shown = this.cloudTarget;
     if (this.temporal) {
@@ -355,6 +360,14 @@ export class NimbusClouds extends NimbusHost {
       for (const d of this.dynamic) if (d.holds === 'scene_depth') d.uniform.value = depth;
     } else if (depth) {
       throw new Error(`${caller}: the pair ${this.pair.pair} was built without --enable scene-depth; it cannot read a depth buffer`);
+    }
+  }
+
+  /** Redraws the air table when the sun or the camera's altitude changed. */
+  drawAirTable(renderer) {
+    if (this.passes.air && this.airDirty) {
+      this.draw(renderer, this.passes.air, this.airTarget);
+      this.airDirty = false;
     }
   }
 

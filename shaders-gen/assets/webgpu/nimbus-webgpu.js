@@ -96,6 +96,8 @@ export class NimbusWebGPU extends NimbusHost {
     }
     const atlas = pair.shadow_atlas;
     this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height) : null;
+    const air = this.pair.air_table;
+    this.airTarget = air ? this.target('air table', air.width, air.height) : null;
     // The clouds' shadow on the engine's objects (pairs with a scene_shadow pass), sized to
     // the engine's depth when it is first drawn.
     this.sceneShadowTarget = null;
@@ -217,6 +219,14 @@ export class NimbusWebGPU extends NimbusHost {
     return this.sceneShadowTarget;
   }
 
+  /** Redraws the air table when the sun or the camera's altitude changed. */
+  drawAirTable(encoder) {
+    if (this.passes.air && this.airDirty) {
+      this.draw(encoder, 'air', this.airTarget.createView());
+      this.airDirty = false;
+    }
+  }
+
   /** Redraws the shadow atlas when the sun, the camera's place or the clouds moved. */
   drawShadowAtlas(encoder) {
     if (this.passes.shadow && this.shadowDirty) {
@@ -239,6 +249,7 @@ export class NimbusWebGPU extends NimbusHost {
   bindGroup({ pass, layout }, shown, historyRead) {
     const targets = {
       shadow_atlas: this.shadowTarget,
+      air_table: this.airTarget,
       clouds_hdr: this.cloudTarget,
       history_read: historyRead,
       shown,
@@ -291,6 +302,7 @@ export class NimbusWebGPU extends NimbusHost {
     }
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
     this.drawShadowAtlas(encoder);
+    this.drawAirTable(encoder);
     this.draw(encoder, 'clouds', this.cloudTarget.createView());
     if (this.temporal) {
       this.draw(encoder, 'resolve', shown.createView(), null, read);
@@ -302,7 +314,7 @@ export class NimbusWebGPU extends NimbusHost {
   }
 
   dispose() {
-    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.sceneShadowTarget]) t?.destroy();
+    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.airTarget, this.sceneShadowTarget]) t?.destroy();
     for (const t of Object.values(this.textures)) t.destroy();
     for (const b of Object.values(this.buffers)) b.destroy();
   }

@@ -74,8 +74,13 @@ fn reference_uniforms(
     )
 }
 
+/// `high`'s key, integrating the air per ray: the probes of one case carry suns and camera
+/// altitudes of their own, and one GPU dispatch runs them all, where one air table would serve
+/// one sun at one altitude (the table's own hard cases are `tests/air_table.rs`'s).
 fn key_of(genus: &Genus) -> CloudKey {
-    CloudVariant::new(genus, Quality::High, Quality::High.features()).key
+    let mut features = Quality::High.features();
+    features.accurate_air_light = true;
+    CloudVariant::new(genus, Quality::High, features).key
 }
 
 /// Unit direction with up-cosine `mu` at `azimuth` (radians).

@@ -101,6 +101,15 @@ pub static SCENE: Binding<SceneDepthParams> = Binding::uniform(
     "The engine camera and its depth buffer's encoding.",
 );
 
+/// The air table (`model::air_table`): the air's light per direction and distance, drawn by
+/// its own pass (keys without `accurate-air-light`).
+pub static AIR_TABLE: Binding<Texture2d> = Binding::texture(
+    "air_table",
+    0,
+    10,
+    "The air's phase-free light and transmittance per direction and distance.",
+);
+
 /// Offsets, weights, reprojection.
 pub static RESOLVE: Binding<ResolveParams> =
     Binding::uniform("resolve", 0, 0, "Offsets, weights, reprojection.");
@@ -216,6 +225,8 @@ pass_bindings! {
         SceneDepth = SCENE_DEPTH.slot() => SceneDepth,
         /// Its encoding and camera ([`SCENE`]).
         Scene = SCENE.slot() => Scene,
+        /// The air table pass's target ([`AIR_TABLE`]).
+        AirTable = AIR_TABLE.slot() => AirTable,
     }
 }
 
@@ -270,8 +281,9 @@ impl CloudTextures {
         })
     }
 
-    /// Binds `uniforms`, these textures and the repeating sampler for the CPU twins of the
-    /// cloud model on this thread, as the runtime's bind group does for the GPU.
+    /// Binds `uniforms`, these textures, the air table drawn for `uniforms` and the repeating
+    /// sampler for the CPU twins of the cloud model on this thread, as the runtime's bind group
+    /// does for the GPU.
     pub fn bind(&self, uniforms: CloudUniforms) -> BoundGuard {
         CpuBindings::new()
             .set(&CLOUDS, uniforms)
@@ -280,6 +292,7 @@ impl CloudTextures {
             .set(&DETAIL, self.detail.clone())
             .set(&TURBULENCE, self.turbulence.clone())
             .set(&SHADOW_MAP, self.shadow.clone())
+            .set(&AIR_TABLE, super::air_table::air_table_texture(&uniforms))
             .set(&LINEAR_REPEAT, Sampler::default())
             .bind()
     }

@@ -59,6 +59,7 @@ pub const FLAT_HIGH_LAYER: Toggle = Toggle::FlatHighLayer;
 pub const SCENE_DEPTH: Toggle = Toggle::SceneDepth;
 pub const ORTHOGRAPHIC: Toggle = Toggle::Orthographic;
 pub const UNTILED_WEATHER: Toggle = Toggle::UntiledWeather;
+pub const ACCURATE_AIR_LIGHT: Toggle = Toggle::AccurateAirLight;
 
 pub const HENYEY_GREENSTEIN: PhaseKind = PhaseKind::HenyeyGreenstein;
 pub const DUAL_LOBE: PhaseKind = PhaseKind::DualLobe;

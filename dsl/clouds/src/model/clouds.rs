@@ -7,6 +7,7 @@ use nimbus_dsl::{DslError, ModuleBuilder, loc};
 
 pub use super::bindings::{CloudBinding, ResolveBinding};
 
+use super::air_table::air_table_fragment;
 use super::display::display_fragment;
 use super::march::{CloudUniforms, cloud_fragment};
 use super::preview::fullscreen_position;
@@ -246,6 +247,27 @@ pub fn shadow_module(key: &ShadowKey) -> Result<Module, DslError> {
                 "One texel of the shadow atlas.",
                 loc!(),
                 |frag_coord| shadow_fragment::shader(frag_coord, key),
+            );
+        },
+    )
+}
+
+/// Records the air table module (the same for every key that reads the table): one texel of
+/// the table per fragment, from the cloud block's sun, camera altitude and atmosphere.
+pub fn air_table_module() -> Result<Module, DslError> {
+    ModuleBuilder::build(
+        "air",
+        "The air table: the air's phase-free light and transmittance per direction and distance.",
+        loc!(),
+        |m| {
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment(
+                "fs_air",
+                "One texel of the air table.",
+                loc!(),
+                air_table_fragment::shader,
             );
         },
     )

@@ -12,6 +12,7 @@ use crate::key::{CloudKey, PixelOutput};
 use nimbus_dsl::prelude::*;
 
 use super::air_shadow::air_sunlit;
+use super::air_table::air_along;
 use super::bindings::CLOUDS;
 use super::choices::{
     APPROXIMATE_MIE, DIFFUSION, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE,
@@ -31,7 +32,7 @@ use super::scene_depth::{composite_over_scene, scene_distance};
 use super::scene_shadow::sun_through_clouds;
 use super::shadow::{ShadowParams, shadow_texel};
 use super::shell::{ground_hit, ray_shell};
-use super::sky::{AtmosphereParams, air_light, ground_radiance, sky_distance, sun_disc};
+use super::sky::{AtmosphereParams, ground_radiance, sky_distance, sun_disc};
 use super::transmission::{DROPLET_ASYMMETRY, slab_diffuse_transmittance};
 
 /// March settings for one quality preset (uniforms: changing them needs no new pipeline).
@@ -925,14 +926,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     let cos_theta = direction.dot(sun);
     // Behind the clouds: the ground (negative distance) or the top of the atmosphere.
     let behind = sky_distance(u.camera_altitude, direction.y, u.sky.top_height, radius);
-    let air = air_light(
-        u.camera_altitude,
-        direction,
-        sun,
-        behind.abs(),
-        u.sky,
-        radius,
-    );
+    let air = air_along(direction, behind.abs(), key);
     let switches = u.composite;
     let mut background = air.inscatter * switches.sky;
     if behind < 0.0 {
@@ -991,15 +985,7 @@ pub fn clouds_through_air(
     jitter: f32,
     #[spec] key: CloudKey,
 ) -> Vec3 {
-    let u = CLOUDS.get();
-    let near = air_light(
-        u.camera_altitude,
-        direction,
-        u.light.sun_direction,
-        clouds.front_depth,
-        u.sky,
-        u.march.radius,
-    );
+    let near = air_along(direction, clouds.front_depth, key);
     let sunlit = air_sunlit(direction, clouds.front_depth, jitter, key);
     near.inscatter * ((1.0 - clouds.transmittance) * air * sunlit)
         + clouds.radiance * (Vec3::ONE + (near.transmittance - Vec3::ONE) * air)

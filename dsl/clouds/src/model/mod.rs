@@ -2,6 +2,7 @@
 //! reference renders) and is recorded into shader modules for every target.
 
 pub mod air_shadow;
+pub mod air_table;
 pub mod bindings;
 pub mod choices;
 pub mod clouds;

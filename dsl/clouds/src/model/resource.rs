@@ -26,6 +26,8 @@ pub enum Resource {
     Turbulence,
     /// The shadow pass's target.
     ShadowAtlas,
+    /// The air table pass's target.
+    AirTable,
     /// Linear filtering, repeating.
     LinearRepeat,
     /// The uber-shader's key uniforms (never in a package: packages hold specialised keys).
@@ -71,7 +73,7 @@ pub enum ResourceKind {
 }
 
 impl Resource {
-    pub const ALL: [Resource; 18] = [
+    pub const ALL: [Resource; 19] = [
         Resource::Pair,
         Resource::PairInputs,
         Resource::Weather,
@@ -79,6 +81,7 @@ impl Resource {
         Resource::Detail,
         Resource::Turbulence,
         Resource::ShadowAtlas,
+        Resource::AirTable,
         Resource::LinearRepeat,
         Resource::Key,
         Resource::SceneDepth,
@@ -102,6 +105,7 @@ impl Resource {
             Resource::Detail => "detail",
             Resource::Turbulence => "turbulence",
             Resource::ShadowAtlas => "shadow_atlas",
+            Resource::AirTable => "air_table",
             Resource::LinearRepeat => "linear_repeat",
             Resource::Key => "key",
             Resource::SceneDepth => "scene_depth",
@@ -127,6 +131,7 @@ impl Resource {
                 ResourceKind::Texture
             }
             Resource::ShadowAtlas
+            | Resource::AirTable
             | Resource::CloudsHdr
             | Resource::HistoryRead
             | Resource::Shown => ResourceKind::Target,
@@ -152,6 +157,7 @@ impl Resource {
             Resource::Detail => "textures: detail",
             Resource::Turbulence => "textures: turbulence",
             Resource::ShadowAtlas => "the shadow pass's target",
+            Resource::AirTable => "the air pass's target",
             Resource::LinearRepeat => "linear, repeat",
             Resource::Key => "the uber-shader's key uniforms",
             Resource::SceneDepth => {

@@ -16,11 +16,11 @@ use glam::{Mat4, Vec2, Vec3, Vec4, ivec2};
 use nimbus_dsl::prelude::*;
 
 use super::air_shadow::air_sunlit;
+use super::air_table::air_along;
 use super::bindings::{CLOUDS, SCENE, SCENE_DEPTH};
 use super::choices::{HAZE, ORTHOGRAPHIC, gate};
 use super::march::{MarchResult, clouds_through_air, composite, haze_light, haze_opacity};
 use super::orthographic::ray_origin;
-use super::sky::air_light;
 use crate::key::CloudKey;
 
 /// Distance (m) standing for "no surface": the engine drew nothing in the pixel.
@@ -179,20 +179,12 @@ pub fn composite_over_scene(
             .truncate()
             .extend(1.0);
     }
-    let sun = u.light.sun_direction;
     let air_weight = switches.aerial_perspective;
     // The engine's pixel shows through the clouds and, in front of its surface, the air.
     let mut color = Vec3::ZERO;
     let mut through = clouds.transmittance;
     if has_surface {
-        let air = air_light(
-            u.camera_altitude,
-            direction,
-            sun,
-            surface,
-            u.sky,
-            u.march.radius,
-        );
+        let air = air_along(direction, surface, key);
         color = air.inscatter
             * (clouds.transmittance * air_weight * air_sunlit(direction, surface, jitter, key));
         through *= 1.0 + (air.transmittance.dot(Vec3::splat(1.0 / 3.0)) - 1.0) * air_weight;

@@ -107,25 +107,55 @@ const VIEW_SAMPLES: u32 = 12;
 const PI: f32 = core::f32::consts::PI;
 const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
 
-/// Single scattering along the view ray from `camera_altitude` in unit `direction` (y up), over
-/// `distance` metres. Samples are spaced quadratically (denser near the camera, where the air
-/// is thick), each lit by the sun through [`transmittance_towards`]. From above the atmosphere
-/// (a camera in orbit) they start where the ray enters it, not in the vacuum before.
+/// The air's single scattering along a view ray without its phase functions, which are
+/// constant along a ray and so factor out: `inscatter = (rayleigh·p_R(θ) + mie·p_M(θ))·E_sun`.
+/// What the air table stores (`model::air_table`): smooth in direction where the phased light
+/// (the Mie aureole round the sun) is not.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct AirIntegrals {
+    /// `∫ β_R(h) T_sun T_view dt` (1/sr before the phase).
+    pub rayleigh: Vec3,
+    /// `∫ β_M(h) T_sun T_view dt`.
+    pub mie: Vec3,
+    /// The view ray's optical depth (its transmittance is `e^(−τ)`).
+    pub optical_depth: Vec3,
+}
+
+/// The air's light from its phase-free integrals, for a view ray at cosine `cos_theta` from the
+/// sun.
 #[shader_fn]
-pub fn air_light(
+pub fn phased_air_light(
+    integrals: AirIntegrals,
+    cos_theta: f32,
+    atmosphere: AtmosphereParams,
+) -> AirLight {
+    let rayleigh_phase = 0.059_683_1 * (1.0 + cos_theta * cos_theta);
+    let mie_phase = henyey_greenstein(cos_theta, atmosphere.mie_g);
+    AirLight {
+        inscatter: (integrals.rayleigh * rayleigh_phase + integrals.mie * mie_phase)
+            * atmosphere.solar_irradiance,
+        transmittance: (-integrals.optical_depth).exp(),
+    }
+}
+
+/// Single scattering along the view ray from `camera_altitude` in unit `direction` (y up), over
+/// `distance` metres, without the phase functions ([`AirIntegrals`]). Samples are spaced
+/// quadratically (denser near the camera, where the air is thick), each lit by the sun
+/// through [`transmittance_towards`]. From above the atmosphere (a camera in orbit) they start
+/// where the ray enters it, not in the vacuum before.
+#[shader_fn]
+pub fn air_integrals(
     camera_altitude: f32,
     direction: Vec3,
     sun_direction: Vec3,
     distance: f32,
     atmosphere: AtmosphereParams,
     radius: f32,
-) -> AirLight {
+) -> AirIntegrals {
     let mu = direction.y;
-    let cos_theta = direction.dot(sun_direction);
-    let rayleigh_phase = 0.059_683_1 * (1.0 + cos_theta * cos_theta);
-    let mie_phase = henyey_greenstein(cos_theta, atmosphere.mie_g);
     let mut optical_depth = Vec3::ZERO;
-    let mut inscatter = Vec3::ZERO;
+    let mut rayleigh = Vec3::ZERO;
+    let mut mie = Vec3::ZERO;
     let top = ray_shell(camera_altitude, mu, atmosphere.top_height, radius);
     let entry = select(
         0.0,
@@ -151,16 +181,38 @@ pub fn air_light(
         let up = (direction * t + vec3(0.0, radius + camera_altitude, 0.0)) / r;
         let sun_mu = up.dot(sun_direction);
         let to_sun = transmittance_towards(h, sun_mu, atmosphere, radius);
-        let view = (-(optical_depth + extinction * (dt * 0.5))).exp();
-        let scattering = atmosphere.rayleigh_scattering * (rho_r * rayleigh_phase)
-            + Vec3::splat(atmosphere.mie_scattering * rho_m * mie_phase);
-        inscatter += scattering * to_sun * view * dt;
+        let lit = to_sun * (-(optical_depth + extinction * (dt * 0.5))).exp() * dt;
+        rayleigh += atmosphere.rayleigh_scattering * lit * rho_r;
+        mie += lit * (atmosphere.mie_scattering * rho_m);
         optical_depth += extinction * dt;
     }
-    AirLight {
-        inscatter: inscatter * atmosphere.solar_irradiance,
-        transmittance: (-optical_depth).exp(),
+    AirIntegrals {
+        rayleigh,
+        mie,
+        optical_depth,
     }
+}
+
+/// Single scattering along the view ray from `camera_altitude` in unit `direction` (y up), over
+/// `distance` metres ([`air_integrals`] with the phases of the ray's angle to the sun).
+#[shader_fn]
+pub fn air_light(
+    camera_altitude: f32,
+    direction: Vec3,
+    sun_direction: Vec3,
+    distance: f32,
+    atmosphere: AtmosphereParams,
+    radius: f32,
+) -> AirLight {
+    let integrals = air_integrals(
+        camera_altitude,
+        direction,
+        sun_direction,
+        distance,
+        atmosphere,
+        radius,
+    );
+    phased_air_light(integrals, direction.dot(sun_direction), atmosphere)
 }
 
 /// Distance along a view ray to what ends it in the sky: the ground, or the top of the
