@@ -1,8 +1,9 @@
 // The browser benchmark (not a test): Nimbus's three.js package and @takram/three-clouds
 // (page/takram.mjs) at each quality preset, with temporal upscaling off and on, in the same
-// headless Chromium as the browser test and in one run, 640×360, the same camera, sun and
-// coverage value, median ms/frame over timed frames after warm-up; Nimbus's shadow atlas drawn
-// every frame (as takram does) and cached. Writes a Markdown table to stdout.
+// headless Chromium as the browser test and in one run, 640×360, the same camera and sun and
+// the same cloud fraction (matched below), median ms/frame over timed frames after warm-up;
+// Nimbus's shadow atlas and air table drawn every frame (as for a sun that moves each frame;
+// takram redraws its shadow map every frame) and cached. Writes a Markdown table to stdout.
 //
 //   npm run bench            (uses ../target/release/nimbus; NIMBUS=path to override;
 //                             BENCH_PRESETS=ultra,high for some presets only)
@@ -20,12 +21,13 @@ const nimbus = process.env.NIMBUS ?? resolve(here, '../target/release/nimbus');
 const work = mkdtempSync(join(tmpdir(), 'nimbus-bench-'));
 const frames = Number(process.env.BENCH_FRAMES ?? 5);
 // The scenes match: the same camera and sun, and Nimbus's `takram-default` genus, which is
-// takram's four default layers, at coverage 0.6. The two coverages do not mean the same sky, so
-// the bench matches them itself before it times anything: the cloud fraction (the share of the
-// pixels above the horizon that differ by more than 12/255 from a coverage-0 render of the same
-// view, `low`, 640×360) is measured for Nimbus, and takram's coverage bisected until its own
-// fraction is the same (TAKRAM_COVERAGE skips the search).
-const coverage = 0.6;
+// takram's four default layers. The two libraries' coverages do not mean the same sky (Nimbus's
+// 0.6 is an overcast where takram's is broken cloud), so the bench matches them itself before it
+// times anything: takram keeps its own default, 0.6, and Nimbus's coverage is bisected until its
+// cloud fraction (the share of the pixels above the horizon that differ by more than 12/255 from
+// a coverage-0 render of the same view, `low`, 640×360) is takram's. NIMBUS_COVERAGE skips the
+// search.
+const takramCoverage = 0.6;
 const view = { width: 640, height: 360, pitch: 10, fov: 60 };
 const rows = [];
 const median = (text) => Number(/median ms\/frame: ([0-9.]+)/.exec(text)?.[1]);
@@ -95,33 +97,34 @@ function cloudFraction(cloudyPng, clearPng) {
 }
 
 const size = [`width=${view.width}`, `height=${view.height}`, `pitch=${view.pitch}`, `fov=${view.fov}`];
-const takramAt = (out, c, extra = []) => execFileSync('node', ['takram.mjs', out, ...size, 'quality=low',
-  `coverage=${c}`, 'sun=35,150', 'altitude=2', 'yaw=0', 'upscale=0', ...extra], { cwd: here, encoding: 'utf8' });
+const takramAt = (out, c) => execFileSync('node', ['takram.mjs', out, ...size, 'quality=low', `coverage=${c}`,
+  'sun=35,150', 'altitude=2', 'yaw=0', 'upscale=0'], { cwd: here, encoding: 'utf8' });
 
-/** Nimbus's cloud fraction at the bench's coverage, and takram's coverage of the same fraction. */
-function matchedTakramCoverage() {
+/** takram's cloud fraction at its coverage, and Nimbus's coverage of the same fraction. */
+function matchedNimbusCoverage() {
+  const [takramCloudy, takramClear] = [join(work, 'takram-cloudy.png'), join(work, 'takram-clear.png')];
+  takramAt(takramCloudy, takramCoverage);
+  takramAt(takramClear, 0);
+  const target = cloudFraction(takramCloudy, takramClear);
   const scene = join(work, 'fraction.toml');
   writeFileSync(scene, [
     'name = "fraction"', 'description = "The browser benchmark\'s cloud fraction."',
-    'genus = "takram-default"', 'quality = "low"', `coverage = ${coverage}`, 'sun_elevation_deg = 35.0',
+    'genus = "takram-default"', 'quality = "low"', 'sun_elevation_deg = 35.0',
     'sun_azimuth_deg = 150.0', 'camera_altitude = 2.0', `camera_pitch_deg = ${view.pitch}.0`, '',
   ].join('\n'));
   const pkg = join(work, 'package-fraction');
   execFileSync(nimbus, ['emit', '--engine', 'three', '--scene', scene, '-o', pkg], { stdio: ['ignore', 'ignore', 'inherit'] });
-  const nimbusAt = (out, weather) => execFileSync('node', ['render.mjs', pkg, out, ...size, ...weather],
+  // The package's own weather control sets the coverage (`setWeather`).
+  const nimbusAt = (out, c) => execFileSync('node', ['render.mjs', pkg, out, ...size, `weather=${c}`],
     { cwd: here, encoding: 'utf8' });
-  const [cloudy, clear] = [join(work, 'nimbus-cloudy.png'), join(work, 'nimbus-clear.png')];
-  nimbusAt(cloudy, []);
-  nimbusAt(clear, ['weather=0']);
-  const target = cloudFraction(cloudy, clear);
-  const takramClear = join(work, 'takram-clear.png');
-  takramAt(takramClear, 0);
+  const clear = join(work, 'nimbus-clear.png');
+  nimbusAt(clear, 0);
   const fractionAt = (c) => {
-    const out = join(work, `takram-${c.toFixed(4)}.png`);
-    takramAt(out, c);
-    return cloudFraction(out, takramClear);
+    const out = join(work, `nimbus-${c.toFixed(4)}.png`);
+    nimbusAt(out, c);
+    return cloudFraction(out, clear);
   };
-  let [lo, hi] = [0.2, 1.0];
+  let [lo, hi] = [0.0, 1.0];
   for (let i = 0; i < 8; i++) {
     const mid = (lo + hi) / 2;
     if (fractionAt(mid) < target) lo = mid;
@@ -131,13 +134,14 @@ function matchedTakramCoverage() {
   return { target, matched, reached: fractionAt(matched) };
 }
 
-let takramCoverage = process.env.TAKRAM_COVERAGE;
-if (takramCoverage === undefined) {
-  const m = matchedTakramCoverage();
-  takramCoverage = m.matched.toFixed(4);
-  console.error(`cloud fraction above the horizon: Nimbus ${m.target.toFixed(3)} at coverage ${coverage}; `
-    + `takram ${m.reached.toFixed(3)} at coverage ${takramCoverage} (bisected)`);
+let coverage = process.env.NIMBUS_COVERAGE;
+if (coverage === undefined) {
+  const m = matchedNimbusCoverage();
+  coverage = m.matched.toFixed(4);
+  console.error(`cloud fraction above the horizon: takram ${m.target.toFixed(3)} at coverage ${takramCoverage}; `
+    + `Nimbus ${m.reached.toFixed(3)} at coverage ${coverage} (bisected)`);
 }
+
 for (const quality of presets) {
   const scene = join(work, `${quality}.toml`);
   writeFileSync(scene, [

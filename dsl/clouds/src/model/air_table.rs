@@ -189,23 +189,6 @@ pub fn air_table_texel(band: f32, slice: f32, column: f32, row: f32) -> Vec3 {
         .xyz()
 }
 
-/// Integral `band`'s share of the light scattered, `I / (1 − e^(−τ))`, at slice `slice`.
-#[shader_fn]
-pub fn slice_share(band: f32, slice: f32, column: f32, row: f32) -> Vec3 {
-    let integral = air_table_texel(band, slice, column, row);
-    let scattered = Vec3::ONE - (-air_table_texel(2.0, slice, column, row)).exp();
-    integral / scattered.max(Vec3::splat(1e-12))
-}
-
-/// Integral `band`'s share of the scattered light between slices `near` and `far`, `f` of the
-/// way (linear in distance).
-#[shader_fn]
-pub fn air_share(band: f32, near: f32, far: f32, f: f32, column: f32, row: f32) -> Vec3 {
-    let a = slice_share(band, near, column, row);
-    let b = slice_share(band, far, column, row);
-    a + (b - a) * f
-}
-
 /// The air's light along unit `direction` over its first `distance` metres, read from the air
 /// table: the same as [`super::sky::air_light`] at the table's directions and distances,
 /// interpolated between them. `meets_ground` says which half of the table holds the ray (the
@@ -244,15 +227,31 @@ pub fn air_from_table(direction: Vec3, distance: f32, meets_ground: bool) -> Air
     // real air), times `1 − e^(−τ)` at the distance: linear in the integrals themselves, they
     // read up to 10 % low 2 km towards the sun, where the haze thins fast with height, and 7 %
     // low 11 km along the horizon, where the light saturates between slices 5 and 20 km out.
+    // Six reads: each band at the two slices.
+    let rayleigh_near = air_table_texel(0.0, near, column, row);
+    let rayleigh_far = air_table_texel(0.0, near + 1.0, column, row);
+    let mie_near = air_table_texel(1.0, near, column, row);
+    let mie_far = air_table_texel(1.0, near + 1.0, column, row);
     let tau_near = air_table_texel(2.0, near, column, row);
     let tau_far = air_table_texel(2.0, near + 1.0, column, row);
     let tau = tau_near + (tau_far - tau_near) * f;
-    let scattered = Vec3::ONE - (-tau).exp();
+    let scattered_near = (Vec3::ONE - (-tau_near).exp()).max(Vec3::splat(1e-12));
+    let scattered_far = (Vec3::ONE - (-tau_far).exp()).max(Vec3::splat(1e-12));
     // The first slice is the camera (nothing scattered yet): its share is the next one's.
-    let first = select(near, near + 1.0, near < 0.5);
+    let at_camera = near < 0.5;
+    let rayleigh_share_far = rayleigh_far / scattered_far;
+    let mie_share_far = mie_far / scattered_far;
+    let rayleigh_share_near = select(
+        rayleigh_near / scattered_near,
+        rayleigh_share_far,
+        at_camera,
+    );
+    let mie_share_near = select(mie_near / scattered_near, mie_share_far, at_camera);
+    let scattered = Vec3::ONE - (-tau).exp();
     let integrals = AirIntegrals {
-        rayleigh: air_share(0.0, first, near + 1.0, f, column, row) * scattered,
-        mie: air_share(1.0, first, near + 1.0, f, column, row) * scattered,
+        rayleigh: (rayleigh_share_near + (rayleigh_share_far - rayleigh_share_near) * f)
+            * scattered,
+        mie: (mie_share_near + (mie_share_far - mie_share_near) * f) * scattered,
         optical_depth: tau,
     };
     phased_air_light(integrals, direction.dot(sun), u.sky)

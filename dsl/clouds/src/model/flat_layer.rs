@@ -17,7 +17,8 @@ use nimbus_dsl::prelude::*;
 use super::bindings::CLOUDS;
 use super::choices::{GROUND_BOUNCE, POWDER, gate};
 use super::march::{
-    MarchResult, altitude_along, cloud_range, ground_bounce_light, sun_scattering, total_density,
+    MarchResult, altitude_along, cloud_range, ground_bounce_light, octave_phases, sun_scattering,
+    total_density,
 };
 use super::shell::ray_shell;
 use crate::key::CloudKey;
@@ -92,6 +93,7 @@ pub fn flat_layer(
     let sun_mu = l.sun_direction.y.max(0.02);
     let tau_sun = tau_vertical / sun_mu;
     let cos_theta = direction.dot(l.sun_direction);
+    let phases = octave_phases(cos_theta, key);
     let sun_up = select(0.0, 1.0, l.sun_direction.y > 0.0);
     let scattered = 0.5
         * (sun_scattering(
@@ -99,6 +101,7 @@ pub fn flat_layer(
             tau_vertical * GAUSS_NEAR,
             tau_vertical * GAUSS_FAR,
             cos_theta,
+            phases,
             mu,
             key,
         ) + sun_scattering(
@@ -106,6 +109,7 @@ pub fn flat_layer(
             tau_vertical * GAUSS_FAR,
             tau_vertical * GAUSS_NEAR,
             cos_theta,
+            phases,
             mu,
             key,
         ));

@@ -242,19 +242,74 @@ pub fn cloud_phase(cos_theta: f32, g_scale: f32, #[spec] key: CloudKey) -> f32 {
     isotropic_phase(cos_theta)
 }
 
-/// Multiple scattering by octaves (Wrenninge et al. 2013, "Oz"): `Σ aᵏ e^(−τbᵏ) p(μ; cᵏg)` with
-/// a = b = c = 1/2.
+/// The octaves' phase functions along one view ray, each times its weight `aᵏ` (octave `k` in
+/// lane `k % 4` of `low`, `mid` or `high`): the angle to the sun is the same at every sample of
+/// a ray, so the phases (two Henyey–Greenstein powers per octave for the dual lobe, sixteen a
+/// sample at eight octaves) are worked out once per ray, not once per sample.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct OctavePhases {
+    pub low: Vec4,
+    pub mid: Vec4,
+    pub high: Vec4,
+}
+
+/// Octave `k`'s phase at `cos_theta` times its weight: `aᵏ p(μ; cᵏg)`, a = c = 1/2.
 #[shader_fn]
-pub fn multiple_scattering(optical_depth: f32, cos_theta: f32, #[spec] key: CloudKey) -> f32 {
+pub fn octave_phase(cos_theta: f32, k: u32, #[spec] key: CloudKey) -> f32 {
+    let scale = (-(k as f32)).exp2();
+    scale * cloud_phase(cos_theta, scale, key)
+}
+
+/// Four octaves' weighted phases from octave `first`.
+#[shader_fn]
+pub fn four_octave_phases(cos_theta: f32, first: u32, #[spec] key: CloudKey) -> Vec4 {
+    vec4(
+        octave_phase(cos_theta, first, key),
+        octave_phase(cos_theta, first + 1u32, key),
+        octave_phase(cos_theta, first + 2u32, key),
+        octave_phase(cos_theta, first + 3u32, key),
+    )
+}
+
+/// The weighted phases of the key's octaves for a view ray at `cos_theta` from the sun (lanes
+/// beyond the key's octave count are left 0 and never read).
+#[shader_fn]
+pub fn octave_phases(cos_theta: f32, #[spec] key: CloudKey) -> OctavePhases {
+    let n = key_count(key, OCTAVES);
+    let mut mid = Vec4::ZERO;
+    let mut high = Vec4::ZERO;
+    if n > 4u32 {
+        mid = four_octave_phases(cos_theta, 4u32, key);
+    }
+    if n > 8u32 {
+        high = four_octave_phases(cos_theta, 8u32, key);
+    }
+    OctavePhases {
+        low: four_octave_phases(cos_theta, 0u32, key),
+        mid,
+        high,
+    }
+}
+
+/// Multiple scattering by octaves (Wrenninge et al. 2013, "Oz"): `Σ aᵏ e^(−τbᵏ) p(μ; cᵏg)` with
+/// a = b = c = 1/2, from the ray's weighted phases ([`octave_phases`]). One exponential for all
+/// octaves: the last octave's `e^(−τ/2ⁿ⁻¹)`, each earlier one the square of the next
+/// (`e^(−τ/2ᵏ) = (e^(−τ/2ᵏ⁺¹))²`), seven squarings at eight octaves, 1e-5 relative at most.
+#[shader_fn]
+pub fn multiple_scattering(optical_depth: f32, phases: OctavePhases, #[spec] key: CloudKey) -> f32 {
+    let n = key_count(key, OCTAVES);
+    let last = n.max(1u32) - 1u32;
+    let mut attenuation = (-optical_depth * (-(last as f32)).exp2()).exp();
     let mut sum = 0.0f32;
-    let mut weight = 1.0f32;
-    let mut depth_scale = 1.0f32;
-    let mut g_scale = 1.0f32;
-    for _octave in 0u32..key_count(key, OCTAVES) {
-        sum += weight * (-optical_depth * depth_scale).exp() * cloud_phase(cos_theta, g_scale, key);
-        weight *= 0.5;
-        depth_scale *= 0.5;
-        g_scale *= 0.5;
+    for octave in 0u32..n {
+        let k = last - octave;
+        let lanes = select(
+            select(phases.high, phases.mid, k < 8u32),
+            phases.low,
+            k < 4u32,
+        );
+        sum += lanes[(k % 4u32) as usize] * attenuation;
+        attenuation *= attenuation;
     }
     sum
 }
@@ -270,10 +325,11 @@ pub fn sun_scattering(
     tau_up: f32,
     tau_down: f32,
     cos_theta: f32,
+    phases: OctavePhases,
     view_up: f32,
     #[spec] key: CloudKey,
 ) -> f32 {
-    let mut scattered = multiple_scattering(tau_sun, cos_theta, key);
+    let mut scattered = multiple_scattering(tau_sun, phases, key);
     if gate(key, DIFFUSION) {
         scattered += diffuse_scattering(tau_sun, tau_up, tau_down, cos_theta, view_up, key);
     }
@@ -686,6 +742,7 @@ pub fn march_clouds(
         cloud_range(mu)
     };
     let cos_theta = direction.dot(l.sun_direction);
+    let phases = octave_phases(cos_theta, key);
     let sigma_ratio = l.scattering_coefficient + l.absorption_coefficient;
     let mut radiance = Vec3::ZERO;
     let mut transmittance = 1.0f32;
@@ -775,8 +832,16 @@ pub fn march_clouds(
                 samples += m.ground_steps as f32;
                 tau_up = vertical_optical_depth(p, h, 1.0, offset, footprint, key);
             }
-            let mut light =
-                sun * sun_scattering(tau_sun, tau_up, tau_ground, cos_theta, direction.y, key);
+            let mut light = sun
+                * sun_scattering(
+                    tau_sun,
+                    tau_up,
+                    tau_ground,
+                    cos_theta,
+                    phases,
+                    direction.y,
+                    key,
+                );
             if gate(key, GROUND_BOUNCE) {
                 light += ground_bounce_light(tau_ground);
             }
