@@ -257,6 +257,21 @@ pub fn air_from_table(direction: Vec3, distance: f32, meets_ground: bool) -> Air
     phased_air_light(integrals, direction.dot(sun), u.sky)
 }
 
+/// The air's light along unit `direction` over its first `distance` metres, integrated along
+/// the ray from the camera ([`air_light`]).
+#[shader_fn]
+pub fn integrated_air(direction: Vec3, distance: f32) -> AirLight {
+    let u = CLOUDS.get();
+    air_light(
+        u.camera_altitude,
+        direction,
+        u.light.sun_direction,
+        distance,
+        u.sky,
+        u.march.radius,
+    )
+}
+
 /// The air's light along unit `direction` over its first `distance` metres as the key computes
 /// it: integrated along the ray with `accurate-air-light` (and for an orthographic camera,
 /// whose rays start at altitudes of their own), otherwise read from the air table.
@@ -264,24 +279,10 @@ pub fn air_from_table(direction: Vec3, distance: f32, meets_ground: bool) -> Air
 pub fn air_along(direction: Vec3, distance: f32, #[spec] key: CloudKey) -> AirLight {
     let u = CLOUDS.get();
     if gate(key, ACCURATE_AIR_LIGHT) {
-        return air_light(
-            u.camera_altitude,
-            direction,
-            u.light.sun_direction,
-            distance,
-            u.sky,
-            u.march.radius,
-        );
+        return integrated_air(direction, distance);
     }
     if gate(key, ORTHOGRAPHIC) {
-        return air_light(
-            u.camera_altitude,
-            direction,
-            u.light.sun_direction,
-            distance,
-            u.sky,
-            u.march.radius,
-        );
+        return integrated_air(direction, distance);
     }
     let meets_ground = ground_hit(u.camera_altitude, direction.y, u.march.radius) >= 0.0;
     air_from_table(direction, distance, meets_ground)
