@@ -18,11 +18,12 @@ use nimbus_dsl::ShaderVariant;
 use nimbus_dsl::layout::{UniformBytes, member_layout};
 
 /// Members the kernel writes: the sun's direction (normalised) and what it decides.
-const SUN_MEMBERS: [&str; 5] = [
+const SUN_MEMBERS: [&str; 6] = [
     "light.sun_direction",
     "light.sun_irradiance",
     "light.sky_irradiance",
-    "shadow.matrix",
+    "shadow.lookup.u",
+    "shadow.lookup.v",
     "shadow.inverse_matrix",
 ];
 

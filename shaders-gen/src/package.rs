@@ -61,7 +61,15 @@ const FRAME_MODULE: &str = "nimbus-frame.js";
 const FRAME_EXPORTS: [&str; 3] = ["cloud_frame", "resolve_frame", "drift_at"];
 
 /// What `SUN_MODULE` exports.
-const SUN_EXPORTS: [&str; 2] = ["sun_direction", "sun_light"];
+const SUN_EXPORTS: [&str; 7] = [
+    "sun_direction",
+    "sun_light",
+    "atlas_columns",
+    "atlas_rows",
+    "shadow_anchor",
+    "redrawn_tiles",
+    "anchored_tiles",
+];
 
 /// What `WIND_MODULE` exports: the functions and the altitude of a scene's top wind.
 const WIND_EXPORTS: [&str; 7] = [
@@ -905,8 +913,14 @@ const CLOUD_NOTES: &[(&str, &str)] = &[
         "when the sun or camera altitude moves: sun_light(..).sky_irradiance",
     ),
     (
-        "shadow.matrix",
-        "when the sun or camera altitude moves: sun_light(..).shadow_matrix",
+        "shadow.lookup.u",
+        "when the sun or camera moves: sun_light(..).shadow_lookup.u (every cascade tile drawn \
+         for this sun); a host that redraws the cascades in rotation keeps the tiles with \
+         redrawn_tiles and writes anchored_tiles(..).u (nimbus-sun.js)",
+    ),
+    (
+        "shadow.lookup.v",
+        "with shadow.lookup.u: sun_light(..).shadow_lookup.v, or anchored_tiles(..).v",
     ),
     (
         "shadow.inverse_matrix",

@@ -372,7 +372,9 @@ fn timeline_scene(dir: &Path, name: &str, wind: bool, weather: bool) -> PathBuf 
 /// after a frame drawn at second 0 (so a shadow atlas left stale by the clock's move fails).
 /// Controls: the same scene at second 0 (neither the drift nor the thinning applied), and at
 /// the same time without its wind (the thinning alone) or without its weather state (the
-/// drift alone), must each fail the comparison.
+/// drift alone), must each fail the comparison. The atlas is redrawn a cascade tile per frame
+/// (`cascadeRotation`): once every tile is redrawn the frame is the one a whole redraw draws,
+/// and the frame right after the clock's move (a tile redrawn) is not.
 #[test]
 fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
     if !browser_tools_present("the browser timeline test", missing()) {
@@ -419,36 +421,63 @@ fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
     let without_wind = render(&still, TIME, "without-wind-nimbus.png");
     let steady = timeline_scene(&out, "steady", true, false);
     let without_weather = render(&steady, TIME, "without-weather-nimbus.png");
+    // The page: a frame at second 0 first (the clock's move must redraw the shadow atlas),
+    // then the clock moved, `extra` frames drawn, and the next one published.
+    let page = |png: &str, extra: &[&str]| {
+        let png = out.join(png);
+        let o = Command::new("node")
+            .current_dir(browser_dir())
+            .arg("render.mjs")
+            .arg(&package)
+            .arg(&png)
+            .args([
+                format!("width={w}"),
+                format!("height={h}"),
+                format!("pitch={}", v.pitch),
+                format!("yaw={}", v.yaw),
+                "fov=60".to_string(),
+                format!("wind={},{},{},{}", WIND[0], WIND[1], WIND[2], WIND[3]),
+                format!("weather={},{}", THINNING.0, THINNING.1),
+                format!("time={TIME}"),
+                "first=1".to_string(),
+            ])
+            .args(extra)
+            .output()
+            .expect("run node");
+        let log =
+            std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
+        assert!(
+            o.status.success(),
+            "the page failed or logged: {}{}\n{log}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
+        rgb(&png)
+    };
+    // The cascades redraw a tile per frame: three frames before the one compared cover four.
     let browser_png = out.join("at-time-chromium.png");
-    let o = Command::new("node")
-        .current_dir(browser_dir())
-        .arg("render.mjs")
-        .arg(&package)
-        .arg(&browser_png)
-        .args([
-            format!("width={w}"),
-            format!("height={h}"),
-            format!("pitch={}", v.pitch),
-            format!("yaw={}", v.yaw),
-            "fov=60".to_string(),
-            format!("wind={},{},{},{}", WIND[0], WIND[1], WIND[2], WIND[3]),
-            format!("weather={},{}", THINNING.0, THINNING.1),
-            format!("time={TIME}"),
-            // A frame at second 0 first: the clock's move must redraw the shadow atlas.
-            "first=1".to_string(),
-        ])
-        .output()
-        .expect("run node");
-    let log =
-        std::fs::read_to_string(format!("{}.log.json", browser_png.display())).unwrap_or_default();
-    assert!(
-        o.status.success(),
-        "the page failed or logged: {}{}\n{log}",
-        text(&o.stdout),
-        text(&o.stderr)
+    let got = page("at-time-chromium.png", &["settle=3"]);
+    // Cascades in rotation end where a whole redraw does; the frame right after the move,
+    // its coarser tiles still those of second 0, does not (the control).
+    let whole = page("at-time-whole-chromium.png", &["rotation=0"]);
+    let first = page("at-time-first-frame-chromium.png", &[]);
+    let (settled, unsettled) = (
+        mean_difference(&whole, &got),
+        mean_difference(&whole, &first),
     );
-    let got = rgb(&browser_png);
-    println!("screenshots: {}", out.display());
+    println!(
+        "cascades in rotation against a whole redraw: {settled:.3}/255 once every tile is \
+         redrawn, {unsettled:.3}/255 the frame after the clock moved"
+    );
+    assert!(
+        settled <= 0.1,
+        "the rotation did not end at the whole atlas: {settled}"
+    );
+    assert!(
+        unsettled > 0.3,
+        "the control: one tile redrawn already looked whole ({unsettled})"
+    );
+    println!("screenshots: {}", browser_png.display());
     let compare = |a: &image::RgbImage, b: &image::RgbImage| {
         (
             rgb_hybrid_compare(a, b).expect("same size").score,

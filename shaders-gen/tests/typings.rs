@@ -30,7 +30,7 @@ fn host(broken: bool) -> String {
          const sun: [number, number, number] = sun_direction(30, 150);\n\
          declare const block: Parameters<typeof sun_light>[0];\n\
          const light = sun_light(block, sun);\n\
-         const cascades: [number, number, number, number][] = [...light.shadow_matrix];\n\
+         const cascades: [number, number, number, number][] = [...light.shadow_lookup.u];\n\
          const wind: [number, number] = wind_velocity_at(wind_velocity(6, 270), wind_velocity(20, 280), TOP_ALTITUDE);\n\
          import { NimbusHost, loadPackage } from './pkg/nimbus-host.js';\n\
          import { NimbusTimeline } from './pkg/nimbus-timeline.js';\n\

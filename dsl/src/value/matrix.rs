@@ -1,7 +1,7 @@
 //! Matrix values, twins of glam's column-major `Mat3` and `Mat4`.
 
 use super::{IntoValueOf, Lift, ShaderType, Value, Vec3, Vec4, impl_binop};
-use crate::ir::{ExprId, ExprKind, Type};
+use crate::ir::{ExprId, ExprKind, Literal, Type};
 use crate::record::push_expr;
 
 macro_rules! matrix {
@@ -55,6 +55,13 @@ macro_rules! matrix {
             pub fn from_cols($($c: impl Into<$col>),+) -> Self {
                 let args = vec![$($c.into().id()),+];
                 Self(push_expr(ExprKind::Construct(Self::TYPE, args), Self::TYPE))
+            }
+
+            /// Column `index` (glam's `col`; a constant index, as the CPU twin's `usize`).
+            pub fn col(self, index: usize) -> $col {
+                debug_assert!(index < $n, "a matrix of {} columns has no column {index}", $n);
+                let at = push_expr(ExprKind::Literal(Literal::U32(index as u32)), Type::U32);
+                $col::from_id(push_expr(ExprKind::Index(self.0, at), <$col as Value>::TYPE))
             }
         }
 

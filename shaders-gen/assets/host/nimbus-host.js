@@ -6,7 +6,7 @@
 // runtime runs.
 
 import { cloud_frame, resolve_frame } from './nimbus-frame.js';
-import { sun_direction, sun_light } from './nimbus-sun.js';
+import { anchored_tiles, atlas_columns, atlas_rows, redrawn_tiles, shadow_anchor, sun_direction, sun_light } from './nimbus-sun.js';
 import { NimbusTimeline } from './nimbus-timeline.js';
 import { facing_altitude } from './nimbus-wind.js';
 
@@ -91,6 +91,10 @@ export class Block {
 
   float(path) {
     return this.floats[this.word(path)];
+  }
+
+  uint(path) {
+    return this.uints[this.word(path)];
   }
 
   /** `n` floats from member `path` on, as an array. */
@@ -200,6 +204,20 @@ export class NimbusHost {
     this.accumulateOn = false;
     this.seed = 0;
     this.shadowDirty = true;
+    // Cascades in rotation (`shadowTiles`): with a sun, camera or wind that moves every frame,
+    // one tile of the shadow atlas is redrawn per frame, each tile read through the transform
+    // it was drawn with; off, every tile is redrawn whenever anything it shows moved.
+    this.cascadeRotation = true;
+    // The tiles as drawn, relative to the clouds' anchor (null: none drawn yet), which are
+    // out of date, where the rotation stands, and the tiles of the sun as it is now.
+    this.tiles = null;
+    this.staleTiles = [];
+    this.nextTile = 0;
+    const columns = (v) => [0, 4, 8, 12].map((i) => v.slice(i, i + 4));
+    this.currentTiles = {
+      u: columns(blocks.pair.vector('shadow.lookup.u', 16)),
+      v: columns(blocks.pair.vector('shadow.lookup.v', 16)),
+    };
     // The air table follows the sun and the camera's altitude.
     this.airDirty = true;
     // Seconds since the timeline's start, and its wind and weather states (none: still air,
@@ -317,10 +335,50 @@ export class NimbusHost {
     u.setFloats('light.sun_direction', light.sun_direction);
     u.setFloats('light.sun_irradiance', light.sun_irradiance);
     u.setFloats('light.sky_irradiance', light.sky_irradiance);
-    u.setFloats('shadow.matrix', light.shadow_matrix.flat());
     u.setFloats('shadow.inverse_matrix', light.shadow_inverse_matrix.flat());
+    this.currentTiles = light.shadow_lookup;
     this.shadowDirty = true;
     this.airDirty = true;
+  }
+
+  /**
+   * The shadow atlas's tiles to redraw now, as rectangles `[x, y, width, height]` in atlas
+   * texels (its frag-coord space: WebGPU's from the top, WebGL's from the bottom, as the pass
+   * reads it), with the block's `shadow.lookup` written for them: call it before the block is
+   * uploaded, and draw the shadow pass over each rectangle alone.
+   *
+   * `shadowDirty` makes every tile out of date. Each redrawn tile takes the sun's transform
+   * as it is now, kept relative to the clouds' anchor (`redrawn_tiles`); the others are read
+   * where their clouds are now (`anchored_tiles`), however the camera or the wind moved since
+   * they were drawn. With `cascadeRotation`, once every tile has been drawn, one out-of-date
+   * tile is redrawn per frame, in turn, so a sun that moves every frame costs a tile a frame
+   * rather than the whole atlas; without it, every out-of-date tile is redrawn at once.
+   */
+  shadowTiles() {
+    const u = this.blocks.pair;
+    const count = u.uint('shadow.cascade_count');
+    if (this.shadowDirty) {
+      this.staleTiles = Array.from({ length: count }, () => true);
+      this.shadowDirty = false;
+    }
+    const stale = this.staleTiles.flatMap((out, k) => (out ? [k] : []));
+    let redraw = stale;
+    if (this.cascadeRotation && this.tiles && stale.length > 1) {
+      redraw = [stale.find((k) => k >= this.nextTile) ?? stale[0]];
+    }
+    if (redraw.length) this.nextTile = (redraw[redraw.length - 1] + 1) % count;
+    for (const k of redraw) this.staleTiles[k] = false;
+    const anchor = shadow_anchor(u.vector('camera_offset', 3), u.float('camera_altitude'), u.vector('media.wind_drift', 2));
+    const mask = [0, 1, 2, 3].map((k) => (redraw.includes(k) ? 1 : 0));
+    this.tiles = redrawn_tiles(this.tiles ?? this.currentTiles, this.currentTiles, anchor, mask);
+    const lookup = anchored_tiles(this.tiles, anchor);
+    u.setFloats('shadow.lookup.u', lookup.u.flat());
+    u.setFloats('shadow.lookup.v', lookup.v.flat());
+    const side = u.float('shadow.map_size');
+    const columns = atlas_columns(count);
+    // Every tile: the whole atlas in one draw (its empty corner draws nothing).
+    if (redraw.length === count) return [[0, 0, side * columns, side * atlas_rows(count)]];
+    return redraw.map((k) => [(k % columns) * side, Math.floor(k / columns) * side, side, side]);
   }
 
   /**

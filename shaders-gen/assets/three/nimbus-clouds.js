@@ -371,12 +371,20 @@ export class NimbusClouds extends NimbusHost {
     }
   }
 
-  /** Redraws the shadow atlas when the sun, the camera's place or the clouds moved. */
+  /**
+   * Redraws the tiles of the shadow atlas that are out of date (the sun, the camera's place
+   * or the clouds moved), all at once or one a frame (`cascadeRotation`): `shadowTiles`.
+   */
   drawShadowAtlas(renderer) {
-    if (this.passes.shadow && this.shadowDirty) {
-      this.draw(renderer, this.passes.shadow, this.shadowTarget);
-      this.shadowDirty = false;
+    if (!this.passes.shadow) return;
+    const target = this.shadowTarget;
+    for (const [x, y, width, height] of this.shadowTiles()) {
+      // WebGL's scissor counts rows from the bottom, as the pass's frag coords do.
+      target.scissor.set(x, y, width, height);
+      target.scissorTest = true;
+      this.draw(renderer, this.passes.shadow, target);
     }
+    target.scissorTest = false;
   }
 
   /**

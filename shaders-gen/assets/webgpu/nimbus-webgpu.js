@@ -212,8 +212,9 @@ export class NimbusWebGPU extends NimbusHost {
     }
     const queue = this.device.queue;
     const encoder = this.device.createCommandEncoder({ label: 'nimbus scene shadow' });
+    const tiles = this.passes.shadow ? this.shadowTiles() : [];
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
-    this.drawShadowAtlas(encoder);
+    this.drawShadowAtlas(encoder, tiles);
     this.draw(encoder, 'scene_shadow', this.sceneShadowTarget.createView());
     queue.submit([encoder.finish()]);
     return this.sceneShadowTarget;
@@ -227,12 +228,13 @@ export class NimbusWebGPU extends NimbusHost {
     }
   }
 
-  /** Redraws the shadow atlas when the sun, the camera's place or the clouds moved. */
-  drawShadowAtlas(encoder) {
-    if (this.passes.shadow && this.shadowDirty) {
-      this.draw(encoder, 'shadow', this.shadowTarget.createView());
-      this.shadowDirty = false;
-    }
+  /**
+   * Redraws the tiles of the shadow atlas `tiles` names (`shadowTiles`, called before the
+   * blocks were written: it writes the tiles' lookup).
+   */
+  drawShadowAtlas(encoder, tiles) {
+    if (!this.passes.shadow) return;
+    for (const rect of tiles) this.draw(encoder, 'shadow', this.shadowTarget.createView(), null, null, rect);
   }
 
   /** A sampler as the pass's layout describes it, made once. */
@@ -269,14 +271,16 @@ export class NimbusWebGPU extends NimbusHost {
     return this.device.createBindGroup({ label: pass.pass, layout, entries });
   }
 
-  draw(encoder, name, view, shown = null, historyRead = null) {
+  draw(encoder, name, view, shown = null, historyRead = null, rect = null) {
     const p = this.passes[name];
-    // Over the engine's picture the display pass blends onto what the view holds.
-    const keep = name === 'display' && this.readsDepth;
+    // Over the engine's picture the display pass blends onto what the view holds; a tile of
+    // the shadow atlas (`rect`) leaves the others as they are.
+    const keep = (name === 'display' && this.readsDepth) || rect !== null;
     const pass = encoder.beginRenderPass({
       label: name,
       colorAttachments: [{ view, loadOp: keep ? 'load' : 'clear', storeOp: 'store', clearValue: [0, 0, 0, 0] }],
     });
+    if (rect) pass.setScissorRect(...rect);
     pass.setPipeline(p.pipeline);
     pass.setBindGroup(0, this.bindGroup(p, shown, historyRead));
     pass.draw(3);
@@ -300,8 +304,9 @@ export class NimbusWebGPU extends NimbusHost {
       read = this.history[this.latest];
       shown = this.history[1 - this.latest];
     }
+    const tiles = this.passes.shadow ? this.shadowTiles() : [];
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
-    this.drawShadowAtlas(encoder);
+    this.drawShadowAtlas(encoder, tiles);
     this.drawAirTable(encoder);
     this.draw(encoder, 'clouds', this.cloudTarget.createView());
     if (this.temporal) {

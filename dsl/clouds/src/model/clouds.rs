@@ -88,7 +88,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use super::density::MediaParams;
 use super::layers::LayerGroup;
 use super::march::{CompositeParams, HazeParams, LightParams, MarchParams};
-use super::shadow::ShadowParams;
+use super::shadow::{CascadeLookup, ShadowParams};
 use super::shell::EARTH_RADIUS;
 use super::sky::AtmosphereParams;
 use crate::MarchSettings;
@@ -214,7 +214,10 @@ impl ShadowParams {
     /// the camera: [`super::sun::sun_light`] fills them (identity until then).
     pub fn for_quality(st: &MarchSettings) -> Self {
         ShadowParams {
-            matrix: Mat4::IDENTITY,
+            lookup: CascadeLookup {
+                u: Mat4::IDENTITY,
+                v: Mat4::IDENTITY,
+            },
             inverse_matrix: Mat4::IDENTITY,
             cascade_scales: Vec4::new(1.0, 4.0, 16.0, 64.0),
             cascade_count: st.shadow_cascade_count.clamp(1, 4),

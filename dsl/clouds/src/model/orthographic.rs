@@ -14,7 +14,7 @@ use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, CLOUDS_INPUT};
 use super::march::{CloudUniforms, shade_ray};
-use super::shadow::ShadowParams;
+use super::shadow::{CascadeLookup, ShadowParams};
 use crate::key::CloudKey;
 
 /// One orthographic pixel's ray: the pixel (its block's corner when upscaled), where the ray
@@ -73,7 +73,10 @@ pub fn ray_block(u: CloudUniforms, origin: Vec3) -> CloudUniforms {
         camera_offset: u.camera_offset + vec3(origin.x, 0.0, origin.z),
         inverse_view_projection: u.inverse_view_projection,
         shadow: ShadowParams {
-            matrix: s.matrix * moved,
+            lookup: CascadeLookup {
+                u: s.lookup.u * moved,
+                v: s.lookup.v * moved,
+            },
             inverse_matrix: s.inverse_matrix,
             cascade_scales: s.cascade_scales,
             cascade_count: s.cascade_count,

@@ -22,10 +22,12 @@ use crate::key::CloudKey;
 /// Cascades and the shadow march (uniforms: changing them needs no new pipeline).
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
 pub struct ShadowParams {
-    /// Camera-relative position to cascade-0 coordinates (centre 0.5, one tile = [0, 1]²),
-    /// projecting along the sun onto the plane of `top`.
-    pub matrix: Mat4,
-    /// Cascade-0 coordinates (x, y) to the point on that plane (camera-relative metres).
+    /// Where each tile of the atlas is read: camera-relative position to every tile's texture
+    /// coordinates, each tile through the transform it was drawn with.
+    pub lookup: CascadeLookup,
+    /// Cascade-0 coordinates (x, y) to the point on the plane at the top of the
+    /// shadow-casting layers (camera-relative metres), for the sun as it is now: what a tile
+    /// drawn this frame is drawn from.
     pub inverse_matrix: Mat4,
     /// Side of each cascade relative to cascade 0 (1, 4, 16, 64).
     pub cascade_scales: Vec4,
@@ -39,6 +41,18 @@ pub struct ShadowParams {
     pub min_transmittance: f32,
     /// Scale of the optical depth guessed for what lies beyond an early termination.
     pub tail_scale: f32,
+}
+
+/// Every cascade tile's transform at once: component `k` of `u * p.extend(1.0)` is the
+/// horizontal texture coordinate of camera-relative `p` in tile `k` (its centre 0.5, the tile
+/// [0, 1]²), projected along the sun onto the plane at the top of the shadow-casting layers;
+/// `v` likewise the vertical one. A transform per tile, not one scaled per cascade, so that
+/// tiles drawn on different frames (cascades in rotation, [`redrawn_tiles`]) are each read
+/// through the sun and the place they were drawn from.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct CascadeLookup {
+    pub u: Mat4,
+    pub v: Mat4,
 }
 
 /// Altitude of a camera-relative point `p`, on a sphere of `radius` (stable for |p| ≪ R: no
@@ -82,19 +96,24 @@ impl ShadowParams {
 #[shader_fn]
 pub fn shadow_texel(p: Vec3) -> Vec4 {
     let s = CLOUDS.get().shadow;
-    let base = (s.matrix * p.extend(1.0)).xy() - Vec2::splat(0.5);
-    let extent = base.x.abs().max(base.y.abs());
+    let q = p.extend(1.0);
+    // Every tile's coordinates at once, centred on the tile.
+    let u = s.lookup.u * q - Vec4::splat(0.5);
+    let v = s.lookup.v * q - Vec4::splat(0.5);
+    let extent = u.abs().max(v.abs());
     // One texel of margin, so bilinear filtering never reads the neighbouring tile.
     let margin = 0.5 - 1.0 / s.map_size;
     let count = s.cascade_count as f32;
     let active = step(vec4(0.5, 1.5, 2.5, 3.5), Vec4::splat(count));
-    let holding = step(Vec4::splat(extent), s.cascade_scales * margin) * active;
-    let n = holding.dot(Vec4::ONE);
-    if n < 0.5 {
+    let holding = step(extent, Vec4::splat(margin)) * active;
+    // The finest tile that holds `p` (4: none). Tiles drawn around different places need not
+    // nest, so the first that holds it, not a count of those that do.
+    let order = vec4(0.0, 1.0, 2.0, 3.0) + (Vec4::ONE - holding) * 4.0;
+    let k = order.x.min(order.y).min(order.z.min(order.w));
+    if k > 3.5 {
         return Vec4::ZERO;
     }
-    let k = count - n;
-    let local = base / s.cascade_scales[k as u32 as usize] + Vec2::splat(0.5);
+    let local = vec2(u[k as u32 as usize], v[k as u32 as usize]) + Vec2::splat(0.5);
     let columns = atlas_columns(s.cascade_count) as f32;
     let rows = atlas_rows(s.cascade_count) as f32;
     let row = (k / columns).floor();
@@ -107,8 +126,8 @@ pub fn shadow_texel(p: Vec3) -> Vec4 {
     // Fade the optical depth out over the outer fifth of the last cascade: beyond it nothing
     // is known and nothing shadows, and a shadow cut off there was a straight-edged wedge on
     // the ground (and a jump in the light shafts) wherever the map's coverage ended.
-    let last = s.cascade_scales[(count as u32 - 1u32) as usize] * margin;
-    let fade = 1.0 - smoothstep(0.8, 1.0, extent / last);
+    let last = extent[(count as u32 - 1u32) as usize] / margin;
+    let fade = 1.0 - smoothstep(0.8, 1.0, last);
     vec4(texel.x, texel.y * fade, texel.z * fade, texel.w * fade)
 }
 
@@ -195,17 +214,17 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     )
 }
 
-/// The two transforms of the cascades: local position to cascade-0 texture coordinates, and
-/// back from the top plane.
+/// The cascades' transforms for the sun as it is: every tile's lookup, and back from cascade 0
+/// on the top plane (what the shadow pass draws from).
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
 pub struct ShadowMatrices {
-    pub matrix: Mat4,
+    pub lookup: CascadeLookup,
     pub inverse_matrix: Mat4,
 }
 
 /// The cascade transforms for a sun direction: cascade 0 is `extent` metres on a side, centred
 /// on where the sun's ray through the middle of the layers below the camera meets the plane at
-/// `top_altitude`.
+/// `top_altitude`; cascade `k` is `scales[k]` times its side about the same centre.
 #[shader_fn]
 pub fn shadow_matrices(
     sun_direction: Vec3,
@@ -213,6 +232,7 @@ pub fn shadow_matrices(
     top_altitude: f32,
     mid_altitude: f32,
     extent: f32,
+    scales: Vec4,
 ) -> ShadowMatrices {
     // A sun at the horizon would stretch the projection without bound; shadows fade long
     // before, so a floor on its height keeps the transform finite.
@@ -223,19 +243,23 @@ pub fn shadow_matrices(
     let y_mid = mid_altitude - camera_altitude;
     let cx = sx * (y_top - y_mid);
     let cz = sz * (y_top - y_mid);
-    // x_top = p.x + sx·(y_top − p.y); u = (x_top − cx)/extent + 0.5 (likewise z → v).
-    let inv = 1.0 / extent;
-    let matrix = Mat4::from_cols(
-        Vec4::new(inv, 0.0, 0.0, 0.0),
-        Vec4::new(-sx * inv, -sz * inv, 0.0, 0.0),
-        Vec4::new(0.0, inv, 0.0, 0.0),
-        Vec4::new(
-            (sx * y_top - cx) * inv + 0.5,
-            (sz * y_top - cz) * inv + 0.5,
-            0.0,
-            1.0,
+    // Tile k: x_top = p.x + sx·(y_top − p.y); u = (x_top − cx) / (extent · scale_k) + 0.5
+    // (likewise z → v): one column per coordinate of p, one component per tile.
+    let inv = Vec4::ONE / (scales * extent);
+    let lookup = CascadeLookup {
+        u: Mat4::from_cols(
+            inv,
+            -sx * inv,
+            Vec4::ZERO,
+            (sx * y_top - cx) * inv + Vec4::splat(0.5),
         ),
-    );
+        v: Mat4::from_cols(
+            Vec4::ZERO,
+            -sz * inv,
+            inv,
+            (sz * y_top - cz) * inv + Vec4::splat(0.5),
+        ),
+    };
     let inverse_matrix = Mat4::from_cols(
         Vec4::new(extent, 0.0, 0.0, 0.0),
         Vec4::new(0.0, 0.0, extent, 0.0),
@@ -243,7 +267,75 @@ pub fn shadow_matrices(
         Vec4::new(cx - 0.5 * extent, y_top, cz - 0.5 * extent, 1.0),
     );
     ShadowMatrices {
-        matrix,
+        lookup,
         inverse_matrix,
     }
+}
+
+/// `lookup` read from positions `shift` metres away: what a point `p` reads is what `p + shift`
+/// read before.
+#[shader_fn]
+pub fn shifted_lookup(lookup: CascadeLookup, shift: Vec3) -> CascadeLookup {
+    let moved = Mat4::from_cols(
+        vec4(1.0, 0.0, 0.0, 0.0),
+        vec4(0.0, 1.0, 0.0, 0.0),
+        vec4(0.0, 0.0, 1.0, 0.0),
+        shift.extend(1.0),
+    );
+    CascadeLookup {
+        u: lookup.u * moved,
+        v: lookup.v * moved,
+    }
+}
+
+/// Where the clouds stand relative to the camera's frame: the camera's place in the noise
+/// (its horizontal offset less the wind's drift at the ground) and its altitude. Cascades in
+/// rotation keep each tile's transform relative to this ([`redrawn_tiles`]), so that a tile
+/// drawn frames ago is read where its clouds are now, however the camera or the wind moved
+/// since (the wind's shear aside, which the tile's next redraw catches up with).
+#[shader_fn]
+pub fn shadow_anchor(camera_offset: Vec3, camera_altitude: f32, wind_drift: Vec2) -> Vec3 {
+    vec3(
+        camera_offset.x - wind_drift.x,
+        camera_altitude,
+        camera_offset.z - wind_drift.y,
+    )
+}
+
+/// Cascades in rotation: the tiles a host keeps, relative to the clouds' anchor. The tiles
+/// redrawn this frame (`redraw`, 1 per tile, 0 otherwise) take `current` (the sun's lookup
+/// as [`super::sun::sun_light`] gives it, around the camera) made relative to `anchor`; the
+/// others keep what they were drawn with. Read them with [`anchored_tiles`].
+#[shader_fn]
+pub fn redrawn_tiles(
+    kept: CascadeLookup,
+    current: CascadeLookup,
+    anchor: Vec3,
+    redraw: Vec4,
+) -> CascadeLookup {
+    let fresh = shifted_lookup(current, -anchor);
+    CascadeLookup {
+        u: tiles_mixed(kept.u, fresh.u, redraw),
+        v: tiles_mixed(kept.v, fresh.v, redraw),
+    }
+}
+
+/// The lookup of tiles kept relative to the clouds' anchor ([`redrawn_tiles`]), for a frame
+/// whose anchor is `anchor`: the block's `shadow.lookup`.
+#[shader_fn]
+pub fn anchored_tiles(kept: CascadeLookup, anchor: Vec3) -> CascadeLookup {
+    shifted_lookup(kept, anchor)
+}
+
+/// Each tile's row of `fresh` where `redraw` is 1, of `kept` where it is 0 (exactly: a
+/// product by 0 or 1 and a sum with 0 round nothing).
+#[shader_fn]
+pub fn tiles_mixed(kept: Mat4, fresh: Mat4, redraw: Vec4) -> Mat4 {
+    let keep = Vec4::ONE - redraw;
+    Mat4::from_cols(
+        kept.col(0) * keep + fresh.col(0) * redraw,
+        kept.col(1) * keep + fresh.col(1) * redraw,
+        kept.col(2) * keep + fresh.col(2) * redraw,
+        kept.col(3) * keep + fresh.col(3) * redraw,
+    )
 }

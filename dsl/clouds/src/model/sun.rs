@@ -15,7 +15,10 @@ use nimbus_dsl::{DslError, ModuleBuilder, loc};
 
 use super::bindings::{CLOUDS, SunLightBinding};
 use super::march::CloudUniforms;
-use super::shadow::shadow_matrices;
+use super::shadow::{
+    CascadeLookup, anchored_tiles, atlas_columns, atlas_rows, redrawn_tiles, shadow_anchor,
+    shadow_matrices,
+};
 use super::sky::{sky_irradiance_at, sun_irradiance_at};
 
 /// The members of the cloud block that follow the sun.
@@ -26,8 +29,9 @@ pub struct SunLight {
     /// `light.sun_irradiance` and `light.sky_irradiance` at the camera.
     pub sun_irradiance: Vec3,
     pub sky_irradiance: Vec3,
-    /// `shadow.matrix` and `shadow.inverse_matrix`.
-    pub shadow_matrix: Mat4,
+    /// `shadow.lookup` (every tile drawn for this sun, around the camera) and
+    /// `shadow.inverse_matrix`.
+    pub shadow_lookup: CascadeLookup,
     pub shadow_inverse_matrix: Mat4,
 }
 
@@ -58,12 +62,13 @@ pub fn sun_light(u: CloudUniforms, sun_direction: Vec3) -> SunLight {
         m.shadow_top_height,
         mid,
         m.max_ray_distance / coarsest,
+        u.shadow.cascade_scales,
     );
     SunLight {
         sun_direction,
         sun_irradiance: sun_irradiance_at(u.camera_altitude, sun_direction, u.sky, m.radius),
         sky_irradiance: sky_irradiance_at(u.camera_altitude, sun_direction, u.sky, m.radius),
-        shadow_matrix: cascades.matrix,
+        shadow_lookup: cascades.lookup,
         shadow_inverse_matrix: cascades.inverse_matrix,
     }
 }
@@ -77,7 +82,7 @@ impl CloudUniforms {
         self.light.sun_direction = light.sun_direction;
         self.light.sun_irradiance = light.sun_irradiance;
         self.light.sky_irradiance = light.sky_irradiance;
-        self.shadow.matrix = light.shadow_matrix;
+        self.shadow.lookup = light.shadow_lookup;
         self.shadow.inverse_matrix = light.shadow_inverse_matrix;
         self
     }
@@ -93,6 +98,13 @@ pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
         |m| {
             m.host(nimbus_dsl::host_fn!(sun_direction), loc!());
             m.host(nimbus_dsl::host_fn!(sun_light), loc!());
+            // Cascades in rotation: where each tile lies in the atlas, what a host keeps per
+            // tile, and the lookup it writes.
+            m.host(nimbus_dsl::host_fn!(atlas_columns), loc!());
+            m.host(nimbus_dsl::host_fn!(atlas_rows), loc!());
+            m.host(nimbus_dsl::host_fn!(shadow_anchor), loc!());
+            m.host(nimbus_dsl::host_fn!(redrawn_tiles), loc!());
+            m.host(nimbus_dsl::host_fn!(anchored_tiles), loc!());
         },
     )
 }
@@ -136,7 +148,7 @@ pub fn sun_light_module() -> Result<nimbus_dsl::ir::Module, DslError> {
                     out.write_uniform_member(0, u, u.light.sun_direction, light.sun_direction);
                     out.write_uniform_member(0, u, u.light.sun_irradiance, light.sun_irradiance);
                     out.write_uniform_member(0, u, u.light.sky_irradiance, light.sky_irradiance);
-                    out.write_uniform_member(0, u, u.shadow.matrix, light.shadow_matrix);
+                    out.write_uniform_member(0, u, u.shadow.lookup, light.shadow_lookup);
                     out.write_uniform_member(
                         0,
                         u,

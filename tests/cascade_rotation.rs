@@ -1,0 +1,266 @@
+//! Cascades in rotation, the host's bookkeeping (`shadow::redrawn_tiles`,
+//! `shadow::anchored_tiles`): a tile drawn frames ago, around another place and for another
+//! sun, is read through the transform it was drawn with, moved to where its clouds are now;
+//! a tile redrawn takes the sun's transform as it is, the others keep theirs to the bit; and
+//! the JavaScript twins the engine packages run give the same transforms.
+
+use std::path::Path;
+use std::process::Command;
+
+use glam::{Vec2, Vec3, Vec4};
+use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::shadow::{
+    CascadeLookup, anchored_tiles, redrawn_tiles, shadow_anchor, shifted_lookup,
+};
+use nimbus_clouds::model::sun::{host_module, sun_direction, sun_light};
+use nimbus_clouds::{CloudLibrary, Quality};
+use nimbus_codegen::print_js;
+use serde_json::{Value, json};
+
+fn block(quality: Quality, altitude: f32) -> CloudUniforms {
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    CloudUniforms::for_genus(
+        lib.genus("cumulus").expect("cumulus"),
+        quality,
+        sun_direction(35.0, 150.0),
+        altitude,
+    )
+}
+
+/// Every tile's texture coordinates of camera-relative `p` (u in x..w of the first vector).
+fn coordinates(l: &CascadeLookup, p: Vec3) -> (Vec4, Vec4) {
+    (l.u * p.extend(1.0), l.v * p.extend(1.0))
+}
+
+/// Points around the camera out to the coarsest cascade's reach, on and off the ground.
+fn points() -> Vec<Vec3> {
+    let mut out = Vec::new();
+    for i in 0..9 {
+        for j in 0..9 {
+            for y in [-1.5, 0.0, 800.0, 2_500.0] {
+                out.push(Vec3::new(
+                    (i as f32 - 4.0) * 6_000.0,
+                    y,
+                    (j as f32 - 4.0) * 6_000.0,
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Where a camera-relative point lies in the clouds' own frame (noise space, less the wind's
+/// drift at the ground, and altitude): what a shadow tile's column holds.
+fn cloud_point(p: Vec3, camera_offset: Vec3, camera_altitude: f32, drift: Vec2) -> Vec3 {
+    Vec3::new(
+        p.x + camera_offset.x - drift.x,
+        p.y + camera_altitude,
+        p.z + camera_offset.z - drift.y,
+    )
+}
+
+#[test]
+fn a_kept_tile_is_read_where_its_clouds_are_now() {
+    for quality in [Quality::Low, Quality::High] {
+        // Drawn with the camera here, the wind's drift there.
+        let (offset0, altitude0, drift0) = (Vec3::new(120.0, 0.0, -40.0), 2.0, Vec2::new(0.0, 0.0));
+        let u0 = block(quality, altitude0);
+        let drawn = sun_light(u0, u0.light.sun_direction).shadow_lookup;
+        let anchor0 = shadow_anchor(offset0, altitude0, drift0);
+        let kept = redrawn_tiles(drawn, drawn, anchor0, Vec4::ONE);
+        // Read frames later: the camera flew 900 m and climbed 300 m, the wind carried the
+        // clouds 250 m east and 60 m south.
+        let (offset1, altitude1, drift1) = (
+            Vec3::new(1_020.0, 0.0, -40.0),
+            302.0,
+            Vec2::new(250.0, 60.0),
+        );
+        let anchor1 = shadow_anchor(offset1, altitude1, drift1);
+        let read = anchored_tiles(kept, anchor1);
+        let mut worst = 0.0f32;
+        let mut control = 0.0f32;
+        for p in points() {
+            // The point of the clouds `p` now shows, and where the camera stood relative to
+            // it when the tile was drawn.
+            let c = cloud_point(p, offset1, altitude1, drift1);
+            let then = Vec3::new(
+                c.x - offset0.x + drift0.x,
+                c.y - altitude0,
+                c.z - offset0.z + drift0.y,
+            );
+            let (want_u, want_v) = coordinates(&drawn, then);
+            let (got_u, got_v) = coordinates(&read, p);
+            worst = worst.max(
+                (got_u - want_u)
+                    .abs()
+                    .max((got_v - want_v).abs())
+                    .max_element(),
+            );
+            // The control: the tile read as if drawn around the camera now.
+            let (stale_u, stale_v) = coordinates(&drawn, p);
+            control = control.max(
+                (stale_u - want_u)
+                    .abs()
+                    .max((stale_v - want_v).abs())
+                    .max_element(),
+            );
+        }
+        // Tile coordinates: 1e-5 is a 40th of a texel of a 2,048-texel tile.
+        println!(
+            "{}: kept tiles read {worst:.2e} off (tile widths); unmoved, {control:.2e}",
+            quality.name()
+        );
+        assert!(worst < 1e-5, "{}: {worst}", quality.name());
+        assert!(
+            control > 1e-3,
+            "{}: the control moved nothing ({control})",
+            quality.name()
+        );
+    }
+}
+
+#[test]
+fn a_redrawn_tile_takes_the_sun_as_it_is_and_the_others_keep_theirs() {
+    let u = block(Quality::High, 2.0);
+    let before = sun_light(u, sun_direction(35.0, 150.0)).shadow_lookup;
+    let after = sun_light(u, sun_direction(37.0, 153.0)).shadow_lookup;
+    let anchor = shadow_anchor(Vec3::new(310.0, 0.0, 75.0), 2.0, Vec2::new(40.0, -12.0));
+    let kept = redrawn_tiles(before, before, anchor, Vec4::ONE);
+    // Tile 1 redrawn for the new sun: its row is the new sun's, the others' are untouched.
+    let mixed = redrawn_tiles(kept, after, anchor, Vec4::new(0.0, 1.0, 0.0, 0.0));
+    let fresh = shifted_lookup(after, -anchor);
+    for c in 0..4 {
+        for (m, k, f) in [(mixed.u, kept.u, fresh.u), (mixed.v, kept.v, fresh.v)] {
+            let (m, k, f) = (m.col(c), k.col(c), f.col(c));
+            assert_eq!(m.x.to_bits(), k.x.to_bits(), "tile 0, column {c}");
+            assert_eq!(m.y.to_bits(), f.y.to_bits(), "tile 1, column {c}");
+            assert_eq!(m.z.to_bits(), k.z.to_bits(), "tile 2, column {c}");
+            assert_eq!(m.w.to_bits(), k.w.to_bits(), "tile 3, column {c}");
+        }
+    }
+    // Every tile redrawn around the camera: the sun's own lookup, to rounding.
+    let all = anchored_tiles(redrawn_tiles(mixed, after, anchor, Vec4::ONE), anchor);
+    for p in points() {
+        let (gu, gv) = coordinates(&all, p);
+        let (wu, wv) = coordinates(&after, p);
+        let d = (gu - wu).abs().max((gv - wv).abs()).max_element();
+        assert!(d < 1e-5, "{p}: {d}");
+    }
+    // The control: the mixed lookup still reads tiles 0, 2 and 3 for the old sun.
+    let read = anchored_tiles(mixed, anchor);
+    let p = Vec3::new(2_000.0, 0.0, 1_000.0);
+    let (gu, _) = coordinates(&read, p);
+    let (wu, _) = coordinates(&after, p);
+    assert!((gu.x - wu.x).abs() > 1e-4, "tile 0 took the new sun");
+}
+
+#[test]
+fn the_javascript_twins_keep_and_read_the_tiles_as_the_cpu_twins() {
+    if !nimbus_testkit::skip::browser_tools_present(
+        "the JavaScript twin test of the cascade rotation",
+        nimbus_testkit::skip::node_missing(),
+    ) {
+        return;
+    }
+    let module = host_module().expect("records");
+    let js = print_js(
+        &module,
+        &["shadow_anchor", "redrawn_tiles", "anchored_tiles"],
+    )
+    .expect("prints");
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("sun.mjs"), &js).expect("write module");
+    let u = block(Quality::Ultra, 2.0);
+    let a = sun_light(u, sun_direction(35.0, 150.0)).shadow_lookup;
+    let b = sun_light(u, sun_direction(8.0, 230.0)).shadow_lookup;
+    let lookup = |l: &CascadeLookup| {
+        let cols = |m: glam::Mat4| (0..4).map(|c| m.col(c).to_array()).collect::<Vec<_>>();
+        json!({ "u": cols(l.u), "v": cols(l.v) })
+    };
+    let cases = [
+        (Vec3::new(0.0, 0.0, 0.0), 2.0, Vec2::ZERO, Vec4::ONE),
+        (
+            Vec3::new(1_500.0, 0.0, -800.0),
+            450.0,
+            Vec2::new(30.0, 5.0),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+        ),
+        (
+            Vec3::new(-40_000.0, 0.0, 9_000.0),
+            3_000.0,
+            Vec2::new(-7_000.0, 2_000.0),
+            Vec4::new(1.0, 0.0, 0.0, 0.0),
+        ),
+    ];
+    let inputs: Vec<Value> = cases
+        .iter()
+        .map(|(o, alt, d, m)| {
+            json!({
+                "offset": o.to_array(), "altitude": alt, "drift": d.to_array(), "mask": m.to_array()
+            })
+        })
+        .collect();
+    std::fs::write(
+        dir.path().join("run.mjs"),
+        format!(
+            "import {{ shadow_anchor, redrawn_tiles, anchored_tiles }} from './sun.mjs';\n\
+             const a = {a}; const b = {b}; const cases = {cases};\n\
+             console.log(JSON.stringify(cases.map((c) => {{\n\
+               const anchor = shadow_anchor(c.offset, c.altitude, c.drift);\n\
+               const kept = redrawn_tiles(a, b, anchor, c.mask);\n\
+               return {{ anchor, kept, read: anchored_tiles(kept, anchor) }};\n\
+             }})));\n",
+            a = lookup(&a),
+            b = lookup(&b),
+            cases = Value::Array(inputs),
+        ),
+    )
+    .expect("write runner");
+    let out = Command::new("node")
+        .arg(dir.path().join("run.mjs"))
+        .output()
+        .expect("node");
+    assert!(
+        out.status.success(),
+        "node failed:\n{}\n--- module ---\n{js}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let results: Value = serde_json::from_slice(&out.stdout).expect("results");
+    let floats = |v: &Value| -> Vec<f64> {
+        fn walk(v: &Value, out: &mut Vec<f64>) {
+            match v {
+                Value::Array(a) => a.iter().for_each(|x| walk(x, out)),
+                Value::Number(n) => out.push(n.as_f64().unwrap_or(f64::NAN)),
+                // By field name: `u` before `v`, as serde_json sorts them.
+                Value::Object(o) => o.values().for_each(|x| walk(x, out)),
+                _ => {}
+            }
+        }
+        let mut out = Vec::new();
+        walk(v, &mut out);
+        out
+    };
+    let mut worst = 0.0f64;
+    for ((o, alt, d, m), got) in cases.iter().zip(results.as_array().expect("results")) {
+        let anchor = shadow_anchor(*o, *alt, *d);
+        let kept = redrawn_tiles(a, b, anchor, *m);
+        let read = anchored_tiles(kept, anchor);
+        for (field, cpu) in [("kept", kept), ("read", read)] {
+            let want: Vec<f64> = [cpu.u, cpu.v]
+                .iter()
+                .flat_map(|m| m.to_cols_array())
+                .map(f64::from)
+                .collect();
+            let js = floats(&got[field]);
+            assert_eq!(js.len(), want.len(), "{field}");
+            for (j, c) in js.iter().zip(&want) {
+                // f64 against f32: relative to the member's size, absolute near zero.
+                let diff = (j - c).abs() / (1.0 + c.abs());
+                worst = worst.max(diff);
+                assert!(diff < 1e-5, "{field}: JavaScript {j} against CPU {c}");
+            }
+        }
+    }
+    println!("JavaScript (f64) against the CPU twins (f32): largest difference {worst:.2e}");
+}
