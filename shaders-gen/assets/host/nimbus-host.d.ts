@@ -109,8 +109,13 @@ export declare class NimbusHost {
   /** Average still frames (restarts the history). */
   accumulate: boolean;
   readonly temporal: boolean;
-  /** Redraw the shadow atlas on the next frame. */
+  /** Every tile of the shadow atlas is out of date: redraw from the next frame. */
   shadowDirty: boolean;
+  /**
+   * Redraw one out-of-date cascade tile per frame, in turn, once the atlas has been drawn
+   * whole (default); false redraws every out-of-date tile at once.
+   */
+  cascadeRotation: boolean;
   /** Redraw the air table (the sky and the air in front of the clouds) on the next frame. */
   airDirty: boolean;
   /** Linear radiance is scaled by this before the tone curve. */
@@ -122,6 +127,11 @@ export declare class NimbusHost {
   /** Degrees: elevation above the horizon, azimuth clockwise from north. */
   setSun(elevation: number, azimuth: number): void;
   relight(): void;
+  /**
+   * The atlas's tiles to redraw now, `[x, y, width, height]` in atlas texels, with the block's
+   * `shadow.lookup` written for them: call before the block is uploaded.
+   */
+  shadowTiles(): [number, number, number, number][];
   setWind(speed: number, directionDeg: number, topSpeed?: number, topDirectionDeg?: number): void;
   setWeather(coverage: number, options?: { at?: number; over?: number }): void;
   clearWeather(): void;
