@@ -1,8 +1,11 @@
 //! Cascades in rotation, the host's bookkeeping (`shadow::redrawn_tiles`,
 //! `shadow::anchored_tiles`): a tile drawn frames ago, around another place and for another
 //! sun, is read through the transform it was drawn with, moved to where its clouds are now;
-//! a tile redrawn takes the sun's transform as it is, the others keep theirs to the bit; and
-//! the JavaScript twins the engine packages run give the same transforms.
+//! a tile redrawn takes the sun's transform as it is, the others keep theirs to the bit; the
+//! JavaScript twins the engine packages run give the same transforms; and the wgpu runtime in
+//! rotation ends, a tile a frame, at the atlas and the frame a whole redraw draws.
+
+mod common;
 
 use std::path::Path;
 use std::process::Command;
@@ -263,4 +266,75 @@ fn the_javascript_twins_keep_and_read_the_tiles_as_the_cpu_twins() {
         }
     }
     println!("JavaScript (f64) against the CPU twins (f32): largest difference {worst:.2e}");
+}
+
+/// The wgpu runtime in rotation (`Renderer::set_cascade_rotation`): after the sun moves, each
+/// frame redraws one tile; once all three of `high`'s are redrawn the atlas is a whole
+/// redraw's to the bit and the frame its to rounding, while the frame right after the move
+/// (one tile redrawn, two for the old sun) is not (the control).
+#[test]
+fn the_runtime_redraws_a_tile_a_frame_and_ends_at_the_whole_atlas() {
+    use nimbus_runtime::render::{Frame, Image, Renderer};
+    let Some(gpu) = common::gpu() else { return };
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let frame = |elevation: f32| {
+        let mut f = Frame::new(
+            lib.genus("cumulus").expect("cumulus").clone(),
+            Quality::High,
+            64,
+            36,
+        );
+        f.camera_pitch_deg = 20.0;
+        f.sun_elevation_deg = elevation;
+        f.frames = 1;
+        f.continue_history = false;
+        f
+    };
+    let largest = |a: &Image, b: &Image| {
+        a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs()))
+            .fold(0.0f32, f32::max)
+    };
+    let (before, after) = (frame(35.0), frame(20.0));
+    let mut whole = Renderer::new(gpu, common::SMALL_TEXTURES);
+    let want = whole.render(&after).expect("render");
+    let want_atlas = whole.shadow_atlas().expect("readback").expect("atlas");
+
+    let mut rotating = Renderer::new(gpu, common::SMALL_TEXTURES);
+    rotating.set_cascade_rotation(true);
+    rotating.render(&before).expect("render");
+    let mut frames = Vec::new();
+    for _ in 0..4 {
+        let image = rotating.render(&after).expect("render");
+        let shadow_passes = rotating
+            .stats()
+            .passes
+            .iter()
+            .filter(|p| **p == "shadow")
+            .count();
+        frames.push((image, shadow_passes));
+    }
+    let passes: Vec<usize> = frames.iter().map(|(_, n)| *n).collect();
+    assert_eq!(
+        passes,
+        [1, 1, 1, 0],
+        "a tile per frame, three tiles, then none"
+    );
+    let got_atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
+    let atlas_d = largest(&got_atlas, &want_atlas);
+    let settled = largest(&frames[2].0, &want);
+    let first = largest(&frames[0].0, &want);
+    println!(
+        "rotation: atlas after three tiles {atlas_d} from a whole redraw; frame {settled:.2e} \
+         (the frame after the move, one tile redrawn: {first:.3})"
+    );
+    assert!(atlas_d == 0.0, "the rotated atlas differs by {atlas_d}");
+    assert!(settled < 1e-3, "the settled frame differs by {settled}");
+    assert!(
+        first > 1e-2,
+        "the control: one tile redrawn already looked whole ({first})"
+    );
 }

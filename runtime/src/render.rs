@@ -13,7 +13,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use half::f16;
 use nimbus_clouds::CloudKey;
 use nimbus_clouds::Quality;
@@ -24,7 +24,9 @@ use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
-use nimbus_clouds::model::shadow::atlas_columns;
+use nimbus_clouds::model::shadow::{
+    CascadeLookup, anchored_tiles, atlas_columns, redrawn_tiles, shadow_anchor,
+};
 use nimbus_clouds::wind::Drift;
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -152,6 +154,12 @@ struct ShadowPass {
     /// A change of the pass's key alone being spread over frames (no-stall): the new key and
     /// how many bands of cascade tiles ([`REFRESH_BAND`]), finest first, it has redrawn.
     refreshing: Option<(ShaderKey, u32)>,
+    /// Cascades in rotation ([`Renderer::set_cascade_rotation`]): every tile's transform as
+    /// drawn, relative to the clouds' anchor (`None` until the atlas is drawn whole), the
+    /// tiles out of date (bit `k`: tile `k`) and the tile the rotation looks at next.
+    tiles: Option<CascadeLookup>,
+    stale_tiles: u32,
+    next_tile: u32,
 }
 
 /// Texel rows of the shadow atlas redrawn per frame when only the shadow key changed (with
@@ -239,6 +247,8 @@ pub struct Renderer<'g> {
     uber_resources: Option<(wgpu::Buffer, Target)>,
     /// No stall when the effects change ([`Self::set_no_stall`]).
     no_stall: bool,
+    /// One out-of-date cascade tile redrawn per frame ([`Self::set_cascade_rotation`]).
+    cascade_rotation: bool,
     /// The last specialised cloud key drawn with: the stand-in while a new key is built.
     last_clouds: Option<CloudKey>,
     /// Whether the last frame drew its clouds with a stand-in while its own key was built.
@@ -357,6 +367,7 @@ impl<'g> Renderer<'g> {
             uber: false,
             uber_resources: None,
             no_stall: false,
+            cascade_rotation: false,
             last_clouds: None,
             stand_in: false,
             uniform_log: None,
@@ -375,6 +386,17 @@ impl<'g> Renderer<'g> {
     /// default: an image rendered once is drawn whole with its own key.
     pub fn set_no_stall(&mut self, on: bool) {
         self.no_stall = on;
+    }
+
+    /// Cascades in rotation, for game loops whose sun, camera or wind moves every frame: once
+    /// the shadow atlas has been drawn whole, a change of what it shows makes every tile out
+    /// of date and each frame redraws one of them, in turn, instead of the whole atlas. Each
+    /// tile is read through the transform it was drawn with, moved to where its clouds are
+    /// now (`shadow::redrawn_tiles`, `shadow::anchored_tiles`, as the JavaScript hosts do), so
+    /// a tile a few frames old shows the clouds' shadows for a sun a few frames old, in the
+    /// right place. Off by default: an image rendered once is drawn with its whole atlas.
+    pub fn set_cascade_rotation(&mut self, on: bool) {
+        self.cascade_rotation = on;
     }
 
     /// Whether the last frame drew its clouds with a stand-in because its own key's pipeline
@@ -665,6 +687,66 @@ impl<'g> Renderer<'g> {
                 inputs: None,
             });
             self.epoch += 1;
+        }
+        Ok(())
+    }
+
+    /// Cascades in rotation ([`Self::set_cascade_rotation`]): redraws the first out-of-date
+    /// tile from where the rotation stands, takes the sun's transform for it, and writes every
+    /// tile's transform, moved to where its clouds are now, into the frame's block.
+    fn rotate_cascades(
+        &mut self,
+        key: ShaderKey,
+        u: &mut CloudUniforms,
+        anchor: Vec3,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<PassTimer>,
+    ) -> Result<(), RuntimeError> {
+        let Some(p) = self.shadow.as_ref() else {
+            return Ok(());
+        };
+        let count = u.shadow.cascade_count;
+        let next = (0..count)
+            .map(|i| (p.next_tile + i) % count)
+            .find(|k| p.stale_tiles & (1 << k) != 0);
+        if let Some(k) = next {
+            let epoch = self.epoch;
+            let rebuild = !matches!(&p.group, Some(g) if g.key == key && g.epoch == epoch);
+            if rebuild {
+                let group = self.cloud_group(key, &p.uniform)?;
+                if let Some(p) = &mut self.shadow {
+                    p.group = Some(BoundGroup { group, key, epoch });
+                }
+            }
+            let pipeline = self.pipelines.get(&key)?;
+            let p = self.shadow.as_ref().ok_or_else(missing)?;
+            let group = p.group.as_ref().ok_or_else(missing)?;
+            let side = u.shadow.map_size as u32;
+            let columns = atlas_columns(count);
+            self.gpu
+                .queue()
+                .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
+            draw(
+                encoder,
+                "shadow",
+                &p.atlas.view,
+                &pipeline.pipeline,
+                &group.group,
+                PassTimer::next(timer),
+                Some([(k % columns) * side, (k / columns) * side, side, side]),
+            );
+            self.passes.push("shadow");
+            if let Some(p) = &mut self.shadow {
+                let mut redraw = Vec4::ZERO;
+                redraw[k as usize] = 1.0;
+                let kept = p.tiles.unwrap_or(u.shadow.lookup);
+                p.tiles = Some(redrawn_tiles(kept, u.shadow.lookup, anchor, redraw));
+                p.stale_tiles &= !(1 << k);
+                p.next_tile = (k + 1) % count;
+            }
+        }
+        if let Some(tiles) = self.shadow.as_ref().and_then(|p| p.tiles) {
+            u.shadow.lookup = anchored_tiles(tiles, anchor);
         }
         Ok(())
     }
@@ -977,7 +1059,13 @@ impl<'g> Renderer<'g> {
             .device()
             .create_command_encoder(&Default::default());
         if keep_atlas {
-            // No shadow pass this frame: the atlas stands as it was.
+            // No shadow pass this frame: the atlas stands as it was, its tiles read as drawn.
+            if let Some(tiles) = self.shadow.as_ref().and_then(|p| p.tiles)
+                && self.cascade_rotation
+            {
+                let anchor = shadow_anchor(u.camera_offset, u.camera_altitude, u.media.wind_drift);
+                u.shadow.lookup = anchored_tiles(tiles, anchor);
+            }
         } else if let Some(key) = shadow_key {
             let s = u.shadow;
             let (w, h) = s.atlas_size();
@@ -993,10 +1081,14 @@ impl<'g> Renderer<'g> {
                     atlas: target(self.gpu, "shadow atlas", w, h),
                     inputs: None,
                     refreshing: None,
+                    tiles: None,
+                    stale_tiles: 0,
+                    next_tile: 0,
                 });
                 self.epoch += 1;
             }
             let inputs = (key, atlas_bytes);
+            let anchor = shadow_anchor(u.camera_offset, u.camera_altitude, u.media.wind_drift);
             let stale = self
                 .shadow
                 .as_ref()
@@ -1041,19 +1133,23 @@ impl<'g> Renderer<'g> {
                         rows,
                     ]
                 });
-                self.gpu
-                    .queue()
-                    .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
-                draw(
-                    &mut encoder,
-                    "shadow",
-                    &p.atlas.view,
-                    &pipeline.pipeline,
-                    &group.group,
-                    PassTimer::next(&mut timer),
-                    region,
-                );
-                self.passes.push("shadow");
+                // In rotation, once drawn whole: every tile out of date, one drawn below.
+                let rotate = tile.is_none() && self.cascade_rotation && p.tiles.is_some();
+                if !rotate {
+                    self.gpu
+                        .queue()
+                        .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
+                    draw(
+                        &mut encoder,
+                        "shadow",
+                        &p.atlas.view,
+                        &pipeline.pipeline,
+                        &group.group,
+                        PassTimer::next(&mut timer),
+                        region,
+                    );
+                    self.passes.push("shadow");
+                }
                 if let Some(p) = &mut self.shadow {
                     match tile {
                         Some(k) if k + 1 < regions => {
@@ -1062,12 +1158,27 @@ impl<'g> Renderer<'g> {
                         }
                         _ => p.refreshing = None,
                     }
+                    if rotate {
+                        p.stale_tiles = (1 << s.cascade_count) - 1;
+                    } else if tile.is_none() {
+                        // Drawn whole: every tile for the sun as it is, around the camera.
+                        p.tiles = Some(redrawn_tiles(
+                            u.shadow.lookup,
+                            u.shadow.lookup,
+                            anchor,
+                            Vec4::ONE,
+                        ));
+                        p.stale_tiles = 0;
+                    }
                 }
                 if let Some(p) = &mut self.shadow
                     && !continue_refresh
                 {
                     p.inputs = Some(inputs);
                 }
+            }
+            if self.cascade_rotation {
+                self.rotate_cascades(key, &mut u, anchor, &mut encoder, &mut timer)?;
             }
         } else if self.shadow.take().is_some() {
             // No shadows in this key: the atlas of an earlier one is not kept.

@@ -92,6 +92,71 @@ pub(crate) fn run(
     Ok(())
 }
 
+/// How far the sun moves per frame in [`run_moving_sun`] (degrees of azimuth): a day's arc
+/// over a few minutes of frames, enough that every frame changes what the atlas shows.
+const SUN_STEP_DEG: f32 = 0.05;
+
+/// A game loop whose sun moves every frame, per preset and resolution: the shadow atlas
+/// redrawn whole every frame against cascades in rotation (one tile a frame:
+/// `Renderer::set_cascade_rotation`), and the atlas cached (the sun still) for reference.
+pub(crate) fn run_moving_sun(
+    data: Option<&Path>,
+    args: &RenderArgs,
+    iterations: u32,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let base = frame(data, args)?;
+    let gpu = Gpu::new()?;
+    say!("adapter: {}", gpu.info());
+    gpu.check_picture("the image", base.width, base.height)?;
+    say!(
+        "scene: genus {}, {}x{}, the sun moving {SUN_STEP_DEG}° of azimuth a frame, {} timed \
+         frames per cell (median)",
+        base.genus.name,
+        base.width,
+        base.height,
+        iterations
+    );
+    say!();
+    say!(
+        "| preset | upscaling | atlas cached | whole atlas every frame | a tile a frame (rotation) | rotation ÷ whole |"
+    );
+    say!("|---|---|---:|---:|---:|---:|");
+    for quality in Quality::ALL {
+        for upscale in [false, true] {
+            let f = preset_frame(&base, quality, upscale);
+            let mut cells = Vec::new();
+            for (moving, rotation) in [(false, false), (true, false), (true, true)] {
+                let mut renderer = Renderer::new(&gpu, TextureSizes::default());
+                renderer.set_cascade_rotation(rotation);
+                let mut first = f.clone();
+                first.continue_history = false;
+                renderer.render(&first)?;
+                let mut times = Vec::new();
+                let mut g = f.clone();
+                for _ in 0..iterations {
+                    if moving {
+                        g.sun_azimuth_deg += SUN_STEP_DEG;
+                    }
+                    let start = Instant::now();
+                    renderer.render(&g)?;
+                    times.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+                cells.push(median(times));
+            }
+            say!(
+                "| {} | {} | {:.1} | {:.1} | {:.1} | {:.2} |",
+                quality.name(),
+                if upscale { "on" } else { "off" },
+                cells[0],
+                cells[1],
+                cells[2],
+                cells[2] / cells[1]
+            );
+        }
+    }
+    Ok(())
+}
+
 /// The time of `q` (upscaled or not) among `rows`.
 fn ms_of(rows: &[(Quality, bool, f64)], q: Quality, upscale: bool) -> f64 {
     rows.iter()

@@ -184,6 +184,10 @@ pub(crate) enum Command {
         /// frame path and in the background.
         #[arg(long, conflicts_with = "uber")]
         effect_changes: bool,
+        /// Instead of the presets as they stand: a sun that moves every frame, the shadow
+        /// atlas redrawn whole each frame against cascades in rotation (a tile a frame).
+        #[arg(long, conflicts_with_all = ["uber", "effect_changes"])]
+        moving_sun: bool,
     },
     /// Time per frame of each example scene's derived variant against its all-effects
     /// variant, as a ratio.
@@ -285,6 +289,12 @@ pub fn main() -> ExitCode {
             effect_changes: true,
             ..
         } => bench_frames::run_effect_changes(data, render),
+        Command::BenchFrames {
+            render,
+            iterations,
+            moving_sun: true,
+            ..
+        } => bench_frames::run_moving_sun(data, render, (*iterations).max(1)),
         Command::BenchFrames {
             render,
             iterations,
