@@ -45,6 +45,10 @@ const renderer = {
 };
 
 const clouds = await NimbusClouds.load(base);
+// The runtime draws each atlas whole when it changes: so does the package here. With the
+// cascades in rotation its kept tiles' transforms lag by design for a few frames after a move
+// (browser_cli.rs holds the rotation to the whole redraw).
+clouds.cascadeRotation = false;
 clouds.upscale = Boolean(sequence.upscale);
 clouds.accumulate = Boolean(sequence.accumulate);
 clouds.seed = sequence.seed ?? 0;

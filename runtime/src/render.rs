@@ -737,8 +737,14 @@ impl<'g> Renderer<'g> {
             );
             self.passes.push("shadow");
             if let Some(p) = &mut self.shadow {
+                // Lanes past the cascade count hold no tile: they follow the sun, as a whole
+                // redraw's do.
                 let mut redraw = Vec4::ZERO;
-                redraw[k as usize] = 1.0;
+                for lane in 0..4 {
+                    if lane == k || lane >= count {
+                        redraw[lane as usize] = 1.0;
+                    }
+                }
                 let kept = p.tiles.unwrap_or(u.shadow.lookup);
                 p.tiles = Some(redrawn_tiles(kept, u.shadow.lookup, anchor, redraw));
                 p.stale_tiles &= !(1 << k);

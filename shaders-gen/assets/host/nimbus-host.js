@@ -369,7 +369,8 @@ export class NimbusHost {
     if (redraw.length) this.nextTile = (redraw[redraw.length - 1] + 1) % count;
     for (const k of redraw) this.staleTiles[k] = false;
     const anchor = shadow_anchor(u.vector('camera_offset', 3), u.float('camera_altitude'), u.vector('media.wind_drift', 2));
-    const mask = [0, 1, 2, 3].map((k) => (redraw.includes(k) ? 1 : 0));
+    // Lanes past the cascade count hold no tile: they follow the sun, as a whole redraw's do.
+    const mask = [0, 1, 2, 3].map((k) => (k >= count || redraw.includes(k) ? 1 : 0));
     this.tiles = redrawn_tiles(this.tiles ?? this.currentTiles, this.currentTiles, anchor, mask);
     const lookup = anchored_tiles(this.tiles, anchor);
     u.setFloats('shadow.lookup.u', lookup.u.flat());

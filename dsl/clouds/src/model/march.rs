@@ -19,7 +19,7 @@ use super::choices::{
     HENYEY_GREENSTEIN, ICE_CRYSTAL, LIGHT_SHAFTS, OCTAVES, ORTHOGRAPHIC, POWDER, SCENE_DEPTH,
     SHADOWS, SUN_SKY_LIGHT, gate, key_count, phase_is,
 };
-use super::density::{MediaParams, eroded_density, layer_density, weather_density};
+use super::density::{MediaParams, eroded_density, weather_density};
 use super::diffusion::{diffuse_scattering, phase_asymmetry, sky_diffuse_scattering};
 use super::flat_layer::flat_layer;
 use super::layers::LayerGroup;
@@ -365,12 +365,20 @@ pub fn vertical_optical_depth(
 /// Density (summed over the layer groups of the key) at a camera-relative position, for a
 /// sample that stands for `footprint` metres across (0: a point; see
 /// [`super::density::detail_level`]).
+///
+/// Where the weather allows no cloud at all the erosion is not run: eroding nothing leaves
+/// nothing (every erosion stage maps 0 to 0), so skipping its shape, detail and turbulence
+/// reads changes no value, while the shadow map's sun rays and the secondary marches, which
+/// have no coverage test of their own, spend most of a broken sky's steps in clear air.
 #[shader_fn]
 pub fn total_density(position: Vec3, altitude: f32, footprint: f32, #[spec] key: CloudKey) -> f32 {
     let p = position + CLOUDS.get().camera_offset;
     let mut sum = 0.0f32;
     for group in 0u32..key_count(key, GROUPS) {
-        sum += layer_density(p, altitude, group, footprint, key).dot(Vec4::ONE);
+        let coverage = weather_density(p, altitude, group, key);
+        if coverage.dot(Vec4::ONE) > 0.0 {
+            sum += eroded_density(p, altitude, group, coverage, footprint, key).dot(Vec4::ONE);
+        }
     }
     sum
 }
