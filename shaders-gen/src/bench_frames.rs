@@ -15,6 +15,14 @@ use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
 use crate::render::{RenderArgs, frame};
 
+/// The adapter every bench runs on, named in its output, checked for a picture this size.
+fn adapter(width: u32, height: u32) -> Result<Gpu, Box<dyn std::error::Error>> {
+    let gpu = Gpu::new()?;
+    say!("adapter: {}", gpu.info());
+    gpu.check_picture("the image", width, height)?;
+    Ok(gpu)
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -47,9 +55,7 @@ pub(crate) fn run(
     uber: bool,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let base = frame(data, args)?;
-    let gpu = Gpu::new()?;
-    say!("adapter: {}", gpu.info());
-    gpu.check_picture("the image", base.width, base.height)?;
+    let gpu = adapter(base.width, base.height)?;
     say!(
         "scene: genus {}, {}x{}, {} timed frames per row (median)",
         base.genus.name,
@@ -105,9 +111,7 @@ pub(crate) fn run_moving_sun(
     iterations: u32,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let base = frame(data, args)?;
-    let gpu = Gpu::new()?;
-    say!("adapter: {}", gpu.info());
-    gpu.check_picture("the image", base.width, base.height)?;
+    let gpu = adapter(base.width, base.height)?;
     say!(
         "scene: genus {}, {}x{}, the sun moving {SUN_STEP_DEG}° of azimuth a frame, {} timed \
          frames per cell (median)",
@@ -182,9 +186,7 @@ pub(crate) fn run_effect_changes(
     let mut base = frame(data, args)?;
     base.frames = 1;
     base.continue_history = true;
-    let gpu = Gpu::new()?;
-    say!("adapter: {}", gpu.info());
-    gpu.check_picture("the image", base.width, base.height)?;
+    let gpu = adapter(base.width, base.height)?;
     // Every toggle a scene may switch (scene depth and the orthographic camera follow the
     // host's camera and depth, not the scene's effects).
     let toggles: Vec<Toggle> = Toggle::ALL
@@ -299,9 +301,7 @@ pub(crate) fn run_scenes(
     iterations: u32,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let lib = crate::data::load(data)?;
-    let gpu = Gpu::new()?;
-    say!("adapter: {}", gpu.info());
-    gpu.check_picture("the image", resolution.0, resolution.1)?;
+    let gpu = adapter(resolution.0, resolution.1)?;
     say!(
         "{}x{}, one full-resolution frame per render call, median of {iterations}",
         resolution.0,

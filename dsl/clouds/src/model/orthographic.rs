@@ -8,13 +8,13 @@
 //! shadow cascades' transform moved with it), and the rest of the model is unchanged. A key
 //! without the toggle carries none of this.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, CLOUDS_INPUT};
 use super::march::{CloudUniforms, shade_ray};
-use super::shadow::{CascadeLookup, ShadowParams};
+use super::shadow::{ShadowParams, shifted_lookup};
 use crate::key::CloudKey;
 
 /// One orthographic pixel's ray: the pixel (its block's corner when upscaled), where the ray
@@ -56,12 +56,6 @@ pub fn orthographic_ray(frag_coord: Vec4) -> OrthographicRay {
 #[shader_fn]
 pub fn ray_block(u: CloudUniforms, origin: Vec3) -> CloudUniforms {
     let s = u.shadow;
-    let moved = Mat4::from_cols(
-        vec4(1.0, 0.0, 0.0, 0.0),
-        vec4(0.0, 1.0, 0.0, 0.0),
-        vec4(0.0, 0.0, 1.0, 0.0),
-        origin.extend(1.0),
-    );
     CloudUniforms {
         groups: u.groups,
         media: u.media,
@@ -73,10 +67,7 @@ pub fn ray_block(u: CloudUniforms, origin: Vec3) -> CloudUniforms {
         camera_offset: u.camera_offset + vec3(origin.x, 0.0, origin.z),
         inverse_view_projection: u.inverse_view_projection,
         shadow: ShadowParams {
-            lookup: CascadeLookup {
-                u: s.lookup.u * moved,
-                v: s.lookup.v * moved,
-            },
+            lookup: shifted_lookup(s.lookup, origin),
             inverse_matrix: s.inverse_matrix,
             cascade_scales: s.cascade_scales,
             cascade_count: s.cascade_count,
