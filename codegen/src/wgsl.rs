@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::ops::Range;
 
 use nimbus_dsl::ir::{
-    BinaryOp, Block, ExprId, ExprKind, Function, GlobalKind, Literal, Module, SampleKind,
+    BinaryOp, Block, ExprId, ExprKind, Function, GlobalKind, Io, Literal, Module, SampleKind,
     SourceLoc, Stmt, Type, UnaryOp,
 };
 
@@ -98,6 +98,16 @@ fn needs_parens(parent: BinaryOp, child: BinaryOp, right: bool) -> bool {
                 parent != child || right
             }
         }
+    }
+}
+
+/// WGSL's attribute for an entry point's parameter or result.
+fn io_attribute(io: Io) -> String {
+    match io {
+        Io::Position => "@builtin(position)".to_string(),
+        Io::VertexIndex => "@builtin(vertex_index)".to_string(),
+        Io::GlobalInvocationId => "@builtin(global_invocation_id)".to_string(),
+        Io::Location(n) => format!("@location({n})"),
     }
 }
 
@@ -274,13 +284,13 @@ impl Printer<'_> {
             .map(|(i, p)| {
                 let attr = entry
                     .and_then(|e| e.inputs.get(i))
-                    .map(|a| format!("{a} "))
+                    .map(|a| format!("{} ", io_attribute(*a)))
                     .unwrap_or_default();
                 format!("{attr}{}: {}", p.name, p.ty.wgsl())
             })
             .collect();
         let result = match (f.result, entry.and_then(|e| e.output)) {
-            (Some(t), Some(attr)) => format!(" -> {attr} {}", t.wgsl()),
+            (Some(t), Some(io)) => format!(" -> {} {}", io_attribute(io), t.wgsl()),
             (Some(t), None) => format!(" -> {}", t.wgsl()),
             (None, _) => String::new(),
         };

@@ -7,7 +7,7 @@ use std::marker::PhantomData;
 use thiserror::Error;
 
 use crate::ir::{
-    EntryPoint, ExprKind, Global, GlobalId, GlobalKind, Literal, Module, Param, SamplerDesc,
+    EntryPoint, ExprKind, Global, GlobalId, GlobalKind, Io, Literal, Module, Param, SamplerDesc,
     SourceLoc, Stage, Type,
 };
 use crate::record::{self, FunctionHeader, push_expr};
@@ -281,8 +281,8 @@ impl ModuleBuilder {
         name: &str,
         doc: &str,
         loc: SourceLoc,
-        input: (&str, Type, &'static str),
-        output: Option<(Type, &'static str)>,
+        input: (&str, Type, Io),
+        output: Option<(Type, Io)>,
         workgroup_size: [u32; 3],
         body: impl FnOnce(crate::ir::ExprId) -> Option<crate::ir::ExprId>,
     ) {
@@ -315,7 +315,7 @@ impl ModuleBuilder {
         let _ = &self.name;
     }
 
-    /// A fragment entry point: input `@builtin(position)`, output `@location(0) vec4<f32>`.
+    /// A fragment entry point: input the window position, output colour attachment 0.
     pub fn fragment(
         &mut self,
         name: &str,
@@ -328,14 +328,14 @@ impl ModuleBuilder {
             name,
             doc,
             loc,
-            ("frag_coord", Vec4::TYPE, "@builtin(position)"),
-            Some((Vec4::TYPE, "@location(0)")),
+            ("frag_coord", Vec4::TYPE, Io::Position),
+            Some((Vec4::TYPE, Io::Location(0))),
             [0; 3],
             |arg| Some(body(Vec4::from_id(arg)).id()),
         );
     }
 
-    /// A vertex entry point: input `@builtin(vertex_index)`, output `@builtin(position)`.
+    /// A vertex entry point: input the vertex index, output the clip-space position.
     pub fn vertex(
         &mut self,
         name: &str,
@@ -348,14 +348,14 @@ impl ModuleBuilder {
             name,
             doc,
             loc,
-            ("vertex_index", U32::TYPE, "@builtin(vertex_index)"),
-            Some((Vec4::TYPE, "@builtin(position)")),
+            ("vertex_index", U32::TYPE, Io::VertexIndex),
+            Some((Vec4::TYPE, Io::Position)),
             [0; 3],
             |arg| Some(body(U32::from_id(arg)).id()),
         );
     }
 
-    /// A compute entry point: input `@builtin(global_invocation_id)`.
+    /// A compute entry point: input the invocation's index in the dispatch.
     pub fn compute(
         &mut self,
         name: &str,
@@ -369,7 +369,7 @@ impl ModuleBuilder {
             name,
             doc,
             loc,
-            ("global_id", UVec3::TYPE, "@builtin(global_invocation_id)"),
+            ("global_id", UVec3::TYPE, Io::GlobalInvocationId),
             None,
             workgroup_size,
             |arg| {

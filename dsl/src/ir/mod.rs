@@ -3,6 +3,7 @@
 
 mod expr;
 mod function;
+mod io;
 mod module;
 mod sampler;
 mod source;
@@ -13,6 +14,7 @@ pub use expr::{
     BinaryOp, Builtin, Expr, ExprId, ExprKind, GlobalId, Literal, LocalId, SampleKind, UnaryOp,
 };
 pub use function::{Function, Local, Param};
+pub use io::Io;
 pub use module::{EntryPoint, Global, GlobalKind, Module, Stage};
 pub use sampler::{AddressMode, FilterMode, SamplerDesc};
 pub use source::SourceLoc;

@@ -83,10 +83,10 @@ pub struct EntryPoint {
     pub stage: Stage,
     /// Name of the function in `functions` that is the entry point.
     pub function: String,
-    /// The attribute printed on each parameter (`@builtin(position)`...).
-    pub inputs: Vec<&'static str>,
-    /// The attribute printed on the result, if any.
-    pub output: Option<&'static str>,
+    /// What the pipeline supplies to each parameter.
+    pub inputs: Vec<super::io::Io>,
+    /// What the pipeline takes the result as, if any.
+    pub output: Option<super::io::Io>,
     pub workgroup_size: [u32; 3],
 }
 
