@@ -8,7 +8,6 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
 use glam::{Vec2, Vec3, Vec4};
 use nimbus_clouds::model::march::CloudUniforms;
@@ -220,30 +219,7 @@ fn the_javascript_twins_keep_and_read_the_tiles_as_the_cpu_twins() {
         ),
     )
     .expect("write runner");
-    let out = Command::new("node")
-        .arg(dir.path().join("run.mjs"))
-        .output()
-        .expect("node");
-    assert!(
-        out.status.success(),
-        "node failed:\n{}\n--- module ---\n{js}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let results: Value = serde_json::from_slice(&out.stdout).expect("results");
-    let floats = |v: &Value| -> Vec<f64> {
-        fn walk(v: &Value, out: &mut Vec<f64>) {
-            match v {
-                Value::Array(a) => a.iter().for_each(|x| walk(x, out)),
-                Value::Number(n) => out.push(n.as_f64().unwrap_or(f64::NAN)),
-                // By field name: `u` before `v`, as serde_json sorts them.
-                Value::Object(o) => o.values().for_each(|x| walk(x, out)),
-                _ => {}
-            }
-        }
-        let mut out = Vec::new();
-        walk(v, &mut out);
-        out
-    };
+    let results = common::run_node_json(&dir.path().join("run.mjs"), &js);
     let mut worst = 0.0f64;
     for ((o, alt, d, m), got) in cases.iter().zip(results.as_array().expect("results")) {
         let anchor = shadow_anchor(*o, *alt, *d);
@@ -255,7 +231,7 @@ fn the_javascript_twins_keep_and_read_the_tiles_as_the_cpu_twins() {
                 .flat_map(|m| m.to_cols_array())
                 .map(f64::from)
                 .collect();
-            let js = floats(&got[field]);
+            let js = common::json_floats(&got[field]);
             assert_eq!(js.len(), want.len(), "{field}");
             for (j, c) in js.iter().zip(&want) {
                 // f64 against f32: relative to the member's size, absolute near zero.

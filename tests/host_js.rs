@@ -3,8 +3,9 @@
 //! (`print_js`, run by node) gives the same values, so a three.js host moving the sun lights the
 //! clouds as Nimbus does.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
 
 use glam::Vec3;
 use nimbus_clouds::model::march::CloudUniforms;
@@ -103,16 +104,6 @@ fn insert(node: &mut Value, parts: &[&str], leaf: Value) {
     }
 }
 
-fn floats(v: &Value) -> Vec<f64> {
-    match v {
-        Value::Array(a) => a.iter().flat_map(floats).collect(),
-        Value::Number(n) => vec![n.as_f64().unwrap_or(f64::NAN)],
-        // A struct's fields by name (serde_json sorts them: the lookup's `u` before `v`).
-        Value::Object(o) => o.values().flat_map(floats).collect(),
-        _ => Vec::new(),
-    }
-}
-
 /// Elevations and azimuths the direction twins are compared at (degrees).
 const ANGLES: [(f32, f32); 4] = [(35.0, 150.0), (8.0, 230.0), (-3.0, 90.0), (89.0, 0.0)];
 
@@ -149,23 +140,14 @@ fn the_javascript_twin_of_sun_light_matches_the_cpu_twin() {
             .replace("ANGLES", &serde_json::to_string(&ANGLES).expect("json")),
     )
     .expect("write runner");
-    let out = Command::new("node")
-        .arg(dir.path().join("run.mjs"))
-        .output()
-        .expect("node");
-    assert!(
-        out.status.success(),
-        "node failed:\n{}\n--- module ---\n{js}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let output: Value = serde_json::from_slice(&out.stdout).expect("results");
+    let output = common::run_node_json(&dir.path().join("run.mjs"), &js);
     let results = output["lights"].as_array().cloned().unwrap_or_default();
     for ((el, az), got) in ANGLES
         .iter()
         .zip(output["directions"].as_array().expect("directions"))
     {
         let want = sun_direction(*el, *az);
-        for (j, c) in floats(got).iter().zip(want.to_array()) {
+        for (j, c) in common::json_floats(got).iter().zip(want.to_array()) {
             assert!(
                 (j - f64::from(c)).abs() < 1e-6,
                 "sun_direction({el}, {az}): {j} vs {c}"
@@ -190,7 +172,7 @@ fn the_javascript_twin_of_sun_light_matches_the_cpu_twin() {
                 want.shadow_inverse_matrix.to_cols_array().to_vec(),
             ),
         ] {
-            let js_values = floats(&got[field]);
+            let js_values = common::json_floats(&got[field]);
             assert_eq!(js_values.len(), cpu.len(), "{name}: {field}");
             for (j, c) in js_values.iter().zip(&cpu) {
                 let c = f64::from(*c);

@@ -186,3 +186,29 @@ pub fn spirv_text(words: &[u32]) -> String {
         Err(e) => format!("; SPIR-V that rspirv cannot parse: {e}\n"),
     }
 }
+
+/// Runs the node script at `script` and parses what it prints as JSON; a failure shows node's
+/// error beside `module`, the printed module the script imports.
+pub fn run_node_json(script: &std::path::Path, module: &str) -> serde_json::Value {
+    let out = std::process::Command::new("node")
+        .arg(script)
+        .output()
+        .expect("node");
+    assert!(
+        out.status.success(),
+        "node failed:\n{}\n--- module ---\n{module}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("the script prints JSON")
+}
+
+/// Every number in a JSON value, depth first: arrays in order, objects by field name (serde_json
+/// sorts them: a lookup's `u` before its `v`).
+pub fn json_floats(v: &serde_json::Value) -> Vec<f64> {
+    match v {
+        serde_json::Value::Array(a) => a.iter().flat_map(json_floats).collect(),
+        serde_json::Value::Number(n) => vec![n.as_f64().unwrap_or(f64::NAN)],
+        serde_json::Value::Object(o) => o.values().flat_map(json_floats).collect(),
+        _ => Vec::new(),
+    }
+}
