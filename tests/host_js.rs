@@ -69,7 +69,10 @@ fn js_value(u: &CloudUniforms) -> Value {
             Type::Scalar(_) => json!(m.value[0]),
             Type::Vector(..) => json!(m.value),
             Type::Matrix(n) => json!(m.value.chunks(n as usize).collect::<Vec<_>>()),
-            other => panic!("unexpected member type {}", other.wgsl()),
+            other => panic!(
+                "unexpected member type {}",
+                nimbus_codegen::wgsl_type(other)
+            ),
         };
         // `groups[1].min_height` → root.groups[1].min_height
         let parts: Vec<&str> = m.path.split('.').collect();

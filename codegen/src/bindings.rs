@@ -2,6 +2,7 @@
 //! the stages that read it. A host builds its bind-group layouts and bind groups from this
 //! description (the wgpu runtime does), never from the WGSL text or a global's name.
 
+use crate::wgsl_spelling::wgsl_type;
 use nimbus_dsl::ir::{GlobalKind, Module, SamplerDesc, Stage, Type};
 use serde::Serialize;
 
@@ -89,15 +90,11 @@ fn sampled(naga: &naga::Module, global: naga::Handle<naga::GlobalVariable>) -> b
 pub(crate) fn describe(dsl: &Module, validated: &Validated) -> Vec<BindingInfo> {
     let naga = &validated.module;
     let mut out = Vec::new();
-    for g in &dsl.globals {
+    for (i, g) in dsl.globals.iter().enumerate() {
         let Some((group, binding)) = g.binding() else {
             continue;
         };
-        let handle = naga
-            .global_variables
-            .iter()
-            .find(|(_, v)| v.name.as_deref() == Some(g.name.as_str()))
-            .map(|(h, _)| h);
+        let handle = validated.globals.get(i).copied().flatten();
         let kind = match (&g.kind, g.ty) {
             (GlobalKind::Uniform { .. }, Type::Struct(def)) => BindingKind::Uniform {
                 struct_name: def.name.to_string(),
@@ -108,7 +105,7 @@ pub(crate) fn describe(dsl: &Module, validated: &Validated) -> Vec<BindingInfo> 
                 }),
             },
             (GlobalKind::Uniform { .. }, _) => BindingKind::Uniform {
-                struct_name: g.ty.wgsl(),
+                struct_name: wgsl_type(g.ty),
                 size: handle.map_or(0, |h| {
                     naga.types[naga.global_variables[h].ty]
                         .inner
@@ -153,7 +150,7 @@ pub(crate) fn describe(dsl: &Module, validated: &Validated) -> Vec<BindingInfo> 
             binding,
             name: g.name.clone(),
             kind,
-            wgsl_type: g.ty.wgsl(),
+            wgsl_type: wgsl_type(g.ty),
             visibility,
         });
     }

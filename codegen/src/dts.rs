@@ -5,6 +5,7 @@
 //! numbers, matrices tuples of column tuples, structs interfaces with the Rust field names,
 //! fixed-size arrays arrays.
 
+use crate::wgsl_spelling::wgsl_type;
 use std::fmt::Write as _;
 
 use nimbus_dsl::ir::{GlobalKind, Module, Scalar, StructDef, Type};
@@ -30,7 +31,7 @@ fn ts_type(ty: Type, structs: &mut Vec<&'static StructDef>) -> Result<String, St
             def.name.to_string()
         }
         Type::Array(inner, _) => format!("{}[]", ts_type(*inner, structs)?),
-        other => return Err(other.wgsl()),
+        other => return Err(wgsl_type(other)),
     })
 }
 

@@ -69,6 +69,17 @@ pub enum CodegenError {
         message: String,
     },
 
+    /// The IR could not be built into naga's module although its printed WGSL is valid: a bug
+    /// of the lowering, not of the user's shader.
+    #[error(
+        "module `{module}` variant `{variant}`: lowering to naga failed although the printed WGSL is valid (a Nimbus bug): {message}"
+    )]
+    Lowering {
+        module: String,
+        variant: String,
+        message: String,
+    },
+
     #[error(
         "module `{module}` variant `{variant}`: the {target} backend failed for entry point `{entry_point}`: {message}"
     )]

@@ -13,7 +13,7 @@ use crate::names::rename_for_wgsl;
 use crate::share::share_repeated_subexpressions;
 use crate::specialise::{specialise, walk_block};
 use crate::target::Target;
-use crate::validate::{Validated, validate};
+use crate::validate::{Validated, lower_and_validate};
 use crate::wgsl::{SpanTable, print_module};
 
 /// One emitted file.
@@ -73,6 +73,9 @@ pub struct Generated {
     pub ir: Module,
     pub wgsl: String,
     pub spans: SpanTable,
+    /// The validated naga module lowered from the IR, overrides unresolved: what the wgpu
+    /// runtime compiles (the WGSL above is its readable print).
+    pub naga: naga::Module,
     /// Every binding the specialised module keeps, as data.
     pub bindings: Vec<BindingInfo>,
     pub files: Vec<OutputFile>,
@@ -160,7 +163,7 @@ fn count(module: &Module) -> (usize, usize) {
     (samples, loops)
 }
 
-/// Prints and validates a recorded module (no backends).
+/// Prints a recorded module and lowers it to a validated naga module (no backends).
 pub fn print_and_validate(
     mut module: Module,
     variant: &str,
@@ -169,7 +172,7 @@ pub fn print_and_validate(
     share_repeated_subexpressions(&mut module);
     rename_for_wgsl(&mut module);
     let (wgsl, spans) = print_module(&module, variant)?;
-    let validated = validate(&wgsl, &spans, &module.name, variant)?;
+    let validated = lower_and_validate(&module, &wgsl, &spans, variant)?;
     Ok((module, wgsl, spans, validated))
 }
 
@@ -263,6 +266,7 @@ pub fn generate(
         ir: module,
         wgsl,
         spans,
+        naga: validated.module,
         bindings,
         files,
         stats,

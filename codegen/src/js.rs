@@ -10,6 +10,7 @@
 //! matrices go through a small prelude the module carries. Textures, samplers and bindings have
 //! no meaning on a host: a function that reads one is refused, naming it.
 
+use crate::wgsl_spelling::{wgsl_scalar, wgsl_type};
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
@@ -350,7 +351,7 @@ impl Printer<'_> {
                     other => {
                         return Err(host_error(
                             &f.name,
-                            &format!("constructs a {}", other.wgsl()),
+                            &format!("constructs a {}", wgsl_type(*other)),
                         ));
                     }
                 }
@@ -387,7 +388,7 @@ impl Printer<'_> {
                 format!("nb.map({inner}, {conv})")
             }
             ExprKind::Bitcast(s, a) => {
-                format!("nb.bitcast({}, '{}')", self.expr(*a)?, s.wgsl())
+                format!("nb.bitcast({}, '{}')", self.expr(*a)?, wgsl_scalar(*s))
             }
             ExprKind::Select {
                 if_false,

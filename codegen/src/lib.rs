@@ -1,8 +1,11 @@
 //! nimbus-codegen: from a recorded DSL module to validated shaders for every target.
 //!
-//! The chain is `specialise` → `share` (repeated sub-expressions bound once) → `wgsl` (readable printer + span table) → `validate` (naga, the
-//! single gate) → `backend` (GLSL ES 3.00, GLSL 4.50, HLSL, MSL, SPIR-V via naga) → `emit`.
-//! Codegen knows nothing of wgpu.
+//! The chain is `specialise` → `share` (repeated sub-expressions bound once) → `lower` (the IR
+//! built straight into a `naga::Module`) → `validate` (naga, the single gate, once per key) →
+//! `backend` (GLSL ES 3.00, GLSL 4.50, HLSL, MSL, SPIR-V via naga) → `emit`. The `wgsl` printer
+//! writes the same IR as readable WGSL with a span table, for people, snapshots and WebGPU
+//! hosts; when naga refuses a lowered module, that text is parsed to say which Rust line is at
+//! fault. Codegen knows nothing of wgpu.
 
 mod backend;
 pub mod bindings;
@@ -12,6 +15,7 @@ mod error;
 pub mod external;
 mod generate;
 pub mod js;
+mod lower;
 pub mod manifest;
 mod names;
 mod share;
@@ -20,6 +24,7 @@ mod target;
 mod uniform_copy;
 mod validate;
 pub mod wgsl;
+mod wgsl_spelling;
 
 pub use backend::{Contents, default_constants};
 pub use bindings::{BindingInfo, BindingKind, TextureDimension};
@@ -32,7 +37,8 @@ pub use generate::{
 pub use js::print_js;
 pub use target::Target;
 pub use uniform_copy::{copy_uniforms_per_invocation, flatten_uniform_blocks};
-pub use validate::{Validated, validate};
+pub use validate::{Validated, lower_and_validate, validate};
+pub use wgsl_spelling::{wgsl_builtin, wgsl_operator, wgsl_scalar, wgsl_type};
 
 use nimbus_dsl::ShaderVariant;
 

@@ -14,6 +14,7 @@
 //!
 //! A renamed identifier gets a trailing `_` (more if that name is taken).
 
+use crate::wgsl_spelling::wgsl_builtin;
 use std::collections::{BTreeMap, BTreeSet};
 
 use naga::keywords::wgsl::{BUILTIN_IDENTIFIER_SET, RESERVED_SET};
@@ -38,7 +39,7 @@ fn fresh(name: &str, taken: impl Fn(&str) -> bool) -> String {
 
 /// Renames what WGSL requires in `module`, consistently at every use.
 pub(crate) fn rename_for_wgsl(module: &mut Module) {
-    let builtin_fns: BTreeSet<&str> = Builtin::ALL.iter().map(|b| b.wgsl()).collect();
+    let builtin_fns: BTreeSet<&str> = Builtin::ALL.iter().map(|b| wgsl_builtin(*b)).collect();
     // Module scope: functions and globals share one namespace with the predeclared names. A
     // new module-scope name must not be taken by any local either (it would hide the callee).
     let declared: BTreeSet<String> = module
@@ -95,7 +96,7 @@ pub(crate) fn rename_for_wgsl(module: &mut Module) {
                     }
                 }
                 ExprKind::Builtin(b, _) => {
-                    called.insert(b.wgsl());
+                    called.insert(wgsl_builtin(*b));
                 }
                 ExprKind::Select { .. } => {
                     called.insert("select");

@@ -19,6 +19,7 @@
 //! into the private copy (`u = CloudUniforms(LayerGroup(bitcast<vec4<f32>>(u_words[0]), ...),
 //! ...)`). The bytes a host writes are the same either way.
 
+use crate::wgsl_spelling::wgsl_type;
 use std::collections::{BTreeMap, BTreeSet};
 
 use nimbus_dsl::ir::{
@@ -75,7 +76,7 @@ fn read_through_copies(module: &mut Module, fill: Fill) {
                 module.globals[block].doc = format!(
                     "The bytes of `{}` ({}), as {words} vec4 words.",
                     original.name,
-                    original.ty.wgsl()
+                    wgsl_type(original.ty)
                 );
             }
         }

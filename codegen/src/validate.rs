@@ -1,15 +1,53 @@
-//! naga as the single gate: the printed WGSL is parsed and validated with every check on, and
-//! naga's errors are mapped back through the span table to the Rust source.
+//! naga as the single gate: the module lowered from the IR is validated with every check on.
+//! When naga refuses it, the printed WGSL is parsed and validated instead, and naga's errors are
+//! mapped back through the span table to the Rust source (the lowered module carries no spans).
 
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
 use crate::error::{CodegenError, Origin};
+use crate::lower::{LowerError, Lowered, lower};
 use crate::wgsl::SpanTable;
 
-/// A parsed and validated module.
+/// A validated naga module.
 pub struct Validated {
     pub module: naga::Module,
     pub info: ModuleInfo,
+    /// `globals[i]`: the naga global variable of the IR's global `i`, if it became one.
+    pub globals: Vec<Option<naga::Handle<naga::GlobalVariable>>>,
+}
+
+/// Lowers a specialised, renamed module to naga and validates it. `wgsl` and `spans` (the same
+/// module printed) are read only when naga refuses, to say which Rust line is at fault.
+pub fn lower_and_validate(
+    ir: &nimbus_dsl::ir::Module,
+    wgsl: &str,
+    spans: &SpanTable,
+    variant: &str,
+) -> Result<Validated, CodegenError> {
+    let refused = match lower(ir) {
+        Ok(Lowered { module, globals }) => {
+            let mut validator = Validator::new(ValidationFlags::all(), Capabilities::default());
+            match validator.validate(&module) {
+                Ok(info) => {
+                    return Ok(Validated {
+                        module,
+                        info,
+                        globals,
+                    });
+                }
+                Err(e) => chain(e.as_inner()),
+            }
+        }
+        Err(LowerError::Codegen(e)) => return Err(e),
+        Err(LowerError::Unsupported(what)) => format!("cannot lower {what}"),
+    };
+    // The text path locates the fault; if it finds none, the lowering is at fault.
+    validate(wgsl, spans, &ir.name, variant)?;
+    Err(CodegenError::Lowering {
+        module: ir.name.clone(),
+        variant: variant.to_string(),
+        message: refused,
+    })
 }
 
 /// The origin of the most specific span among `offsets` (a statement beats a whole function).
@@ -53,13 +91,15 @@ fn chain(e: &dyn std::error::Error) -> String {
     msg
 }
 
-/// Parses and validates `wgsl`; errors name the module, variant and Rust origin.
+/// Parses and validates printed WGSL; errors name the module, variant and Rust origin. The
+/// check of the text people and WebGPU hosts read (generation itself validates the lowered
+/// module).
 pub fn validate(
     wgsl: &str,
     spans: &SpanTable,
     module_name: &str,
     variant: &str,
-) -> Result<Validated, CodegenError> {
+) -> Result<(naga::Module, ModuleInfo), CodegenError> {
     let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| {
         let origin = best_origin(
             wgsl,
@@ -113,5 +153,5 @@ pub fn validate(
             message: chain(e.as_inner()),
         }
     })?;
-    Ok(Validated { module, info })
+    Ok((module, info))
 }

@@ -4,6 +4,7 @@
 //! needs, formatting is fixed, and a span table maps every printed statement back to the
 //! `#[shader_fn]` and Rust line it came from (see [`SpanTable`]).
 
+use crate::wgsl_spelling::{wgsl_builtin, wgsl_operator, wgsl_type};
 use std::fmt::Write as _;
 use std::ops::Range;
 
@@ -199,7 +200,7 @@ impl Printer<'_> {
         self.indent += 1;
         for f in s.fields {
             self.doc(f.doc);
-            self.line(&format!("{}: {},", f.name, f.ty.wgsl()));
+            self.line(&format!("{}: {},", f.name, wgsl_type(f.ty)));
         }
         self.indent -= 1;
         self.line("}");
@@ -211,25 +212,16 @@ impl Printer<'_> {
         if m.globals.is_empty() {
             return;
         }
-        // Constants first, then resources in (group, binding) order, then per-invocation
-        // state: the order a reader scans a hand-written shader's header in, whatever order the
-        // code first used them in.
-        let mut order: Vec<&nimbus_dsl::ir::Global> = m.globals.iter().collect();
-        order.sort_by_key(|g| match g.kind {
-            GlobalKind::Const { .. } => (0, 0, 0),
-            GlobalKind::Override { .. } => (1, 0, 0),
-            GlobalKind::Uniform { group, binding }
-            | GlobalKind::Storage { group, binding, .. }
-            | GlobalKind::Handle { group, binding } => (2, group, binding),
-            GlobalKind::Private => (3, 0, 0),
-        });
+        let order = crate::lower::declaration_order(m)
+            .into_iter()
+            .map(|i| &m.globals[i]);
         for g in order {
             self.doc(&g.doc);
             let decl = match &g.kind {
                 GlobalKind::Uniform { group, binding } => format!(
                     "@group({group}) @binding({binding}) var<uniform> {}: {};",
                     g.name,
-                    g.ty.wgsl()
+                    wgsl_type(g.ty)
                 ),
                 GlobalKind::Storage {
                     group,
@@ -239,26 +231,26 @@ impl Printer<'_> {
                     "@group({group}) @binding({binding}) var<storage, {}> {}: {};",
                     if *read_write { "read_write" } else { "read" },
                     g.name,
-                    g.ty.wgsl()
+                    wgsl_type(g.ty)
                 ),
                 GlobalKind::Handle { group, binding } => format!(
                     "@group({group}) @binding({binding}) var {}: {};",
                     g.name,
-                    g.ty.wgsl()
+                    wgsl_type(g.ty)
                 ),
                 GlobalKind::Override { default } => format!(
                     "override {}: {} = {};",
                     g.name,
-                    g.ty.wgsl(),
+                    wgsl_type(g.ty),
                     literal(*default).unwrap_or_else(|| "0.0".into())
                 ),
                 GlobalKind::Const { value } => format!(
                     "const {}: {} = {};",
                     g.name,
-                    g.ty.wgsl(),
+                    wgsl_type(g.ty),
                     literal(*value).unwrap_or_else(|| "0.0".into())
                 ),
-                GlobalKind::Private => format!("var<private> {}: {};", g.name, g.ty.wgsl()),
+                GlobalKind::Private => format!("var<private> {}: {};", g.name, wgsl_type(g.ty)),
             };
             self.line(&decl);
         }
@@ -286,16 +278,16 @@ impl Printer<'_> {
                     .and_then(|e| e.inputs.get(i))
                     .map(|a| format!("{} ", io_attribute(*a)))
                     .unwrap_or_default();
-                format!("{attr}{}: {}", p.name, p.ty.wgsl())
+                format!("{attr}{}: {}", p.name, wgsl_type(p.ty))
             })
             .collect();
         let result = match (f.result, entry.and_then(|e| e.output)) {
-            (Some(t), Some(io)) => format!(" -> {} {}", io_attribute(io), t.wgsl()),
-            (Some(t), None) => format!(" -> {}", t.wgsl()),
+            (Some(t), Some(io)) => format!(" -> {} {}", io_attribute(io), wgsl_type(t)),
+            (Some(t), None) => format!(" -> {}", wgsl_type(t)),
             (None, _) => String::new(),
         };
         if let Some(e) = entry {
-            let stage = e.stage.wgsl();
+            let stage = e.stage.name();
             if e.stage == nimbus_dsl::ir::Stage::Compute {
                 let [x, y, z] = e.workgroup_size;
                 self.line(&format!("@{stage} @workgroup_size({x}, {y}, {z})"));
@@ -349,9 +341,9 @@ impl Printer<'_> {
                 match init {
                     Some(i) => {
                         let v = self.expr(f, *i)?;
-                        self.line(&format!("var {}: {} = {v};", l.name, l.ty.wgsl()));
+                        self.line(&format!("var {}: {} = {v};", l.name, wgsl_type(l.ty)));
                     }
-                    None => self.line(&format!("var {}: {};", l.name, l.ty.wgsl())),
+                    None => self.line(&format!("var {}: {};", l.name, wgsl_type(l.ty))),
                 }
             }
             Stmt::Assign { local, value, .. } => {
@@ -387,7 +379,7 @@ impl Printer<'_> {
                 self.line(&format!(
                     "for (var {n}: {t} = {a}; {n} < {b}; {n} += {one}) {{",
                     n = l.name,
-                    t = l.ty.wgsl()
+                    t = wgsl_type(l.ty)
                 ));
                 self.indent += 1;
                 self.block(f, body)?;
@@ -504,11 +496,11 @@ impl Printer<'_> {
             ExprKind::Binary(op, a, b) => {
                 let l = self.operand(f, *a, *op, false)?;
                 let r = self.operand(f, *b, *op, true)?;
-                format!("{l} {} {r}", op.wgsl())
+                format!("{l} {} {r}", wgsl_operator(*op))
             }
-            ExprKind::Builtin(b, args) => format!("{}({})", b.wgsl(), self.args(f, args)?),
+            ExprKind::Builtin(b, args) => format!("{}({})", wgsl_builtin(*b), self.args(f, args)?),
             ExprKind::Call(name, args) => format!("{name}({})", self.args(f, args)?),
-            ExprKind::Construct(ty, args) => format!("{}({})", ty.wgsl(), self.args(f, args)?),
+            ExprKind::Construct(ty, args) => format!("{}({})", wgsl_type(*ty), self.args(f, args)?),
             ExprKind::Swizzle(v, idx) => {
                 let base = self.postfix_base(f, *v)?;
                 let s: String = idx.iter().map(|i| SWIZZLE[*i as usize]).collect();
@@ -526,8 +518,10 @@ impl Printer<'_> {
                 let base = self.postfix_base(f, *a)?;
                 format!("{base}[{}]", self.expr(f, *i)?)
             }
-            ExprKind::Convert(_, a) => format!("{}({})", e.ty.wgsl(), self.expr(f, *a)?),
-            ExprKind::Bitcast(_, a) => format!("bitcast<{}>({})", e.ty.wgsl(), self.expr(f, *a)?),
+            ExprKind::Convert(_, a) => format!("{}({})", wgsl_type(e.ty), self.expr(f, *a)?),
+            ExprKind::Bitcast(_, a) => {
+                format!("bitcast<{}>({})", wgsl_type(e.ty), self.expr(f, *a)?)
+            }
             ExprKind::Select {
                 if_false,
                 if_true,

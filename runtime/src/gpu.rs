@@ -204,7 +204,7 @@ impl Gpu {
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(entry),
-                source: wgpu::ShaderSource::Wgsl(generated.wgsl.as_str().into()),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(generated.naga.clone())),
             });
         let pipeline = self
             .device

@@ -1,5 +1,6 @@
 //! nimbus-runtime: a thin wgpu layer over codegen's output. It never writes shader text: every
-//! pipeline is created from WGSL that codegen printed and naga validated.
+//! pipeline is created from the naga module codegen lowered from the DSL and validated (or, to
+//! check the two agree, from the WGSL codegen printed: [`ShaderInput`]).
 //!
 //! It opens any adapter (a GPU, or lavapipe/llvmpipe on machines without one), generates the
 //! procedural textures with compute kernels, renders cloud variants through the passes they
@@ -18,8 +19,10 @@ mod png;
 pub mod render;
 pub mod scene_depth;
 pub mod scene_time;
+mod shader_input;
 pub mod textures;
 pub mod user_textures;
 
 pub use error::RuntimeError;
 pub use gpu::{Gpu, GpuInfo, GpuResource, ResourceCounts};
+pub use shader_input::ShaderInput;

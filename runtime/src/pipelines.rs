@@ -1,5 +1,5 @@
-//! The pipeline cache: one render pipeline per shader key, created from codegen's WGSL the
-//! first time it is needed and reused after. The key holds what changes the code (toggles,
+//! The pipeline cache: one render pipeline per shader key, created from codegen's naga module
+//! the first time it is needed and reused after. The key holds what changes the code (toggles,
 //! octaves, phase kind, layer groups), not the numbers: two genera or two presets with the same
 //! key share a pipeline, since their differences are uniforms.
 //!
@@ -18,6 +18,7 @@ use nimbus_dsl::ir::Stage;
 
 use crate::error::RuntimeError;
 use crate::gpu::Gpu;
+use crate::shader_input::ShaderInput;
 
 /// A pipeline, its layout, and the bindings its shader keeps.
 pub struct CachedPipeline {
@@ -36,6 +37,8 @@ pub struct PipelineCache {
     /// Bind uniform blocks as `vec4` word arrays, as engine packages for three.js do
     /// ([`flatten_uniform_blocks`]); the bytes written are the same.
     flat_uniforms: bool,
+    /// What shader modules are created from.
+    input: ShaderInput,
 }
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -122,6 +125,15 @@ impl PipelineCache {
         }
     }
 
+    /// Builds every later pipeline from `input`; pipelines built from the other are dropped.
+    pub fn set_shader_input(&mut self, input: ShaderInput) {
+        if self.input != input {
+            self.input = input;
+            self.map.clear();
+            self.built.clear();
+        }
+    }
+
     /// Keys built so far, in order.
     pub fn built(&self) -> &[ShaderKey] {
         &self.built
@@ -146,7 +158,7 @@ impl PipelineCache {
                 Some(handle) => handle.join().map_err(|_| {
                     RuntimeError::Kernel(format!("the background build of `{}` panicked", key.id()))
                 })??,
-                None => build(&BuildTarget::of(gpu, self.flat_uniforms), key)?,
+                None => build(&BuildTarget::of(gpu, self.flat_uniforms, self.input), key)?,
             };
             self.map.insert(key, built);
             self.built.push(key);
@@ -161,7 +173,7 @@ impl PipelineCache {
         if self.map.contains_key(&key) || self.pending.contains_key(&key) {
             return;
         }
-        let target = BuildTarget::of(gpu, self.flat_uniforms);
+        let target = BuildTarget::of(gpu, self.flat_uniforms, self.input);
         let handle = std::thread::spawn(move || build(&target, key));
         self.pending.insert(key, handle);
     }
@@ -186,20 +198,22 @@ struct BuildTarget {
     cpu: bool,
     accumulation: wgpu::TextureFormat,
     flat_uniforms: bool,
+    input: ShaderInput,
 }
 
 impl BuildTarget {
-    fn of(gpu: &Gpu, flat_uniforms: bool) -> Self {
+    fn of(gpu: &Gpu, flat_uniforms: bool, input: ShaderInput) -> Self {
         BuildTarget {
             device: gpu.device().clone(),
             cpu: gpu.info().cpu,
             accumulation: gpu.accumulation_format(),
             flat_uniforms,
+            input,
         }
     }
 }
 
-/// Records `key`'s module, generates its WGSL and compiles its render pipeline.
+/// Records `key`'s module, generates it and compiles its render pipeline.
 fn build(target: &BuildTarget, key: ShaderKey) -> Result<CachedPipeline, RuntimeError> {
     let label = key.id();
     let mut module = key.record()?;
@@ -211,7 +225,7 @@ fn build(target: &BuildTarget, key: ShaderKey) -> Result<CachedPipeline, Runtime
         // made the cloud pass 30 % faster on llvmpipe (see the pass's docs).
         copy_uniforms_per_invocation(&mut module);
     }
-    let generated = generate(module, &key.variant(), &[Target::Wgsl])?;
+    let mut generated = generate(module, &key.variant(), &[Target::Wgsl])?;
     let entry_of = |stage: Stage| {
         generated
             .ir
@@ -232,7 +246,7 @@ fn build(target: &BuildTarget, key: ShaderKey) -> Result<CachedPipeline, Runtime
     });
     let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(&label),
-        source: wgpu::ShaderSource::Wgsl(generated.wgsl.as_str().into()),
+        source: target.input.source(&mut generated),
     });
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(&label),

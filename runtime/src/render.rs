@@ -422,6 +422,13 @@ impl<'g> Renderer<'g> {
         self.epoch += 1;
     }
 
+    /// Creates every later pipeline from `input` (the lowered module by default; the printed
+    /// WGSL to show that both draw the same picture).
+    pub fn set_shader_input(&mut self, input: crate::ShaderInput) {
+        self.pipelines.set_shader_input(input);
+        self.epoch += 1;
+    }
+
     /// Keeps (or stops keeping, and forgets) the bytes of every cloud and resolve block the
     /// frames write, in order: what an engine host must write for the same frames.
     pub fn set_uniform_log(&mut self, on: bool) {

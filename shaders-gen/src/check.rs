@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use nimbus_codegen::external::{ExternalCheck, check_file};
-use nimbus_codegen::{Target, generate_variant};
+use nimbus_codegen::{Target, generate_variant, validate};
 use nimbus_dsl::ShaderVariant;
 
 use crate::data::{Selection, load, print_sharing, resolve};
@@ -39,6 +39,12 @@ pub(crate) fn run(
             }
             Ok(g) => {
                 files += g.files.len();
+                // Generation validated the lowered module; the printed WGSL (what WebGPU hosts
+                // load) is parsed and validated here as well.
+                if let Err(e) = validate(&g.wgsl, &g.spans, &g.module_name, &g.variant) {
+                    failures += 1;
+                    say_err!("FAIL {}: the printed WGSL: {e}", g.id());
+                }
                 let code: String = g
                     .wgsl
                     .lines()

@@ -238,6 +238,10 @@ pub(crate) enum Command {
         /// keys), on every core, and report the time (minutes on 2 cores).
         #[arg(long)]
         reachable: bool,
+        /// With `--reachable`: generate only this many keys, spread evenly over all of them,
+        /// and extrapolate the time of the whole set.
+        #[arg(long, value_name = "KEYS", requires = "reachable")]
+        sample: Option<usize>,
     },
 }
 
@@ -314,7 +318,8 @@ pub fn main() -> ExitCode {
         Command::Bench {
             iterations,
             reachable,
-        } => bench::run(data, (*iterations).max(1), *reachable).map_err(Into::into),
+            sample,
+        } => bench::run(data, (*iterations).max(1), *reachable, *sample).map_err(Into::into),
     };
     crate::data_folder::remove_private_examples();
     match result {

@@ -1060,7 +1060,7 @@ const DISPLAY_NOTES: &[(&str, &str)] = &[
 ];
 
 fn type_name(ty: Type) -> String {
-    ty.wgsl()
+    nimbus_codegen::wgsl_type(ty)
 }
 
 fn block_file(ty: Type, bytes: &[u8], notes: &[(&str, &str)]) -> UniformBlockFile {

@@ -13,7 +13,7 @@ use std::sync::Mutex;
 
 use nimbus_clouds::catalog::{Assignment, ShaderKey, assign};
 use nimbus_clouds::{Genus, Quality, ScenePreset, analyse, parse_genus, parse_scene};
-use nimbus_codegen::{Target, generate};
+use nimbus_codegen::{Target, generate, validate};
 use nimbus_dsl::ShaderVariant as _;
 
 /// The name every fuzzed file goes by (a genus or scene must be named after its file).
@@ -110,7 +110,13 @@ fn check_key(key: ShaderKey, targets: &[Target], input: &str) {
     let module = key
         .record()
         .unwrap_or_else(|e| panic!("{} does not record: {e}\ninput:\n{input}", key.id()));
-    if let Err(e) = generate(module, &key.variant(), targets) {
-        panic!("{} fails codegen: {e}\ninput:\n{input}", key.id());
+    let g = generate(module, &key.variant(), targets)
+        .unwrap_or_else(|e| panic!("{} fails codegen: {e}\ninput:\n{input}", key.id()));
+    // Generation validates the lowered module; the WGSL printed from the same IR is what WebGPU
+    // hosts load, so it must parse and validate too.
+    if targets.contains(&Target::Wgsl)
+        && let Err(e) = validate(&g.wgsl, &g.spans, &g.module_name, &g.variant)
+    {
+        panic!("{}: the printed WGSL: {e}\ninput:\n{input}", key.id());
     }
 }

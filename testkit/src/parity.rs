@@ -34,7 +34,7 @@ pub fn words_of(ty: Type) -> Result<usize, RuntimeError> {
         other => {
             return Err(RuntimeError::Kernel(format!(
                 "{} values cannot be passed through a parity buffer",
-                other.wgsl()
+                nimbus_codegen::wgsl_type(other)
             )));
         }
     })
@@ -146,7 +146,7 @@ fn store(
         other => {
             return Err(RuntimeError::Kernel(format!(
                 "parity results must be scalars, vectors or structs of them, not {}",
-                other.wgsl()
+                nimbus_codegen::wgsl_type(other)
             )));
         }
     }

@@ -9,6 +9,7 @@ mod hlsl;
 mod msl;
 mod spirv;
 
+use crate::wgsl_spelling::wgsl_type;
 use naga::back::PipelineConstants;
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 use nimbus_dsl::ir::{GlobalKind, Module as DslModule, SamplerDesc, Stage};
@@ -234,7 +235,7 @@ fn manifest_for(
             kind,
             group: rb.group,
             binding: rb.binding,
-            wgsl_type: src.ty.wgsl(),
+            wgsl_type: wgsl_type(src.ty),
             target_name,
             sampler: src.sampler.map(|d| ManifestSampler {
                 address_mode: d.address.name(),
@@ -259,7 +260,7 @@ fn manifest_for(
                     .map(|(m, f)| ManifestField {
                         name: f.name.to_string(),
                         target_name: target_member_name(&m.name.clone().unwrap_or_default()),
-                        wgsl_type: f.ty.wgsl(),
+                        wgsl_type: wgsl_type(f.ty),
                         offset: m.offset,
                     })
                     .collect(),
@@ -279,7 +280,7 @@ fn manifest_for(
         variant: variant.to_string(),
         target: target.name().to_string(),
         entry_point: entry.to_string(),
-        stage: stage.wgsl().to_string(),
+        stage: stage.name().to_string(),
         bindings,
         combined_samplers: Vec::new(),
         buffer_sizes: None,

@@ -68,29 +68,6 @@ pub enum BinaryOp {
 }
 
 impl BinaryOp {
-    pub fn wgsl(self) -> &'static str {
-        match self {
-            BinaryOp::Add => "+",
-            BinaryOp::Sub => "-",
-            BinaryOp::Mul => "*",
-            BinaryOp::Div => "/",
-            BinaryOp::Rem => "%",
-            BinaryOp::Lt => "<",
-            BinaryOp::Le => "<=",
-            BinaryOp::Gt => ">",
-            BinaryOp::Ge => ">=",
-            BinaryOp::Eq => "==",
-            BinaryOp::Ne => "!=",
-            BinaryOp::And => "&&",
-            BinaryOp::Or => "||",
-            BinaryOp::BitAnd => "&",
-            BinaryOp::BitOr => "|",
-            BinaryOp::BitXor => "^",
-            BinaryOp::Shl => "<<",
-            BinaryOp::Shr => ">>",
-        }
-    }
-
     pub fn is_comparison(self) -> bool {
         matches!(
             self,
@@ -99,7 +76,7 @@ impl BinaryOp {
     }
 }
 
-/// A WGSL built-in function. The DSL exposes each under the name its Rust twin has (`exp`,
+/// A built-in function. The DSL exposes each under the name its Rust twin has (`exp`,
 /// `max`, `lerp`...), so the CPU and the shader agree on meaning, not just on spelling.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 pub enum Builtin {
@@ -142,7 +119,7 @@ pub enum Builtin {
 }
 
 impl Builtin {
-    /// Every built-in function (a name missing here is only renamed more eagerly in WGSL).
+    /// Every built-in function.
     pub const ALL: [Builtin; 36] = [
         Builtin::Abs,
         Builtin::Ceil,
@@ -181,47 +158,6 @@ impl Builtin {
         Builtin::Saturate,
         Builtin::Pack4x8Unorm,
     ];
-
-    pub fn wgsl(self) -> &'static str {
-        match self {
-            Builtin::Abs => "abs",
-            Builtin::Ceil => "ceil",
-            Builtin::Clamp => "clamp",
-            Builtin::Cos => "cos",
-            Builtin::Cross => "cross",
-            Builtin::Distance => "distance",
-            Builtin::Dot => "dot",
-            Builtin::Exp => "exp",
-            Builtin::Exp2 => "exp2",
-            Builtin::Floor => "floor",
-            Builtin::Fract => "fract",
-            Builtin::InverseSqrt => "inverseSqrt",
-            Builtin::Length => "length",
-            Builtin::Log => "log",
-            Builtin::Log2 => "log2",
-            Builtin::Max => "max",
-            Builtin::Min => "min",
-            Builtin::Mix => "mix",
-            Builtin::Normalize => "normalize",
-            Builtin::Pow => "pow",
-            Builtin::Round => "round",
-            Builtin::Select => "select",
-            Builtin::Sign => "sign",
-            Builtin::Sin => "sin",
-            Builtin::Smoothstep => "smoothstep",
-            Builtin::Sqrt => "sqrt",
-            Builtin::Step => "step",
-            Builtin::Tan => "tan",
-            Builtin::Trunc => "trunc",
-            Builtin::Atan2 => "atan2",
-            Builtin::Acos => "acos",
-            Builtin::Asin => "asin",
-            Builtin::Atan => "atan",
-            Builtin::Fma => "fma",
-            Builtin::Saturate => "saturate",
-            Builtin::Pack4x8Unorm => "pack4x8unorm",
-        }
-    }
 }
 
 /// How a texture is read.
@@ -245,7 +181,7 @@ pub enum ExprKind {
     Unary(UnaryOp, ExprId),
     Binary(BinaryOp, ExprId, ExprId),
     Builtin(Builtin, Vec<ExprId>),
-    /// Call of another recorded function, by its (specialised) WGSL name.
+    /// Call of another recorded function, by its (specialised) name.
     Call(String, Vec<ExprId>),
     /// `T(a, b, ...)` for vectors, matrices and structs.
     Construct(Type, Vec<ExprId>),

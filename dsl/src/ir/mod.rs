@@ -1,5 +1,6 @@
-//! The DSL's own typed IR. It is small on purpose: just enough structure to print readable WGSL
-//! that naga then parses and validates (see DESIGN.md for why we do not build naga IR directly).
+//! The DSL's own typed IR, in no target's spelling. It is small on purpose: just enough
+//! structure to print readable WGSL for people and to lower straight to naga's module for every
+//! backend (codegen's `wgsl` printer and `lower`).
 
 mod expr;
 mod function;

@@ -68,7 +68,8 @@ pub enum Stage {
 }
 
 impl Stage {
-    pub fn wgsl(self) -> &'static str {
+    /// The stage's lower-case name (`vertex`, `fragment`, `compute`), as manifests write it.
+    pub fn name(self) -> &'static str {
         match self {
             Stage::Vertex => "vertex",
             Stage::Fragment => "fragment",

@@ -1,5 +1,6 @@
-//! Shader types as the IR sees them. Every value the DSL records carries one of these, so the
-//! printer never has to infer a type and naga never sees an abstract literal it could misread.
+//! Shader types as the IR sees them, in no target's spelling (the WGSL printer and the naga
+//! lowering each say them their own way). Every value the DSL records carries one of these, so
+//! no consumer has to infer a type and naga never sees an abstract literal it could misread.
 
 /// A scalar kind. Only the 32-bit kinds every target supports (no f16, no f64).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
@@ -8,18 +9,6 @@ pub enum Scalar {
     I32,
     U32,
     Bool,
-}
-
-impl Scalar {
-    /// The WGSL spelling.
-    pub fn wgsl(self) -> &'static str {
-        match self {
-            Scalar::F32 => "f32",
-            Scalar::I32 => "i32",
-            Scalar::U32 => "u32",
-            Scalar::Bool => "bool",
-        }
-    }
 }
 
 /// One field of a [`StructDef`].
@@ -79,21 +68,6 @@ impl Type {
             Type::Vector(n, _) => Some(u32::from(n)),
             Type::Matrix(n) => Some(u32::from(n) * u32::from(n)),
             _ => None,
-        }
-    }
-
-    /// The WGSL spelling (`vec3<f32>`, `mat4x4<f32>`, a struct's name...).
-    pub fn wgsl(self) -> String {
-        match self {
-            Type::Scalar(s) => s.wgsl().to_string(),
-            Type::Vector(n, s) => format!("vec{n}<{}>", s.wgsl()),
-            Type::Matrix(n) => format!("mat{n}x{n}<f32>"),
-            Type::Struct(def) => def.name.to_string(),
-            Type::Array(elem, n) => format!("array<{}, {n}>", elem.wgsl()),
-            Type::RuntimeArray(s) => format!("array<{}>", s.wgsl()),
-            Type::Texture2d => "texture_2d<f32>".to_string(),
-            Type::Texture3d => "texture_3d<f32>".to_string(),
-            Type::Sampler => "sampler".to_string(),
         }
     }
 

@@ -123,9 +123,6 @@ fn store(array: ExprId, offset: u32, value: ExprId, ty: Type, loc: SourceLoc) {
                 store(array, offset + stride * i, e, *elem, loc);
             }
         }
-        other => record::push_error(format!(
-            "{loc}: {} has no uniform layout to write",
-            other.wgsl()
-        )),
+        other => record::push_error(format!("{loc}: {other:?} has no uniform layout to write")),
     }
 }
