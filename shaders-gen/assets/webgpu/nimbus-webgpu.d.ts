@@ -10,12 +10,15 @@ export type EngineDepth = GPUTexture | { texture: GPUTexture; view: GPUTextureVi
 export declare class NimbusWebGPU extends NimbusHost {
   /**
    * Loads the package at `base` onto `device`; `options.pair` picks a genus × preset pair,
-   * `options.format` the format of the texture `render` draws into.
+   * `options.format` the format of the texture `render` draws into. Every pipeline is compiled
+   * asynchronously (createRenderPipelineAsync): an application switching pairs keeps drawing
+   * the current one until the promise resolves. `options.compile: 'blocking'` compiles with
+   * createRenderPipeline instead.
    */
   static load(
     base: URL | string,
     device: GPUDevice,
-    options?: { pair?: string; format?: GPUTextureFormat },
+    options?: { pair?: string; format?: GPUTextureFormat; compile?: 'async' | 'blocking' },
   ): Promise<NimbusWebGPU>;
   readonly device: GPUDevice;
   /**

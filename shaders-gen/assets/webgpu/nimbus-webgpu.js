@@ -62,7 +62,9 @@ export class NimbusWebGPU extends NimbusHost {
   /**
    * Loads the package at `base` (a URL of its folder) onto `device`. `options.pair` picks a
    * genus × preset pair (`cumulus.high`; the first otherwise), `options.format` the format of
-   * the texture `render` draws into (the canvas's preferred format by default).
+   * the texture `render` draws into (the canvas's preferred format by default). Pipelines are
+   * compiled with createRenderPipelineAsync: keep drawing the current pair until the promise
+   * resolves, then swap (`options.compile: 'blocking'` compiles with createRenderPipeline).
    */
   static async load(base, device, options = {}) {
     const { pkg, pair, blocks, get } = await loadPackage(base, 'webgpu', options);
@@ -77,10 +79,42 @@ export class NimbusWebGPU extends NimbusHost {
       modules[pass.pass] = device.createShaderModule({ label: pass.shader, code });
     }
     const format = options.format ?? navigator.gpu.getPreferredCanvasFormat();
-    return new NimbusWebGPU(device, pkg, pair, blocks, textures, modules, format);
+    // Every pass's pipeline compiled asynchronously and together: the browser may compile them
+    // off the thread that draws, so an application that loads another pair (a new preset, a
+    // new genus) keeps drawing the current one until this promise resolves, then swaps.
+    // `compile: 'blocking'` creates them with createRenderPipeline instead, the compile landing
+    // on the device's queue at once (to compare the two).
+    const create = options.compile === 'blocking'
+      ? async (descriptor) => device.createRenderPipeline(descriptor)
+      : (descriptor) => device.createRenderPipelineAsync(descriptor);
+    const passes = {};
+    await Promise.all(pair.passes.map(async (pass) => {
+      const layout = device.createBindGroupLayout({ label: pass.pass, entries: pass.bind_group_layout.entries });
+      const display = pass.pass === 'display';
+      // The clouds go over the engine's picture premultiplied; elsewhere every pass replaces.
+      const over = display && Boolean(blocks.scene)
+        ? {
+          color: { srcFactor: 'one', dstFactor: 'one-minus-src-alpha' },
+          alpha: { srcFactor: 'zero', dstFactor: 'one' },
+        }
+        : undefined;
+      const pipeline = await create({
+        label: pass.shader,
+        layout: device.createPipelineLayout({ bindGroupLayouts: [layout] }),
+        vertex: { module: modules[pass.pass], entryPoint: pass.entry_points.vertex },
+        fragment: {
+          module: modules[pass.pass],
+          entryPoint: pass.entry_points.fragment,
+          targets: [{ format: display ? format : HDR, blend: over }],
+        },
+        primitive: { topology: 'triangle-list' },
+      });
+      passes[pass.pass] = { pass, layout, pipeline };
+    }));
+    return new NimbusWebGPU(device, pkg, pair, blocks, textures, passes, format);
   }
 
-  constructor(device, pkg, pair, blocks, textures, modules, format) {
+  constructor(device, pkg, pair, blocks, textures, passes, format) {
     super(pkg, pair, blocks);
     this.device = device;
     this.textures = textures;
@@ -110,30 +144,7 @@ export class NimbusWebGPU extends NimbusHost {
     this.history = [null, null];
     this.latest = 0;
     this.samplers = new Map();
-    this.passes = {};
-    for (const pass of pair.passes) {
-      const layout = device.createBindGroupLayout({ label: pass.pass, entries: pass.bind_group_layout.entries });
-      const display = pass.pass === 'display';
-      // The clouds go over the engine's picture premultiplied; elsewhere every pass replaces.
-      const over = display && this.readsDepth
-        ? {
-          color: { srcFactor: 'one', dstFactor: 'one-minus-src-alpha' },
-          alpha: { srcFactor: 'zero', dstFactor: 'one' },
-        }
-        : undefined;
-      const pipeline = device.createRenderPipeline({
-        label: pass.shader,
-        layout: device.createPipelineLayout({ bindGroupLayouts: [layout] }),
-        vertex: { module: modules[pass.pass], entryPoint: pass.entry_points.vertex },
-        fragment: {
-          module: modules[pass.pass],
-          entryPoint: pass.entry_points.fragment,
-          targets: [{ format: display ? format : HDR, blend: over }],
-        },
-        primitive: { topology: 'triangle-list' },
-      });
-      this.passes[pass.pass] = { pass, layout, pipeline };
-    }
+    this.passes = passes;
   }
 
   target(label, width, height, usage = 0) {
