@@ -190,14 +190,12 @@ pub fn generate(
     let mut baked = Vec::new();
     if targets.iter().any(|t| *t != Target::Wgsl) {
         for ep in &module.entry_points {
-            let b = backend::bake(&validated, ep.stage, &ep.function, &constants).map_err(
-                |message| CodegenError::Bake {
-                    module: module.name.clone(),
-                    variant: variant.to_string(),
-                    entry_point: ep.function.clone(),
-                    message,
-                },
-            )?;
+            let b = backend::bake(&module, &ep.function).map_err(|message| CodegenError::Bake {
+                module: module.name.clone(),
+                variant: variant.to_string(),
+                entry_point: ep.function.clone(),
+                message,
+            })?;
             baked.push(b);
         }
     }

@@ -288,18 +288,67 @@ pub(crate) fn declaration_order(module: &ir::Module) -> Vec<usize> {
     order
 }
 
+/// What a lowering is for.
+#[derive(Clone, Copy)]
+pub(crate) enum Lowering<'a> {
+    /// The whole module, overrides kept: the gate, the wgpu runtime's module, the WGSL's twin.
+    Whole,
+    /// One entry point and only what it reaches, each override a constant of its default: what
+    /// naga's other back ends translate (no `process_overrides`, no compaction, one validation).
+    Baked { entry: &'a str },
+}
+
+/// The functions `entry` calls, directly or not, and the globals they read, by index.
+fn reached(module: &ir::Module, entry: &str) -> (Vec<bool>, Vec<bool>) {
+    let mut functions = vec![false; module.functions.len()];
+    let mut globals = vec![false; module.globals.len()];
+    let index = |name: &str| module.functions.iter().position(|f| f.name == name);
+    let mut stack: Vec<usize> = index(entry).into_iter().collect();
+    while let Some(i) = stack.pop() {
+        if std::mem::replace(&mut functions[i], true) {
+            continue;
+        }
+        // Only what the statements reach: specialisation leaves dead nodes in the arena, which
+        // may name globals it removed.
+        let f = &module.functions[i];
+        crate::specialise::walk_block(f, &f.body, &mut |id| match &f.expr(id).kind {
+            ExprKind::Call(name, _) => stack.extend(index(name)),
+            ExprKind::Global(g) => {
+                if let Some(used) = globals.get_mut(g.0 as usize) {
+                    *used = true;
+                }
+            }
+            _ => {}
+        });
+    }
+    (functions, globals)
+}
+
 /// Lowers a specialised, renamed module.
-pub(crate) fn lower(module: &ir::Module) -> Result<Lowered, LowerError> {
+pub(crate) fn lower(module: &ir::Module, lowering: Lowering) -> Result<Lowered, LowerError> {
     let mut m = naga::Module::default();
     let mut types = Types {
         map: HashMap::new(),
         layouter: Layouter::default(),
     };
+    // Structs in the order the printer declares them (a baked entry point's unused ones are
+    // compacted away at the end).
     for s in &module.structs {
         types.get(&mut m, Type::Struct(s))?;
     }
+    let (reached_fns, reached_globals) = match lowering {
+        Lowering::Whole => (
+            vec![true; module.functions.len()],
+            vec![true; module.globals.len()],
+        ),
+        Lowering::Baked { entry } => reached(module, entry),
+    };
+    let baked = matches!(lowering, Lowering::Baked { .. });
     let mut refs: Vec<Option<GlobalRef>> = vec![None; module.globals.len()];
     for i in declaration_order(module) {
+        if !reached_globals[i] {
+            continue;
+        }
         let g = &module.globals[i];
         let ty = types.get(&mut m, g.ty)?;
         let value = |m: &mut naga::Module, l: Literal| match literal(l) {
@@ -358,6 +407,17 @@ pub(crate) fn lower(module: &ir::Module) -> Result<Lowered, LowerError> {
                     .append(var(naga::AddressSpace::Private, None), Span::UNDEFINED),
                 is_handle: false,
             },
+            GlobalKind::Override { default } if baked => {
+                let init = value(&mut m, default)?;
+                GlobalRef::Constant(m.constants.append(
+                    naga::Constant {
+                        name: Some(g.name.clone()),
+                        ty,
+                        init,
+                    },
+                    Span::UNDEFINED,
+                ))
+            }
             GlobalKind::Override { default } => {
                 let init = value(&mut m, default)?;
                 GlobalRef::Override(m.overrides.append(
@@ -383,9 +443,13 @@ pub(crate) fn lower(module: &ir::Module) -> Result<Lowered, LowerError> {
             }
         });
     }
-    let refs: Vec<GlobalRef> = refs.into_iter().flatten().collect();
     let mut functions: HashMap<&str, Handle<naga::Function>> = HashMap::new();
-    for f in &module.functions {
+    for (f, _) in module
+        .functions
+        .iter()
+        .zip(&reached_fns)
+        .filter(|(_, reached)| **reached)
+    {
         let entry = module.entry_point(&f.name);
         let lowered = FnLower::new(f, &mut m, &mut types, &refs, &functions, entry)?.run()?;
         match entry {
@@ -413,10 +477,14 @@ pub(crate) fn lower(module: &ir::Module) -> Result<Lowered, LowerError> {
     let globals = refs
         .iter()
         .map(|r| match r {
-            GlobalRef::Var { handle, .. } => Some(*handle),
+            Some(GlobalRef::Var { handle, .. }) => Some(*handle),
             _ => None,
         })
         .collect();
+    if baked {
+        // Types only another entry point uses; no handle the caller keeps is renumbered.
+        naga::compact::compact(&mut m, naga::compact::KeepUnused::No);
+    }
     Ok(Lowered { module: m, globals })
 }
 
@@ -436,7 +504,7 @@ struct FnLower<'a> {
     f: &'a ir::Function,
     m: &'a mut naga::Module,
     types: &'a mut Types,
-    globals: &'a [GlobalRef],
+    globals: &'a [Option<GlobalRef>],
     functions: &'a HashMap<&'a str, Handle<naga::Function>>,
     out: naga::Function,
     args: Vec<Handle<Expression>>,
@@ -456,7 +524,7 @@ impl<'a> FnLower<'a> {
         f: &'a ir::Function,
         m: &'a mut naga::Module,
         types: &'a mut Types,
-        globals: &'a [GlobalRef],
+        globals: &'a [Option<GlobalRef>],
         functions: &'a HashMap<&'a str, Handle<naga::Function>>,
         entry: Option<&ir::EntryPoint>,
     ) -> Result<Self, LowerError> {
@@ -805,18 +873,26 @@ impl<'a> FnLower<'a> {
     }
 
     /// The handle of global `g` (a pointer, or a texture or sampler itself).
-    fn global(&mut self, g: usize, out: &mut Block) -> Handle<Expression> {
+    fn global(&mut self, g: usize, out: &mut Block) -> Result<Handle<Expression>, LowerError> {
         if let Some(h) = self.global_exprs.get(&g) {
-            return *h;
+            return Ok(*h);
         }
-        let e = match self.globals[g] {
+        let e = match self.global_ref(g)? {
             GlobalRef::Var { handle, .. } => Expression::GlobalVariable(handle),
             GlobalRef::Constant(c) => Expression::Constant(c),
             GlobalRef::Override(o) => Expression::Override(o),
         };
         let h = self.append(e, out);
         self.global_exprs.insert(g, h);
-        h
+        Ok(h)
+    }
+
+    /// What global `g` became (every global a lowered function reads was declared).
+    fn global_ref(&self, g: usize) -> Result<GlobalRef, LowerError> {
+        match self.globals.get(g).copied().flatten() {
+            Some(r) => Ok(r),
+            None => unsupported(format!("a read of global {g}, which was not declared")),
+        }
     }
 
     /// A pointer to what `id` reads, if it reads memory: a `var`, a resource or private global,
@@ -832,10 +908,10 @@ impl<'a> FnLower<'a> {
                 LocalSlot::Var(p) => Some(p),
                 _ => None,
             },
-            ExprKind::Global(g) => match self.globals[g.0 as usize] {
+            ExprKind::Global(g) => match self.global_ref(g.0 as usize)? {
                 GlobalRef::Var {
                     is_handle: false, ..
-                } => Some(self.global(g.0 as usize, out)),
+                } => Some(self.global(g.0 as usize, out)?),
                 _ => None,
             },
             ExprKind::Member(base, i) => self
@@ -928,7 +1004,7 @@ impl<'a> FnLower<'a> {
                     ));
                 }
             },
-            ExprKind::Global(g) => return Ok(self.global(g.0 as usize, out)),
+            ExprKind::Global(g) => return self.global(g.0 as usize, out),
             ExprKind::Unary(op, a) => Expression::Unary {
                 op: match op {
                     UnaryOp::Neg => naga::UnaryOperator::Negate,

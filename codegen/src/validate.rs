@@ -5,7 +5,7 @@
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
 use crate::error::{CodegenError, Origin};
-use crate::lower::{LowerError, Lowered, lower};
+use crate::lower::{LowerError, Lowered, Lowering, lower};
 use crate::wgsl::SpanTable;
 
 /// A validated naga module.
@@ -24,7 +24,7 @@ pub fn lower_and_validate(
     spans: &SpanTable,
     variant: &str,
 ) -> Result<Validated, CodegenError> {
-    let refused = match lower(ir) {
+    let refused = match lower(ir, Lowering::Whole) {
         Ok(Lowered { module, globals }) => {
             let mut validator = Validator::new(ValidationFlags::all(), Capabilities::default());
             match validator.validate(&module) {

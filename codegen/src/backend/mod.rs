@@ -1,8 +1,9 @@
 //! Translation of a validated module to the non-WGSL targets, one entry point at a time.
 //!
-//! Overrides are baked first (`process_overrides`, then `compact` so no stale `override` or
-//! unused item remains), the result is re-validated, and each backend is called with every
-//! option set explicitly so that debug and release builds emit the same bytes.
+//! Each entry point is lowered on its own from the IR with its overrides baked as constants
+//! (only the functions and globals it reaches, so no stale `override` or unused item remains)
+//! and validated once; each backend is then called with every option set explicitly so that
+//! debug and release builds emit the same bytes.
 
 mod glsl;
 mod hlsl;
@@ -14,12 +15,12 @@ use naga::back::PipelineConstants;
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 use nimbus_dsl::ir::{GlobalKind, Module as DslModule, SamplerDesc, Stage};
 
+use crate::lower::{LowerError, Lowering, lower};
 use crate::manifest::{
     BindingManifest, BufferSize, BufferSizes, CombinedSampler, ManifestBinding, ManifestField,
     ManifestOverride, ManifestSampler, ManifestStruct,
 };
 use crate::target::Target;
-use crate::validate::Validated;
 
 /// The contents of one emitted file.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,26 +77,17 @@ pub(crate) struct Baked {
     pub info: ModuleInfo,
 }
 
-pub(crate) fn bake(
-    v: &Validated,
-    stage: Stage,
-    entry: &str,
-    constants: &PipelineConstants,
-) -> Result<Baked, String> {
-    let (m, _) = naga::back::pipeline_constants::process_overrides(
-        &v.module,
-        &v.info,
-        Some((naga_stage(stage), entry)),
-        constants,
-    )
-    .map_err(|e| e.to_string())?;
-    let mut module = m.into_owned();
-    naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
+pub(crate) fn bake(dsl: &DslModule, entry: &str) -> Result<Baked, String> {
+    let lowered = lower(dsl, Lowering::Baked { entry }).map_err(|e| match e {
+        LowerError::Codegen(e) => e.to_string(),
+        LowerError::Unsupported(what) => format!("cannot lower {what}"),
+    })?;
+    let module = lowered.module;
     let info = Validator::new(ValidationFlags::all(), Capabilities::default())
         .validate(&module)
         .map_err(|e| {
             format!(
-                "re-validation after baking overrides failed: {}",
+                "validation of the baked entry point failed: {}",
                 e.as_inner()
             )
         })?;
