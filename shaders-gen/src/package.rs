@@ -38,9 +38,10 @@ use crate::error::CliError;
 use crate::package_description::{
     AtlasSize, BindGroupLayout, BindingDescription, BlockMember, CameraKind, DescriptorSetLayout,
     FORMAT_VERSION, GpuBufferLayout, GpuLayoutEntry, GpuSamplerLayout, GpuTextureLayout,
-    NameInFile, PACKAGE_FILE, PACKAGE_SCHEMA_FILE, PackageDescription, Pair, Pass, PassDescription,
-    ResourceEntry, SamplerDescriptor, ShaderFile, Target, Targets, Temporal, UNIFORMS_SCHEMA_FILE,
-    UniformBlockFile, VulkanLayoutBinding, pretty, schema_files,
+    NameInFile, Output, PACKAGE_FILE, PACKAGE_SCHEMA_FILE, PackageDescription, Pair, Pass,
+    PassDescription, ResourceEntry, SamplerDescriptor, ShaderFile, Target, Targets, Temporal,
+    UNIFORMS_SCHEMA_FILE, UniformBlockFile, VulkanBarrier, VulkanLayoutBinding, VulkanSampler,
+    pretty, schema_files,
 };
 use crate::package_textures::texture_files;
 
@@ -339,6 +340,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             if let Some(g) = shader(key) {
                 passes.push(pass_description(pass, g, engine)?);
             }
+        }
+        if engine == Engine::Vulkan {
+            vulkan_barriers(&mut passes);
         }
         pairs.push(Pair {
             pair: a.name(),
@@ -644,6 +648,16 @@ fn pass_description(
         bind_group_layout,
         descriptor_set_layout,
         dispatch: (pass == Pass::SunLight).then_some([1, 1, 1]),
+        writes: match pass {
+            Pass::SunLight => Output::Pair,
+            Pass::Shadow => Output::ShadowAtlas,
+            Pass::SceneShadow => Output::SceneShadow,
+            Pass::Air => Output::AirTable,
+            Pass::Clouds => Output::CloudsHdr,
+            Pass::Resolve => Output::History,
+            Pass::Display => Output::Screen,
+        },
+        vulkan_barriers: None,
     })
 }
 
@@ -760,7 +774,7 @@ fn descriptor_set_layout(g: &Generated) -> DescriptorSetLayout {
                 .collect::<Vec<_>>()
                 .join(" | "),
             sampler: match &b.kind {
-                BindingKind::Sampler(desc) => Some(sampler_descriptor(*desc)),
+                BindingKind::Sampler(desc) => Some(vulkan_sampler(*desc)),
                 _ => None,
             },
         })
@@ -768,7 +782,105 @@ fn descriptor_set_layout(g: &Generated) -> DescriptorSetLayout {
     DescriptorSetLayout { set: 0, bindings }
 }
 
-/// A sampler's state in WebGPU's spelling (Vulkan's is the same modes).
+/// A sampler's state in Vulkan's terms.
+fn vulkan_sampler(desc: SamplerDesc) -> VulkanSampler {
+    let address = match desc.address {
+        AddressMode::Repeat => "VK_SAMPLER_ADDRESS_MODE_REPEAT",
+        AddressMode::ClampToEdge => "VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE",
+        AddressMode::MirrorRepeat => "VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT",
+    };
+    let (filter, mipmap) = match desc.filter {
+        FilterMode::Nearest => ("VK_FILTER_NEAREST", "VK_SAMPLER_MIPMAP_MODE_NEAREST"),
+        FilterMode::Linear => ("VK_FILTER_LINEAR", "VK_SAMPLER_MIPMAP_MODE_LINEAR"),
+    };
+    VulkanSampler {
+        mag_filter: filter.into(),
+        min_filter: filter.into(),
+        mipmap_mode: mipmap.into(),
+        address_mode_u: address.into(),
+        address_mode_v: address.into(),
+        address_mode_w: address.into(),
+    }
+}
+
+/// The pass graph's barriers for Vulkan, pass by pass in frame order: before a pass, what an
+/// earlier pass wrote and it reads (the block `sun_light` completes, read as uniforms; a
+/// target, read by a fragment shader), and its own target made a colour attachment (its
+/// contents discarded: every pass overwrites all of it).
+fn vulkan_barriers(passes: &mut [PassDescription]) {
+    let mut written: Vec<Output> = Vec::new();
+    // Once made readable, a resource stays so for the rest of the frame.
+    let mut readable: Vec<Resource> = Vec::new();
+    for p in passes.iter_mut() {
+        let mut barriers = Vec::new();
+        for b in &p.bindings {
+            let id = b.holds.id;
+            if readable.contains(&id) {
+                continue;
+            }
+            let producer = match id {
+                Resource::Pair if written.contains(&Output::Pair) => Some("sun_light"),
+                Resource::ShadowAtlas if written.contains(&Output::ShadowAtlas) => Some("shadow"),
+                Resource::AirTable if written.contains(&Output::AirTable) => Some("air"),
+                Resource::CloudsHdr if written.contains(&Output::CloudsHdr) => Some("clouds"),
+                Resource::Shown => Some("clouds or resolve"),
+                Resource::HistoryRead => Some("the previous frame's resolve"),
+                _ => None,
+            };
+            let Some(producer) = producer else { continue };
+            readable.push(id);
+            let name = serde_json::to_value(id)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default();
+            barriers.push(if id == Resource::Pair {
+                VulkanBarrier {
+                    resource: name,
+                    reason: format!("{producer} wrote the block this pass reads as uniforms"),
+                    src_stage_mask: "VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT".into(),
+                    src_access_mask: "VK_ACCESS_SHADER_WRITE_BIT".into(),
+                    dst_stage_mask: "VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT".into(),
+                    dst_access_mask: "VK_ACCESS_UNIFORM_READ_BIT".into(),
+                    old_layout: None,
+                    new_layout: None,
+                }
+            } else {
+                VulkanBarrier {
+                    resource: name,
+                    reason: format!("{producer} drew the target this pass samples"),
+                    src_stage_mask: "VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT".into(),
+                    src_access_mask: "VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT".into(),
+                    dst_stage_mask: "VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT".into(),
+                    dst_access_mask: "VK_ACCESS_SHADER_READ_BIT".into(),
+                    old_layout: Some("VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL".into()),
+                    new_layout: Some("VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL".into()),
+                }
+            });
+        }
+        if p.writes != Output::Pair {
+            let name = serde_json::to_value(p.writes)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default();
+            barriers.push(VulkanBarrier {
+                resource: name,
+                reason:
+                    "this pass draws all of its target; reads of it by earlier passes finish first"
+                        .into(),
+                src_stage_mask: "VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT".into(),
+                src_access_mask: "VK_ACCESS_SHADER_READ_BIT".into(),
+                dst_stage_mask: "VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT".into(),
+                dst_access_mask: "VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT".into(),
+                old_layout: Some("VK_IMAGE_LAYOUT_UNDEFINED".into()),
+                new_layout: Some("VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL".into()),
+            });
+        }
+        written.push(p.writes);
+        p.vulkan_barriers = Some(barriers);
+    }
+}
+
+/// A sampler's state in WebGPU's spelling.
 fn sampler_descriptor(desc: SamplerDesc) -> SamplerDescriptor {
     let address = match desc.address {
         AddressMode::Repeat => "repeat",

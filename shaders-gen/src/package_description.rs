@@ -222,6 +222,50 @@ pub(crate) struct PassDescription {
     /// Compute passes: the workgroups to dispatch.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dispatch: Option<[u32; 3]>,
+    /// What the pass writes: one of `targets` (its whole area), or for `sun_light` the `pair`
+    /// block.
+    pub writes: Output,
+    /// Vulkan: the barriers to record before the pass, as the pass graph implies them (what an
+    /// earlier pass wrote and this one reads, and this pass's own target).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vulkan_barriers: Option<Vec<VulkanBarrier>>,
+}
+
+/// What a pass writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum Output {
+    /// The `pair` block (storage + uniform), completed by the `sun_light` kernel.
+    Pair,
+    ShadowAtlas,
+    SceneShadow,
+    AirTable,
+    CloudsHdr,
+    /// The history target not read this frame (`history_a` and `history_b` alternate).
+    History,
+    /// The picture: the swapchain image or the engine's next pass.
+    Screen,
+}
+
+/// A `vkCmdPipelineBarrier` before a pass: a `VkBufferMemoryBarrier` for a block, a
+/// `VkImageMemoryBarrier` (with its layouts) for a target. Flags are `|`-joined names.
+#[derive(Serialize, JsonSchema)]
+#[serde(rename_all = "camelCase")]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct VulkanBarrier {
+    /// The resource id (`pair`, `shadow_atlas`, …) or, for the pass's own target, the target.
+    pub resource: String,
+    /// Why the barrier is there.
+    pub reason: String,
+    pub src_stage_mask: String,
+    pub src_access_mask: String,
+    pub dst_stage_mask: String,
+    pub dst_access_mask: String,
+    /// Images: the layout before and after.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub old_layout: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub new_layout: Option<String>,
 }
 
 /// One shader file of a pass.
@@ -338,6 +382,22 @@ pub(crate) struct SamplerDescriptor {
 }
 
 /// A Vulkan descriptor-set layout.
+/// A sampler's state as `VkSamplerCreateInfo` fields, by enum name.
+#[derive(Serialize, JsonSchema)]
+#[serde(rename_all = "camelCase")]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct VulkanSampler {
+    /// `VK_FILTER_*`.
+    pub mag_filter: String,
+    pub min_filter: String,
+    /// `VK_SAMPLER_MIPMAP_MODE_*`.
+    pub mipmap_mode: String,
+    /// `VK_SAMPLER_ADDRESS_MODE_*`.
+    pub address_mode_u: String,
+    pub address_mode_v: String,
+    pub address_mode_w: String,
+}
+
 #[derive(Serialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
 pub(crate) struct DescriptorSetLayout {
@@ -357,8 +417,9 @@ pub(crate) struct VulkanLayoutBinding {
     /// `VkShaderStageFlags`: VERTEX 0x1, FRAGMENT 0x10, COMPUTE 0x20.
     pub stage_flags: u32,
     pub stage_flag_names: String,
+    /// Samplers: the state to create it with.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub sampler: Option<SamplerDescriptor>,
+    pub sampler: Option<VulkanSampler>,
 }
 
 /// A uniform file (`uniforms/*.json`): one block's bytes and its members.

@@ -4,9 +4,11 @@
 //! not drawn and `display` reads `clouds_hdr` (the package's `shown`).
 //!
 //! Every binding slot is filled from the resource its `holds.id` names; every layout, sampler
-//! and stage comes from the pass's `descriptor_set_layout`. The barriers between passes are the
-//! ones the pass graph implies: the block `sun_light` writes is read as a uniform buffer by the
-//! draws after it; each target is written as a colour attachment, then read by a later pass.
+//! and stage comes from the pass's `descriptor_set_layout`; the target is the one its `writes`
+//! names; and the barriers recorded before each pass are its `vulkan_barriers`, the ones the
+//! pass graph implies (the block `sun_light` writes made visible to uniform reads, each target
+//! made a colour attachment before its pass and shader-readable before the pass that samples
+//! it). Only the read-back of the picture is the host's own.
 
 use std::collections::HashMap;
 
@@ -15,6 +17,7 @@ use ash::vk;
 use crate::device::{Buffer, Device, Image};
 use crate::error::{HostError, vk};
 use crate::package::{PackageDir, Pair, Pass, SamplerState, UniformFile, read_bytes, read_json};
+use crate::vk_names;
 
 const HDR: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 const SCREEN: vk::Format = vk::Format::R8G8B8A8_UNORM;
@@ -82,45 +85,20 @@ enum Resource {
     Image(usize),
 }
 
-fn filter(name: &str) -> vk::Filter {
-    if name == "nearest" {
-        vk::Filter::NEAREST
-    } else {
-        vk::Filter::LINEAR
-    }
-}
-
-fn address(name: &str) -> vk::SamplerAddressMode {
-    match name {
-        "clamp-to-edge" => vk::SamplerAddressMode::CLAMP_TO_EDGE,
-        "mirror-repeat" => vk::SamplerAddressMode::MIRRORED_REPEAT,
-        _ => vk::SamplerAddressMode::REPEAT,
-    }
-}
-
-fn descriptor_type(name: &str) -> Option<vk::DescriptorType> {
-    Some(match name {
-        "VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER" => vk::DescriptorType::UNIFORM_BUFFER,
-        "VK_DESCRIPTOR_TYPE_STORAGE_BUFFER" => vk::DescriptorType::STORAGE_BUFFER,
-        "VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE" => vk::DescriptorType::SAMPLED_IMAGE,
-        "VK_DESCRIPTOR_TYPE_SAMPLER" => vk::DescriptorType::SAMPLER,
-        _ => return None,
-    })
-}
-
-/// The target each drawn pass writes, and its size.
-fn target_of(pass: &str, pair: &Pair, width: u32, height: u32) -> Option<(&'static str, u32, u32)> {
-    match pass {
-        "shadow" => pair
+/// The target a drawn pass writes (as its `writes` names it), and its size; `None` for the
+/// passes a still frame does not draw (`resolve`) and for `sun_light`.
+fn target_of(p: &Pass, pair: &Pair, width: u32, height: u32) -> Option<(&'static str, u32, u32)> {
+    match p.writes.as_str() {
+        "shadow_atlas" => pair
             .shadow_atlas
             .as_ref()
             .map(|a| ("shadow_atlas", a.width, a.height)),
-        "air" => pair
+        "air_table" => pair
             .air_table
             .as_ref()
             .map(|a| ("air_table", a.width, a.height)),
-        "clouds" => Some(("clouds_hdr", width, height)),
-        "display" => Some(("screen", width, height)),
+        "clouds_hdr" => Some(("clouds_hdr", width, height)),
+        "screen" => Some(("screen", width, height)),
         _ => None,
     }
 }
@@ -296,7 +274,7 @@ pub fn render(
 
     // The passes' targets.
     for p in &pair.passes {
-        if let Some((name, w, h)) = target_of(&p.pass, pair, width, height) {
+        if let Some((name, w, h)) = target_of(p, pair, width, height) {
             let (format, usage) = if name == "screen" {
                 (SCREEN, vk::ImageUsageFlags::TRANSFER_SRC)
             } else {
@@ -324,7 +302,7 @@ pub fn render(
     let drawn: Vec<&Pass> = pair
         .passes
         .iter()
-        .filter(|p| p.pass == "sun_light" || target_of(&p.pass, pair, width, height).is_some())
+        .filter(|p| p.writes == "pair" || target_of(p, pair, width, height).is_some())
         .collect();
     let sizes = [
         vk::DescriptorPoolSize {
@@ -428,6 +406,7 @@ struct Prepared {
     layout: vk::PipelineLayout,
     set: vk::DescriptorSet,
     compute: bool,
+    barriers: Vec<Recorded>,
 }
 
 fn prepare(
@@ -458,8 +437,8 @@ fn prepare(
     // The layout, as the package states it.
     let mut bindings = Vec::new();
     for b in &layout_desc.bindings {
-        let ty = descriptor_type(&b.descriptor_type)
-            .ok_or_else(|| bad(format!("descriptor type {}", b.descriptor_type)))?;
+        let ty = vk_names::descriptor_type(&b.descriptor_type)
+            .map_err(|n| bad(format!("descriptor type {n}")))?;
         bindings.push(
             vk::DescriptorSetLayoutBinding::default()
                 .binding(b.binding)
@@ -501,8 +480,8 @@ fn prepare(
             .iter()
             .find(|s| s.binding == b.binding)
             .ok_or_else(|| bad(format!("binding {} is not described", b.binding)))?;
-        let ty = descriptor_type(&b.descriptor_type)
-            .ok_or_else(|| bad(format!("descriptor type {}", b.descriptor_type)))?;
+        let ty = vk_names::descriptor_type(&b.descriptor_type)
+            .map_err(|n| bad(format!("descriptor type {n}")))?;
         let write = vk::WriteDescriptorSet::default()
             .dst_set(set)
             .dst_binding(b.binding)
@@ -513,7 +492,9 @@ fn prepare(
                     .sampler
                     .as_ref()
                     .ok_or_else(|| bad(format!("sampler `{}` has no state", slot.name)))?;
-                let sampler = make_sampler(gpu, s)?;
+                let sampler = make_sampler(gpu, s).map_err(|n| {
+                    bad(format!("sampler `{}`: unknown Vulkan name {n}", slot.name))
+                })??;
                 o.samplers.push(sampler);
                 let info = [vk::DescriptorImageInfo::default().sampler(sampler)];
                 unsafe {
@@ -608,7 +589,7 @@ fn prepare(
         }
         .map_err(|(_, e)| vk("vkCreateComputePipelines")(e))?[0]
     } else {
-        let format = match target_of(&p.pass, pair, width, height) {
+        let format = match target_of(p, pair, width, height) {
             Some(("screen", ..)) => SCREEN,
             _ => HDR,
         };
@@ -651,31 +632,89 @@ fn prepare(
         .map_err(|(_, e)| vk("vkCreateGraphicsPipelines")(e))?[0]
     };
     o.pipelines.push(pipeline);
+    let barriers = barriers(p, o, resources, &bad)?;
     Ok(Prepared {
         pipeline,
         layout,
         set,
         compute,
+        barriers,
     })
 }
 
-fn make_sampler(gpu: &Device, s: &SamplerState) -> Result<vk::Sampler, HostError> {
+/// The sampler the package describes, or the first Vulkan name this host does not know.
+fn make_sampler(gpu: &Device, s: &SamplerState) -> Result<Result<vk::Sampler, HostError>, String> {
     let info = vk::SamplerCreateInfo::default()
-        .mag_filter(filter(&s.mag_filter))
-        .min_filter(filter(&s.min_filter))
-        .mipmap_mode(if s.mipmap_filter == "nearest" {
-            vk::SamplerMipmapMode::NEAREST
-        } else {
-            vk::SamplerMipmapMode::LINEAR
-        })
-        .address_mode_u(address(&s.address_mode_u))
-        .address_mode_v(address(&s.address_mode_v))
-        .address_mode_w(address(&s.address_mode_w))
+        .mag_filter(vk_names::filter(&s.mag_filter)?)
+        .min_filter(vk_names::filter(&s.min_filter)?)
+        .mipmap_mode(vk_names::mipmap_mode(&s.mipmap_mode)?)
+        .address_mode_u(vk_names::address_mode(&s.address_mode_u)?)
+        .address_mode_v(vk_names::address_mode(&s.address_mode_v)?)
+        .address_mode_w(vk_names::address_mode(&s.address_mode_w)?)
         .max_lod(vk::LOD_CLAMP_NONE);
-    unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk("vkCreateSampler"))
+    Ok(unsafe { gpu.device.create_sampler(&info, None) }.map_err(vk("vkCreateSampler")))
 }
 
-/// Records one pass and the barrier that lets the passes after it read what it wrote.
+/// A barrier of the pass graph, ready to record.
+struct Recorded {
+    src_stage: vk::PipelineStageFlags,
+    dst_stage: vk::PipelineStageFlags,
+    src_access: vk::AccessFlags,
+    dst_access: vk::AccessFlags,
+    /// Images: which, and the layouts.
+    image: Option<(vk::Image, vk::ImageLayout, vk::ImageLayout)>,
+}
+
+/// The pass's barriers as the package states them, each resource found by its id.
+fn barriers(
+    p: &Pass,
+    o: &Objects,
+    resources: &HashMap<String, Resource>,
+    bad: &dyn Fn(String) -> HostError,
+) -> Result<Vec<Recorded>, HostError> {
+    let mut out = Vec::new();
+    for b in p.vulkan_barriers.iter().flatten() {
+        let name = |n: String| {
+            bad(format!(
+                "barrier on `{}`: unknown Vulkan name {n}",
+                b.resource
+            ))
+        };
+        let image = match resources.get(&b.resource) {
+            Some(Resource::Image(i)) => {
+                let layout = |l: &Option<String>| {
+                    l.as_deref()
+                        .map(vk_names::layout)
+                        .transpose()
+                        .map_err(name)
+                        .map(|l| l.unwrap_or(vk::ImageLayout::UNDEFINED))
+                };
+                Some((
+                    o.images[*i].image,
+                    layout(&b.old_layout)?,
+                    layout(&b.new_layout)?,
+                ))
+            }
+            Some(Resource::Buffer(_)) => None,
+            None => {
+                return Err(bad(format!(
+                    "a barrier on `{}`, which this host does not have",
+                    b.resource
+                )));
+            }
+        };
+        out.push(Recorded {
+            src_stage: vk_names::stages(&b.src_stage_mask).map_err(name)?,
+            dst_stage: vk_names::stages(&b.dst_stage_mask).map_err(name)?,
+            src_access: vk_names::access(&b.src_access_mask).map_err(name)?,
+            dst_access: vk_names::access(&b.dst_access_mask).map_err(name)?,
+            image,
+        });
+    }
+    Ok(out)
+}
+
+/// Records one pass, after the barriers the package states for it.
 #[allow(clippy::too_many_arguments)]
 fn record(
     gpu: &Device,
@@ -689,8 +728,36 @@ fn record(
     height: u32,
 ) {
     let d = &gpu.device;
+    for b in &prep.barriers {
+        match b.image {
+            Some((image, old, new)) => gpu.transition(
+                cb,
+                image,
+                (old, b.src_stage, b.src_access),
+                (new, b.dst_stage, b.dst_access),
+            ),
+            None => {
+                let barrier = vk::MemoryBarrier::default()
+                    .src_access_mask(b.src_access)
+                    .dst_access_mask(b.dst_access);
+                // SAFETY: recording into a command buffer that is being recorded.
+                unsafe {
+                    d.cmd_pipeline_barrier(
+                        cb,
+                        b.src_stage,
+                        b.dst_stage,
+                        vk::DependencyFlags::empty(),
+                        &[barrier],
+                        &[],
+                        &[],
+                    );
+                }
+            }
+        }
+    }
     if prep.compute {
         let [x, y, z] = p.dispatch.unwrap_or([1, 1, 1]);
+        // SAFETY: the pipeline, layout and set are alive and match.
         unsafe {
             d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, prep.pipeline);
             d.cmd_bind_descriptor_sets(
@@ -702,43 +769,16 @@ fn record(
                 &[],
             );
             d.cmd_dispatch(cb, x, y, z);
-            // The block it wrote is read as uniforms by every draw after it.
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::UNIFORM_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::VERTEX_SHADER | vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
         }
         return;
     }
-    let Some((name, w, h)) = target_of(&p.pass, pair, width, height) else {
+    let Some((name, w, h)) = target_of(p, pair, width, height) else {
         return;
     };
     let Some(Resource::Image(i)) = resources.get(name) else {
         return;
     };
     let target = &o.images[*i];
-    gpu.transition(
-        cb,
-        target.image,
-        (
-            vk::ImageLayout::UNDEFINED,
-            vk::PipelineStageFlags::TOP_OF_PIPE,
-            vk::AccessFlags::empty(),
-        ),
-        (
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-        ),
-    );
     let attachment = [vk::RenderingAttachmentInfo::default()
         .image_view(target.view)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -764,6 +804,8 @@ fn record(
         min_depth: 0.0,
         max_depth: 1.0,
     };
+    // SAFETY: the target was made a colour attachment by the pass's own barrier; the pipeline,
+    // layout and set are alive and match.
     unsafe {
         d.cmd_begin_rendering(cb, &rendering);
         d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, prep.pipeline);
@@ -780,22 +822,5 @@ fn record(
         // One full-screen triangle; the vertex shader makes it from the vertex index.
         d.cmd_draw(cb, 3, 1, 0, 0);
         d.cmd_end_rendering(cb);
-    }
-    if name != "screen" {
-        // Read by a later pass's fragment shader.
-        gpu.transition(
-            cb,
-            target.image,
-            (
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-            ),
-            (
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::AccessFlags::SHADER_READ,
-            ),
-        );
     }
 }

@@ -11,6 +11,7 @@ mod device;
 mod error;
 mod frame;
 mod package;
+mod vk_names;
 
 pub use error::HostError;
 pub use frame::Picture;

@@ -48,6 +48,23 @@ pub struct Pass {
     pub bindings: Vec<Binding>,
     pub descriptor_set_layout: Option<DescriptorSetLayout>,
     pub dispatch: Option<[u32; 3]>,
+    /// The target it draws (or `pair`, the block `sun_light` completes).
+    pub writes: String,
+    /// The barriers to record before it.
+    pub vulkan_barriers: Option<Vec<Barrier>>,
+}
+
+/// A pipeline barrier the pass graph states, flags as `|`-joined Vulkan names.
+#[derive(Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Barrier {
+    pub resource: String,
+    pub src_stage_mask: String,
+    pub src_access_mask: String,
+    pub dst_stage_mask: String,
+    pub dst_access_mask: String,
+    pub old_layout: Option<String>,
+    pub new_layout: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -89,12 +106,12 @@ pub struct LayoutBinding {
 #[derive(Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub struct SamplerState {
+    pub mag_filter: String,
+    pub min_filter: String,
+    pub mipmap_mode: String,
     pub address_mode_u: String,
     pub address_mode_v: String,
     pub address_mode_w: String,
-    pub mag_filter: String,
-    pub min_filter: String,
-    pub mipmap_filter: String,
 }
 
 /// A uniform block file: its bytes and where each member lies.
