@@ -1,4 +1,5 @@
-//! Every emitted GLSL file passes glslangValidator and every SPIR-V file passes spirv-val
+//! Every emitted GLSL file passes glslangValidator, every HLSL file its HLSL front end
+//! (compiled to SPIR-V for its stage and entry point), and every SPIR-V file passes spirv-val
 //! (naga lets a few GLSL ES 3.00 built-ins through that WebGL2 rejects, so naga alone is not
 //! enough). When a tool is not installed the check is skipped with the reason printed; with
 //! `NIMBUS_REQUIRE_TOOLS=1` (set by .ci/run) a missing tool fails instead.
@@ -34,6 +35,42 @@ fn check(targets: &[Target], tool: &str) {
 #[test]
 fn glsl_passes_glslang_validator() {
     check(&[Target::GlslEs300, Target::Glsl450], "glslangValidator");
+}
+
+#[test]
+fn hlsl_passes_glslang_validators_hlsl_front_end() {
+    check(&[Target::Hlsl], "glslangValidator");
+}
+
+#[test]
+fn the_hlsl_check_rejects_hlsl_that_does_not_compile() {
+    // The check must be able to fail: an undeclared identifier, and an entry point the file
+    // does not have.
+    if !common::tool_available("glslangValidator") {
+        eprintln!("SKIPPED: glslangValidator is not installed");
+        return;
+    }
+    let file = |text: &str, entry: &str| nimbus_codegen::OutputFile {
+        file_name: "bad.hlsl".into(),
+        target: Target::Hlsl,
+        entry_point: Some((entry.into(), nimbus_dsl::ir::Stage::Fragment)),
+        contents: nimbus_codegen::Contents::Text(text.into()),
+        manifest: None,
+    };
+    let good = "float4 fs_main() : SV_Target0 { return float4(1.0, 0.0, 0.0, 1.0); }\n";
+    assert!(matches!(
+        check_file(&file(good, "fs_main")),
+        ExternalCheck::Passed { .. }
+    ));
+    let undeclared = "float4 fs_main() : SV_Target0 { return float4(missing, 0.0, 0.0, 1.0); }\n";
+    assert!(matches!(
+        check_file(&file(undeclared, "fs_main")),
+        ExternalCheck::Failed { .. }
+    ));
+    assert!(matches!(
+        check_file(&file(good, "fs_other")),
+        ExternalCheck::Failed { .. }
+    ));
 }
 
 #[test]

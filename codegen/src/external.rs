@@ -1,6 +1,7 @@
 //! Validation by the consumers' own tools: glslangValidator for GLSL (naga lets a few ES 3.00
-//! built-ins through that WebGL2 rejects) and spirv-val for SPIR-V. A missing tool is reported
-//! as such, never as a pass.
+//! built-ins through that WebGL2 rejects), glslangValidator's HLSL front end for HLSL (compiled
+//! to SPIR-V, as Unity's own cross-compilers read HLSL), and spirv-val for SPIR-V. A missing
+//! tool is reported as such, never as a pass.
 
 use std::io::Write as _;
 use std::process::{Command, Stdio};
@@ -22,7 +23,7 @@ pub enum ExternalCheck {
     ToolMissing {
         tool: &'static str,
     },
-    /// The target has no external validator available on Linux (HLSL, MSL, WGSL).
+    /// The target has no external validator available on Linux (MSL, WGSL).
     NotApplicable,
 }
 
@@ -35,7 +36,15 @@ fn tool_available(tool: &str) -> bool {
         .is_ok()
 }
 
-fn run(tool: &'static str, args: &[&str], file_name: &str, bytes: &[u8]) -> ExternalCheck {
+/// Runs `tool` on `bytes` written as `file_name`; it fails on a non-zero status, or on output
+/// holding any of `fatal` (warnings the tool exits 0 with but a consumer would fail on).
+fn run(
+    tool: &'static str,
+    args: &[&str],
+    fatal: &[&str],
+    file_name: &str,
+    bytes: &[u8],
+) -> ExternalCheck {
     if !tool_available(tool) {
         return ExternalCheck::ToolMissing { tool };
     }
@@ -58,7 +67,15 @@ fn run(tool: &'static str, args: &[&str], file_name: &str, bytes: &[u8]) -> Exte
             output: format!("cannot write {}: {e}", path.display()),
         },
         Ok(()) => match Command::new(tool).args(args).arg(&path).output() {
-            Ok(out) if out.status.success() => ExternalCheck::Passed { tool },
+            Ok(out)
+                if out.status.success()
+                    && !fatal.iter().any(|f| {
+                        String::from_utf8_lossy(&out.stdout).contains(f)
+                            || String::from_utf8_lossy(&out.stderr).contains(f)
+                    }) =>
+            {
+                ExternalCheck::Passed { tool }
+            }
             Ok(out) => ExternalCheck::Failed {
                 tool,
                 output: format!(
@@ -81,11 +98,30 @@ fn run(tool: &'static str, args: &[&str], file_name: &str, bytes: &[u8]) -> Exte
 pub fn check_file(file: &OutputFile) -> ExternalCheck {
     match (file.target, &file.contents) {
         (Target::GlslEs300 | Target::Glsl450, Contents::Text(t)) => {
-            run("glslangValidator", &[], &file.file_name, t.as_bytes())
+            run("glslangValidator", &[], &[], &file.file_name, t.as_bytes())
+        }
+        (Target::Hlsl, Contents::Text(t)) => {
+            let Some((entry, stage)) = &file.entry_point else {
+                return ExternalCheck::NotApplicable;
+            };
+            let stage = match stage {
+                nimbus_dsl::ir::Stage::Vertex => "vert",
+                nimbus_dsl::ir::Stage::Fragment => "frag",
+                nimbus_dsl::ir::Stage::Compute => "comp",
+            };
+            run(
+                "glslangValidator",
+                &["-D", "-V", "-S", stage, "-e", entry, "-o", "/dev/null"],
+                // glslang exits 0 when the entry point is missing; Unity would not compile it.
+                &["Entry point not found"],
+                &file.file_name,
+                t.as_bytes(),
+            )
         }
         (Target::SpirV, c @ Contents::SpirV(_)) => run(
             "spirv-val",
             &["--target-env", "vulkan1.0"],
+            &[],
             &file.file_name,
             &c.to_bytes(),
         ),

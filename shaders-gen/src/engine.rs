@@ -210,7 +210,10 @@ impl Engine {
                 "naga is wgpu's and Firefox's own WGSL front end; Chromium's Tint is not \
                  available here"
             }
-            Engine::Unity => "no HLSL compiler (DXC, FXC) is available on this machine",
+            Engine::Unity => {
+                "glslangValidator (its HLSL front end) was not found (apt-get install \
+                 glslang-tools); DXC and FXC do not run here"
+            }
             Engine::Metal => "Apple's Metal compiler does not run on Linux",
         }
     }

@@ -210,6 +210,7 @@ fn every_engine_gets_a_complete_package() {
         match engine {
             "three" => assert!(stdout.contains("glslangValidator"), "{stdout}"),
             "vulkan" => assert!(stdout.contains("spirv-val"), "{stdout}"),
+            "unity" => assert!(stdout.contains("glslangValidator"), "{stdout}"),
             _ => assert!(stdout.contains("validated by naga"), "{stdout}"),
         }
     }
