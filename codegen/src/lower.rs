@@ -670,18 +670,7 @@ impl<'a> FnLower<'a> {
                 None
             }
             Stmt::Var { local, init, .. } => {
-                let l = self.f.local(*local);
-                let ty = self.types.get(self.m, l.ty)?;
-                let var = self.out.local_variables.append(
-                    naga::LocalVariable {
-                        name: Some(l.name.clone()),
-                        ty,
-                        init: None,
-                    },
-                    Span::UNDEFINED,
-                );
-                let pointer = self.append(Expression::LocalVariable(var), out);
-                self.locals[local.0 as usize] = LocalSlot::Var(pointer);
+                let (var, pointer, ty) = self.declare_var(*local, out)?;
                 let value = match init {
                     Some(i) => Some(self.value(*i, out)?),
                     // A `var` declared in a loop body starts from zero on every iteration.
@@ -760,17 +749,7 @@ impl<'a> FnLower<'a> {
         out: &mut Block,
     ) -> Result<Option<Statement>, LowerError> {
         let l = self.f.local(counter);
-        let ty = self.types.get(self.m, l.ty)?;
-        let var = self.out.local_variables.append(
-            naga::LocalVariable {
-                name: Some(l.name.clone()),
-                ty,
-                init: None,
-            },
-            Span::UNDEFINED,
-        );
-        let pointer = self.append(Expression::LocalVariable(var), out);
-        self.locals[counter.0 as usize] = LocalSlot::Var(pointer);
+        let (var, pointer, _) = self.declare_var(counter, out)?;
         let first = self.value(start, out)?;
         out.extend(self.emitter.finish(&self.out.expressions));
         if let Some(store) = self.initialise(var, pointer, first) {
@@ -841,6 +820,35 @@ impl<'a> FnLower<'a> {
             continuing,
             break_if: None,
         }))
+    }
+
+    /// Declares the IR's `var` `local` as a naga local variable: the variable, the pointer
+    /// that names it, and its type.
+    fn declare_var(
+        &mut self,
+        local: LocalId,
+        out: &mut Block,
+    ) -> Result<
+        (
+            Handle<naga::LocalVariable>,
+            Handle<Expression>,
+            Handle<naga::Type>,
+        ),
+        LowerError,
+    > {
+        let l = self.f.local(local);
+        let ty = self.types.get(self.m, l.ty)?;
+        let var = self.out.local_variables.append(
+            naga::LocalVariable {
+                name: Some(l.name.clone()),
+                ty,
+                init: None,
+            },
+            Span::UNDEFINED,
+        );
+        let pointer = self.append(Expression::LocalVariable(var), out);
+        self.locals[local.0 as usize] = LocalSlot::Var(pointer);
+        Ok((var, pointer, ty))
     }
 
     /// A `var`'s first value: its declared initialiser when that is a constant and the `var`
