@@ -488,6 +488,13 @@ pub(crate) fn lower(module: &ir::Module, lowering: Lowering) -> Result<Lowered, 
     Ok(Lowered { module: m, globals })
 }
 
+/// A declared `var`: the variable, the pointer that names it, and its type.
+type DeclaredVar = (
+    Handle<naga::LocalVariable>,
+    Handle<Expression>,
+    Handle<naga::Type>,
+);
+
 /// How an IR local is reached.
 #[derive(Clone, Copy)]
 enum LocalSlot {
@@ -824,18 +831,7 @@ impl<'a> FnLower<'a> {
 
     /// Declares the IR's `var` `local` as a naga local variable: the variable, the pointer
     /// that names it, and its type.
-    fn declare_var(
-        &mut self,
-        local: LocalId,
-        out: &mut Block,
-    ) -> Result<
-        (
-            Handle<naga::LocalVariable>,
-            Handle<Expression>,
-            Handle<naga::Type>,
-        ),
-        LowerError,
-    > {
+    fn declare_var(&mut self, local: LocalId, out: &mut Block) -> Result<DeclaredVar, LowerError> {
         let l = self.f.local(local);
         let ty = self.types.get(self.m, l.ty)?;
         let var = self.out.local_variables.append(
