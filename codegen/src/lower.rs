@@ -107,8 +107,9 @@ fn literal(l: Literal) -> Option<naga::Literal> {
     })
 }
 
-fn math(b: Builtin) -> MathFunction {
-    match b {
+/// naga's math function for a built-in; `None` for `select`, an expression of its own there.
+fn math(b: Builtin) -> Option<MathFunction> {
+    Some(match b {
         Builtin::Abs => MathFunction::Abs,
         Builtin::Ceil => MathFunction::Ceil,
         Builtin::Clamp => MathFunction::Clamp,
@@ -130,8 +131,7 @@ fn math(b: Builtin) -> MathFunction {
         Builtin::Normalize => MathFunction::Normalize,
         Builtin::Pow => MathFunction::Pow,
         Builtin::Round => MathFunction::Round,
-        // `select` is an expression of its own in naga; handled before this table.
-        Builtin::Select => MathFunction::Abs,
+        Builtin::Select => return None,
         Builtin::Sign => MathFunction::Sign,
         Builtin::Sin => MathFunction::Sin,
         Builtin::Smoothstep => MathFunction::SmoothStep,
@@ -146,7 +146,7 @@ fn math(b: Builtin) -> MathFunction {
         Builtin::Fma => MathFunction::Fma,
         Builtin::Saturate => MathFunction::Saturate,
         Builtin::Pack4x8Unorm => MathFunction::Pack4x8unorm,
-    }
+    })
 }
 
 fn binary(op: BinaryOp) -> naga::BinaryOperator {
@@ -1056,8 +1056,11 @@ impl<'a> FnLower<'a> {
                 let Some(&arg) = a.first() else {
                     return unsupported(format!("`{b:?}` without operands"));
                 };
+                let Some(fun) = math(*b) else {
+                    return unsupported(format!("`{b:?}` as a math function"));
+                };
                 Expression::Math {
-                    fun: math(*b),
+                    fun,
                     arg,
                     arg1: a.get(1).copied(),
                     arg2: a.get(2).copied(),
