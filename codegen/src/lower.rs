@@ -407,39 +407,30 @@ pub(crate) fn lower(module: &ir::Module, lowering: Lowering) -> Result<Lowered, 
                     .append(var(naga::AddressSpace::Private, None), Span::UNDEFINED),
                 is_handle: false,
             },
-            GlobalKind::Override { default } if baked => {
-                let init = value(&mut m, default)?;
-                GlobalRef::Constant(m.constants.append(
-                    naga::Constant {
-                        name: Some(g.name.clone()),
-                        ty,
-                        init,
-                    },
-                    Span::UNDEFINED,
-                ))
-            }
-            GlobalKind::Override { default } => {
-                let init = value(&mut m, default)?;
-                GlobalRef::Override(m.overrides.append(
-                    naga::Override {
-                        name: Some(g.name.clone()),
-                        id: None,
-                        ty,
-                        init: Some(init),
-                    },
-                    Span::UNDEFINED,
-                ))
-            }
-            GlobalKind::Const { value: v } => {
+            // A module constant, or an override: kept as one for the whole module, fixed at its
+            // default (a constant) in a baked entry point.
+            GlobalKind::Const { value: v } | GlobalKind::Override { default: v } => {
                 let init = value(&mut m, v)?;
-                GlobalRef::Constant(m.constants.append(
-                    naga::Constant {
-                        name: Some(g.name.clone()),
-                        ty,
-                        init,
-                    },
-                    Span::UNDEFINED,
-                ))
+                if matches!(g.kind, GlobalKind::Override { .. }) && !baked {
+                    GlobalRef::Override(m.overrides.append(
+                        naga::Override {
+                            name: Some(g.name.clone()),
+                            id: None,
+                            ty,
+                            init: Some(init),
+                        },
+                        Span::UNDEFINED,
+                    ))
+                } else {
+                    GlobalRef::Constant(m.constants.append(
+                        naga::Constant {
+                            name: Some(g.name.clone()),
+                            ty,
+                            init,
+                        },
+                        Span::UNDEFINED,
+                    ))
+                }
             }
         });
     }
