@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use nimbus_codegen::external::{ExternalCheck, check_file};
+use nimbus_codegen::external::{ExternalCheck, check_files};
 use std::collections::BTreeMap;
 
 use nimbus_clouds::catalog::{ShaderKey, assignments, cloud_catalog};
@@ -38,14 +38,15 @@ fn texts(g: &Generated) -> Vec<(String, String)> {
 #[test]
 fn every_genus_at_every_quality_validates_everywhere() {
     let lib = library();
-    let external =
-        common::tool_available("glslangValidator") && common::tool_available("spirv-val");
+    let external = common::tool_available("glslangValidator")
+        && common::tool_available("spirv-val")
+        && common::slang_available();
     if !external {
         if std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1") {
-            panic!("NIMBUS_REQUIRE_TOOLS=1 but glslangValidator or spirv-val is missing");
+            panic!("NIMBUS_REQUIRE_TOOLS=1 but glslangValidator, spirv-val or Slang is missing");
         }
         eprintln!(
-            "SKIPPED external validation: glslangValidator or spirv-val not installed (naga still validates)"
+            "SKIPPED external validation: glslangValidator, spirv-val or Slang (slangpy) not installed (naga still validates)"
         );
     }
     let variants = cloud_catalog(&lib);
@@ -61,20 +62,27 @@ fn every_genus_at_every_quality_validates_everywhere() {
             .sum();
         assert_eq!(users, pairs.len(), "{module}: every pair runs one shader");
     }
-    let mut files = 0;
-    for v in &variants {
-        let g = generate_variant(v, &Target::ALL).unwrap_or_else(|e| panic!("{}: {e}", v.id()));
-        for f in &g.files {
-            files += 1;
-            if external {
-                match check_file(f) {
-                    ExternalCheck::Passed { .. } | ExternalCheck::NotApplicable => {}
-                    other => panic!("{}: {other:?}", f.file_name),
-                }
+    let generated: Vec<_> = variants
+        .iter()
+        .map(|v| generate_variant(v, &Target::ALL).unwrap_or_else(|e| panic!("{}: {e}", v.id())))
+        .collect();
+    let files: Vec<_> = generated.iter().flat_map(|g| &g.files).collect();
+    let mut hlsl = 0;
+    if external {
+        // One batch: Slang checks every HLSL file in one process.
+        for (f, check) in files.iter().zip(check_files(&files)) {
+            match check {
+                ExternalCheck::Passed { .. } | ExternalCheck::NotApplicable => {}
+                other => panic!("{}: {other:?}", f.file_name),
             }
+            hlsl += usize::from(f.target == Target::Hlsl);
         }
     }
-    println!("{} cloud variants, {files} files validated", variants.len());
+    println!(
+        "{} cloud variants, {} files validated, {hlsl} HLSL files by glslang and Slang",
+        variants.len(),
+        files.len()
+    );
 }
 
 /// Text that only the code of `toggle` produces (function names, locals and bindings).
@@ -241,8 +249,9 @@ fn the_air_table_stands_in_for_the_air_integrals() {
 fn the_uber_shader_branches_at_run_time_on_every_target() {
     let uber = cloud_module(&CloudKey::uber()).expect("records");
     let g = generate(uber, "uber", &Target::ALL).unwrap_or_else(|e| panic!("uber: {e}"));
-    // One WGSL module, and a vertex and a fragment file for each of the five other targets.
-    assert_eq!(g.files.len(), 1 + 2 * (Target::ALL.len() - 1));
+    // One WGSL and one HLSL file holding both entry points, and a vertex and a fragment file
+    // for each of the four other targets.
+    assert_eq!(g.files.len(), 2 + 2 * (Target::ALL.len() - 2));
     let w = &g.wgsl;
     assert!(w.contains("var<uniform> key: KeyUniforms"), "{w}");
     for marker in [

@@ -1,5 +1,6 @@
-//! Every emitted GLSL file passes glslangValidator, every HLSL file its HLSL front end
-//! (compiled to SPIR-V for its stage and entry point), and every SPIR-V file passes spirv-val
+//! Every emitted GLSL file passes glslangValidator, every HLSL file two HLSL front ends
+//! (glslang's, compiled to SPIR-V for each stage and entry point, and Slang's, the file as one
+//! program), and every SPIR-V file passes spirv-val
 //! (naga lets a few GLSL ES 3.00 built-ins through that WebGL2 rejects, so naga alone is not
 //! enough). When a tool is not installed the check is skipped with the reason printed; with
 //! `NIMBUS_REQUIRE_TOOLS=1` (set by .ci/run) a missing tool fails instead.
@@ -7,25 +8,35 @@
 mod common;
 
 use nimbus_clouds::catalog::catalog;
-use nimbus_codegen::external::{ExternalCheck, check_file};
+use nimbus_codegen::external::{ExternalCheck, check_file, check_files};
 use nimbus_codegen::{Target, generate_variant};
 
 fn check(targets: &[Target], tool: &str) {
-    if !common::tool_available(tool) {
+    let available = if tool == "Slang" {
+        common::tool_available("glslangValidator") && common::slang_available()
+    } else {
+        common::tool_available(tool)
+    };
+    if !available {
         if std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1") {
             panic!("NIMBUS_REQUIRE_TOOLS=1 but {tool} is not installed");
         }
-        eprintln!("SKIPPED: {tool} is not installed (apt-get install glslang-tools spirv-tools)");
+        eprintln!(
+            "SKIPPED: {tool} is not installed (apt-get install glslang-tools spirv-tools; \
+             python3 -m pip install slangpy)"
+        );
         return;
     }
+    let generated: Vec<_> = catalog()
+        .iter()
+        .map(|source| generate_variant(source, targets).expect("generate"))
+        .collect();
+    let files: Vec<_> = generated.iter().flat_map(|g| &g.files).collect();
     let mut checked = 0;
-    for source in catalog() {
-        let g = generate_variant(&source, targets).expect("generate");
-        for f in &g.files {
-            match check_file(f) {
-                ExternalCheck::Passed { .. } => checked += 1,
-                other => panic!("{}: {other:?}", f.file_name),
-            }
+    for (f, outcome) in files.iter().zip(check_files(&files)) {
+        match outcome {
+            ExternalCheck::Passed { .. } => checked += 1,
+            other => panic!("{}: {other:?}", f.file_name),
         }
     }
     assert!(checked > 0, "no {tool} checks ran");
@@ -38,39 +49,64 @@ fn glsl_passes_glslang_validator() {
 }
 
 #[test]
-fn hlsl_passes_glslang_validators_hlsl_front_end() {
-    check(&[Target::Hlsl], "glslangValidator");
+fn hlsl_passes_glslang_and_slang() {
+    check(&[Target::Hlsl], "Slang");
 }
 
 #[test]
 fn the_hlsl_check_rejects_hlsl_that_does_not_compile() {
-    // The check must be able to fail: an undeclared identifier, and an entry point the file
-    // does not have.
-    if !common::tool_available("glslangValidator") {
-        eprintln!("SKIPPED: glslangValidator is not installed");
+    // The check must be able to fail, in each front end: an undeclared identifier, an entry
+    // point the file does not have (glslang only warns of it), and an entry point without the
+    // attribute Slang finds entry points by (glslang takes that file).
+    let require = std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1");
+    if !common::tool_available("glslangValidator") || !common::slang_available() {
+        assert!(
+            !require,
+            "NIMBUS_REQUIRE_TOOLS=1 but glslangValidator or Slang is missing"
+        );
+        eprintln!("SKIPPED: glslangValidator or Slang (slangpy) is not installed");
         return;
     }
     let file = |text: &str, entry: &str| nimbus_codegen::OutputFile {
         file_name: "bad.hlsl".into(),
         target: Target::Hlsl,
-        entry_point: Some((entry.into(), nimbus_dsl::ir::Stage::Fragment)),
+        entry_point: None,
         contents: nimbus_codegen::Contents::Text(text.into()),
-        manifest: None,
+        manifest: Some(nimbus_codegen::manifest::BindingManifest {
+            module: "bad".into(),
+            variant: "x".into(),
+            target: "hlsl".into(),
+            entry_points: [("fragment".to_string(), entry.to_string())].into(),
+            bindings: Vec::new(),
+            combined_samplers: Vec::new(),
+            buffer_sizes: None,
+            structs: Vec::new(),
+            overrides: Vec::new(),
+        }),
     };
-    let good = "float4 fs_main() : SV_Target0 { return float4(1.0, 0.0, 0.0, 1.0); }\n";
+    let attribute = "#ifdef __SLANG__\n[shader(\"fragment\")]\n#endif\n";
+    let good = format!(
+        "{attribute}float4 fs_main() : SV_Target0 {{ return float4(1.0, 0.0, 0.0, 1.0); }}\n"
+    );
+    let outcome = |text: &str, entry: &str| check_file(&file(text, entry));
     assert!(matches!(
-        check_file(&file(good, "fs_main")),
+        outcome(&good, "fs_main"),
         ExternalCheck::Passed { .. }
     ));
-    let undeclared = "float4 fs_main() : SV_Target0 { return float4(missing, 0.0, 0.0, 1.0); }\n";
+    let undeclared = good.replace("float4(1.0,", "float4(missing,");
     assert!(matches!(
-        check_file(&file(undeclared, "fs_main")),
+        outcome(&undeclared, "fs_main"),
         ExternalCheck::Failed { .. }
     ));
     assert!(matches!(
-        check_file(&file(good, "fs_other")),
+        outcome(&good, "fs_other"),
         ExternalCheck::Failed { .. }
     ));
+    let unmarked = good.replace(attribute, "");
+    match outcome(&unmarked, "fs_main") {
+        ExternalCheck::Failed { tool, .. } => assert!(tool.starts_with("Slang"), "{tool}"),
+        other => panic!("Slang took an entry point without its attribute: {other:?}"),
+    }
 }
 
 #[test]

@@ -25,7 +25,9 @@ fn the_single_lobe_preview_has_no_dual_lobe_code_in_any_target() {
         let dual = nimbus_dsl::ShaderVariant::variant(&source) == "dual_lobe";
         for (name, text) in texts(&g) {
             // The vertex stage never evaluates a phase function, in either variant.
-            let fragment = name.ends_with(".wgsl") || name.contains(".fs_main.");
+            // WGSL and HLSL files hold both stages.
+            let fragment =
+                name.ends_with(".wgsl") || name.ends_with(".hlsl") || name.contains(".fs_main.");
             assert_eq!(text.contains("dual_lobe_hg"), dual && fragment, "{name}");
         }
     }
@@ -69,7 +71,7 @@ fn a_toggle_that_is_off_removes_its_code_bindings_and_textures_everywhere() {
     assert_eq!(off.stats.bindings, 0, "no binding left:\n{}", off.wgsl);
     assert_eq!(off.stats.texture_samples, 0);
     for (name, text) in texts(&on) {
-        if name.contains(".fs_main.") || name.ends_with(".wgsl") {
+        if name.contains(".fs_main.") || name.ends_with(".wgsl") || name.ends_with(".hlsl") {
             assert!(
                 text.contains("shadow_map") || text.contains("_group_0_binding_1"),
                 "{name} lost the texture"
@@ -95,7 +97,12 @@ fn a_toggle_that_is_off_removes_its_code_bindings_and_textures_everywhere() {
         }
     }
     for f in off.files.iter().filter_map(|f| f.manifest.as_ref()) {
-        assert!(f.bindings.is_empty(), "{}: {:?}", f.entry_point, f.bindings);
+        assert!(
+            f.bindings.is_empty(),
+            "{:?}: {:?}",
+            f.entry_points,
+            f.bindings
+        );
     }
     // The CPU twin agrees with both specialisations.
     let tex = Texture3d {

@@ -147,7 +147,7 @@ fn uniform_bytes_land_at_naga_offsets() {
         .files
         .iter()
         .filter_map(|f| f.manifest.clone())
-        .find(|m| m.entry_point == "fs_main")
+        .find(|m| m.entry_points.values().any(|e| e == "fs_main"))
         .expect("fragment manifest");
     let layout = &manifest.structs[0];
     assert_eq!(bytes.len() as u32, layout.size);

@@ -91,6 +91,13 @@ pub enum CodegenError {
         message: String,
     },
 
+    #[error("module `{module}` variant `{variant}`: the HLSL printer refused it: {message}")]
+    Hlsl {
+        module: String,
+        variant: String,
+        message: String,
+    },
+
     #[error(
         "module `{module}` variant `{variant}`: baking the overrides for entry point `{entry_point}` failed: {message}"
     )]

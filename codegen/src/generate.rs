@@ -21,7 +21,7 @@ use crate::wgsl::{SpanTable, print_module};
 pub struct OutputFile {
     pub file_name: String,
     pub target: Target,
-    /// `None` for the WGSL file, which holds every entry point.
+    /// `None` for the WGSL and HLSL files, which hold every entry point.
     pub entry_point: Option<(String, Stage)>,
     pub contents: Contents,
     pub manifest: Option<BindingManifest>,
@@ -130,9 +130,10 @@ pub fn file_name(module: &str, variant: &str, target: Target, entry: &str, stage
     let base = format!("{id}.{entry}");
     match target {
         Target::Wgsl => format!("{id}.wgsl"),
+        Target::Hlsl => format!("{id}.hlsl"),
         Target::GlslEs300 => format!("{base}.es300.{}", stage_ext(stage)),
         Target::Glsl450 => format!("{base}.450.{}", stage_ext(stage)),
-        Target::Hlsl | Target::Msl | Target::SpirV => format!("{base}.{}", target.extension()),
+        Target::Msl | Target::SpirV => format!("{base}.{}", target.extension()),
     }
 }
 
@@ -188,7 +189,10 @@ pub fn generate(
     // Overrides are baked once per entry point and shared by every backend.
     let constants = backend::default_constants(&module);
     let mut baked = Vec::new();
-    if targets.iter().any(|t| *t != Target::Wgsl) {
+    if targets
+        .iter()
+        .any(|t| !matches!(t, Target::Wgsl | Target::Hlsl))
+    {
         for ep in &module.entry_points {
             let b = backend::bake(&module, &ep.function).map_err(|message| CodegenError::Bake {
                 module: module.name.clone(),
@@ -209,6 +213,18 @@ pub fn generate(
                 manifest: None,
             });
             target_bytes.insert(target, wgsl.len());
+            continue;
+        }
+        if target == Target::Hlsl {
+            let (text, manifest) = crate::hlsl::print_module(&module, variant)?;
+            target_bytes.insert(target, text.len());
+            files.push(OutputFile {
+                file_name: file_name(&module.name, variant, target, "", Stage::Vertex),
+                target,
+                entry_point: None,
+                contents: Contents::Text(text),
+                manifest: Some(manifest),
+            });
             continue;
         }
         for (ep, b) in module.entry_points.iter().zip(&baked) {

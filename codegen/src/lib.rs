@@ -2,18 +2,21 @@
 //!
 //! The chain is `specialise` → `share` (repeated sub-expressions bound once) → `lower` (the IR
 //! built straight into a `naga::Module`) → `validate` (naga, the single gate, once per key) →
-//! `backend` (GLSL ES 3.00, GLSL 4.50, HLSL, MSL, SPIR-V via naga) → `emit`. The `wgsl` printer
+//! `backend` (GLSL ES 3.00, GLSL 4.50, MSL, SPIR-V via naga) → `emit`. The `wgsl` printer
 //! writes the same IR as readable WGSL with a span table, for people, snapshots and WebGPU
-//! hosts; when naga refuses a lowered module, that text is parsed to say which Rust line is at
+//! hosts, and the `hlsl` printer as HLSL in Direct3D 11's binding model; when naga refuses a lowered module, that text is parsed to say which Rust line is at
 //! fault. Codegen knows nothing of wgpu.
 
 mod backend;
 pub mod bindings;
+pub mod csharp;
 mod dts;
 mod emit;
 mod error;
 pub mod external;
 mod generate;
+pub mod hlsl;
+mod host_functions;
 pub mod js;
 mod lower;
 pub mod manifest;
@@ -28,6 +31,7 @@ mod wgsl_spelling;
 
 pub use backend::{Contents, default_constants};
 pub use bindings::{BindingInfo, BindingKind, TextureDimension};
+pub use csharp::print_csharp;
 pub use dts::print_dts;
 pub use emit::{EmitExtras, EmitReport, MARKER_FILE, emit};
 pub use error::{CodegenError, Origin};

@@ -89,14 +89,15 @@ pub struct BufferSize {
     pub binding: String,
 }
 
-/// Everything a host needs to bind one entry point of one target.
+/// Everything a host needs to bind one file of one target.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BindingManifest {
     pub module: String,
     pub variant: String,
     pub target: String,
-    pub entry_point: String,
-    pub stage: String,
+    /// The file's entry points by stage (`vertex`, `fragment`, `compute`): one in a GLSL or
+    /// MSL file, every one of the module in an HLSL file.
+    pub entry_points: std::collections::BTreeMap<String, String>,
     pub bindings: Vec<ManifestBinding>,
     /// GLSL only: every combined sampler the entry point declares.
     #[serde(skip_serializing_if = "Vec::is_empty")]

@@ -14,7 +14,8 @@ pub enum Target {
     GlslEs300,
     /// GLSL 4.50 core for OpenGL and Vulkan-GLSL toolchains.
     Glsl450,
-    /// HLSL shader model 6.0 for D3D12 (wgpu's binding model).
+    /// HLSL shader model 5.0, Direct3D 11 registers: one file per module, every entry point
+    /// (Unity, FXC, DXC, Slang).
     Hlsl,
     /// Metal Shading Language 2.1.
     Msl,

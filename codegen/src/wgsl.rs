@@ -83,7 +83,7 @@ fn prec(op: BinaryOp) -> Prec {
 }
 
 /// Whether a binary child needs parentheses under parent `op` (on the right when `right`).
-fn needs_parens(parent: BinaryOp, child: BinaryOp, right: bool) -> bool {
+pub(crate) fn needs_parens(parent: BinaryOp, child: BinaryOp, right: bool) -> bool {
     let (p, c) = (prec(parent), prec(child));
     match p {
         Prec::Additive | Prec::Multiplicative => c < p || (right && c == p),
@@ -112,7 +112,7 @@ fn io_attribute(io: Io) -> String {
     }
 }
 
-fn float_literal(v: f32) -> Option<String> {
+pub(crate) fn float_literal(v: f32) -> Option<String> {
     if !v.is_finite() {
         return None;
     }

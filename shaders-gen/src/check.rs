@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use nimbus_codegen::external::{ExternalCheck, check_file};
+use nimbus_codegen::external::{ExternalCheck, check_files};
 use nimbus_codegen::{Target, generate_variant, validate};
 use nimbus_dsl::ShaderVariant;
 
@@ -59,8 +59,9 @@ pub(crate) fn run(
                     );
                 }
                 if external {
-                    for f in &g.files {
-                        match check_file(f) {
+                    let files: Vec<_> = g.files.iter().collect();
+                    for (f, check) in files.iter().zip(check_files(&files)) {
+                        match check {
                             ExternalCheck::Passed { .. } => external_passed += 1,
                             ExternalCheck::Failed { tool, output } => {
                                 failures += 1;

@@ -15,7 +15,7 @@ pub(crate) enum Engine {
     Wgpu,
     /// Vulkan: SPIR-V 1.0.
     Vulkan,
-    /// Unity (D3D-style registers): HLSL shader model 6.0.
+    /// Unity: HLSL shader model 5.0 (Direct3D 11 registers), ShaderLab and C#.
     Unity,
     /// Metal: MSL 2.1.
     Metal,
@@ -59,7 +59,7 @@ impl Engine {
             Engine::Three => "GLSL ES 3.00 (WebGL2)",
             Engine::Webgpu | Engine::Wgpu => "WGSL",
             Engine::Vulkan => "SPIR-V 1.0",
-            Engine::Unity => "HLSL shader model 6.0",
+            Engine::Unity => "HLSL shader model 5.0",
             Engine::Metal => "MSL 2.1",
         }
     }
@@ -185,9 +185,18 @@ impl Engine {
                 if self == Engine::Unity {
                     c.push((
                         "compute",
-                        "a Unity compute shader needs `#pragma kernel cs_sun_light` above the \
-                         sun_light HLSL (put both in a .compute file); bind the completed block \
-                         as a GraphicsBuffer with Target.Raw | Target.Constant"
+                        "sun-light.compute runs the kernel; it writes the completed block as \
+                         words into a structured buffer (RWStructuredBuffer<uint>), which \
+                         Direct3D 11 cannot also bind as a constant buffer: copy it into the \
+                         block's constant buffer (CommandBuffer.CopyBuffer) before the passes \
+                         that read it, as NimbusClouds.cs does"
+                            .to_string(),
+                    ));
+                    c.push((
+                        "samplers",
+                        "inline sampler states: each SamplerState is named with its filter and \
+                         wrap (linear_sampler_linear_repeat), which Unity reads from the name; \
+                         a host binds no sampler"
                             .to_string(),
                     ));
                 }
@@ -211,8 +220,9 @@ impl Engine {
                  available here"
             }
             Engine::Unity => {
-                "glslangValidator (its HLSL front end) was not found (apt-get install \
-                 glslang-tools); DXC and FXC do not run here"
+                "glslangValidator (its HLSL front end, apt-get install glslang-tools) or Slang \
+                 (python3 -m pip install slangpy) was not found; DXC, FXC and Unity do not run \
+                 here"
             }
             Engine::Metal => "Apple's Metal compiler does not run on Linux",
         }
@@ -232,8 +242,10 @@ impl Engine {
             }
             Engine::Vulkan => "descriptor set = group, binding = binding, as listed",
             Engine::Unity => {
-                "registers follow wgpu's HLSL binding model (the file's .json manifest lists \
-                 each register and space)"
+                "one HLSL file per pass with every entry point; each binding in the register of \
+                 its class numbered as its binding (b0, t1, s6, u1), the uniform blocks as \
+                 cbuffers named as listed; Unity binds them by name (the file's .json manifest \
+                 lists each name and register)"
             }
             Engine::Metal => {
                 "buffer, texture and sampler indices as listed in the file's .json manifest"

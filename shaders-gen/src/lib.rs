@@ -31,6 +31,7 @@ mod render;
 mod scene_input;
 mod session;
 mod tradeoff;
+mod unity_shaderlab;
 
 pub mod fuzz;
 

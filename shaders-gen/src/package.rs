@@ -20,9 +20,10 @@ use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::resource::Resource;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
 use nimbus_clouds::model::shadow::ShadowParams;
-use nimbus_codegen::external::{ExternalCheck, check_file};
+use nimbus_codegen::external::{ExternalCheck, check_files};
 use nimbus_codegen::{
-    BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_dts, print_js,
+    BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_csharp,
+    print_dts, print_js,
 };
 use nimbus_codegen::{BindingKind, TextureDimension};
 use nimbus_dsl::ShaderVariant;
@@ -60,6 +61,24 @@ const FRAME_MODULE: &str = "nimbus-frame.js";
 
 /// What `FRAME_MODULE` exports.
 const FRAME_EXPORTS: [&str; 3] = ["cloud_frame", "resolve_frame", "drift_at"];
+
+/// The Unity host: a camera component of the built-in pipeline that loads the package.
+const UNITY_HOST: (&str, &str) = (
+    "NimbusClouds.cs",
+    include_str!("../assets/unity/NimbusClouds.cs"),
+);
+
+/// The Metal host sample: a Swift `MTKViewDelegate` that loads the package.
+const METAL_HOST: (&str, &str) = (
+    "NimbusMetal.swift",
+    include_str!("../assets/metal/NimbusMetal.swift"),
+);
+
+/// The C# twins' files (each a static class named as the file) and what the sun's exports.
+pub(crate) const CS_SUN: &str = "NimbusSun.cs";
+pub(crate) const CS_WIND: &str = "NimbusWind.cs";
+pub(crate) const CS_FRAME: &str = "NimbusFrame.cs";
+const CS_SUN_EXPORTS: [&str; 1] = ["sun_direction"];
 
 /// What `SUN_MODULE` exports.
 const SUN_EXPORTS: [&str; 7] = [
@@ -160,8 +179,9 @@ pub(crate) fn run(
     let package = build(&resolved, engine)?;
     // The engine's own compiler where this machine has one; naga validated every file already.
     let mut checked = Vec::new();
-    for f in package.shaders.iter().flat_map(|g| &g.files) {
-        match check_file(f) {
+    let files: Vec<_> = package.shaders.iter().flat_map(|g| &g.files).collect();
+    for (f, check) in files.iter().zip(check_files(&files)) {
+        match check {
             ExternalCheck::Passed { tool } => checked.push(tool),
             ExternalCheck::Failed { tool, output } => {
                 return Err(CliError::External {
@@ -520,6 +540,44 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             files.push((name.to_string(), text.as_bytes().to_vec()));
         }
     }
+    if engine == Engine::Unity {
+        // Each pass's HLSL as a Unity asset: a ShaderLab shader, or the kernel's compute shader.
+        for g in &shaders {
+            let (name, text) = crate::unity_shaderlab::unity_wrapper(g);
+            files.push((name, text.into_bytes()));
+        }
+        // The host functions a C# host calls (the sun's other effects run on the GPU, in the
+        // `sun_light` kernel), printed from the same IR as the JavaScript twins.
+        for (file, host, exports) in [
+            (
+                CS_SUN,
+                nimbus_clouds::model::sun::host_module()?,
+                &CS_SUN_EXPORTS[..],
+            ),
+            (
+                CS_WIND,
+                nimbus_clouds::timeline::host_module()?,
+                &WIND_EXPORTS[..],
+            ),
+            (
+                CS_FRAME,
+                nimbus_clouds::frame_sequence::host_module()?,
+                &FRAME_EXPORTS[..],
+            ),
+        ] {
+            let class = file.trim_end_matches(".cs");
+            files.push((
+                file.to_string(),
+                print_csharp(&host, exports, class)?.into_bytes(),
+            ));
+        }
+        // The component that runs the passes with a command buffer.
+        files.push((UNITY_HOST.0.to_string(), UNITY_HOST.1.as_bytes().to_vec()));
+    }
+    if engine == Engine::Metal {
+        // A Swift MTKView delegate that draws the package's still frame (not compiled here).
+        files.push((METAL_HOST.0.to_string(), METAL_HOST.1.as_bytes().to_vec()));
+    }
     if engine == Engine::Three {
         // The ES modules that draw the package with three.js alone.
         for (name, text) in THREE_MODULES {
@@ -594,27 +652,36 @@ fn pass_description(
         };
         let mut in_files = Vec::new();
         for m in g.files.iter().filter_map(|f| f.manifest.as_ref()) {
-            in_files.extend(
-                m.bindings
-                    .iter()
-                    .filter(|mb| (mb.group, mb.binding) == (b.group, b.binding))
-                    .filter(|mb| !mb.target_name.is_empty())
-                    .map(|mb| NameInFile {
-                        stage: m.stage.clone(),
-                        name: Some(mb.target_name.clone()),
-                        combined_sampler: None,
-                    }),
-            );
-            in_files.extend(
-                m.combined_samplers
-                    .iter()
-                    .filter(|c| c.texture == b.name || c.sampler.as_ref() == Some(&b.name))
-                    .map(|c| NameInFile {
-                        stage: m.stage.clone(),
-                        name: None,
-                        combined_sampler: Some(c.name.clone()),
-                    }),
-            );
+            // The stages of the file (one; every one of the module in an HLSL file) that see
+            // the binding.
+            let stages: Vec<&String> = m
+                .entry_points
+                .keys()
+                .filter(|s| b.visibility.iter().any(|v| v.name() == s.as_str()))
+                .collect();
+            for stage in stages {
+                in_files.extend(
+                    m.bindings
+                        .iter()
+                        .filter(|mb| (mb.group, mb.binding) == (b.group, b.binding))
+                        .filter(|mb| !mb.target_name.is_empty())
+                        .map(|mb| NameInFile {
+                            stage: stage.clone(),
+                            name: Some(mb.target_name.clone()),
+                            combined_sampler: None,
+                        }),
+                );
+                in_files.extend(
+                    m.combined_samplers
+                        .iter()
+                        .filter(|c| c.texture == b.name || c.sampler.as_ref() == Some(&b.name))
+                        .map(|c| NameInFile {
+                            stage: stage.clone(),
+                            name: None,
+                            combined_sampler: Some(c.name.clone()),
+                        }),
+                );
+            }
         }
         bindings.push(BindingDescription {
             group: b.group,
@@ -1251,8 +1318,9 @@ fn readme(engine: Engine, table: &[Assignment]) -> String {
          `{PACKAGE_FILE}`), uploaded as half floats (`rgba16float`), each byte widened \
          through `texel_halves` as Nimbus's runtime does: a GPU that filters 8-bit textures \
          in 8-bit arithmetic leaves a faint halo of opacity round every cloud.\n\
-         - the shader files, named `<module>-<key>.<entry>.<ext>`, with a `.json` binding \
-         manifest beside each GLSL, HLSL and MSL file.\n\n\
+         - the shader files, named `<module>-<key>.<entry>.<ext>` (`<module>-<key>.wgsl` and \
+         `<module>-<key>.hlsl` hold every entry point), with a `.json` binding manifest beside \
+         each GLSL, HLSL and MSL file.\n\n\
          ## A frame\n\n{frame}\n\
          {host}\
          ## Conventions\n\n{conventions}\n\
@@ -1265,7 +1333,7 @@ fn readme(engine: Engine, table: &[Assignment]) -> String {
     )
 }
 
-/// The README's section on the package's JavaScript host code, for engines that have one.
+/// The README's section on the package's host code, for engines that have one.
 fn host_section(engine: Engine) -> &'static str {
     match engine {
         Engine::Three => {
@@ -1313,7 +1381,43 @@ fn host_section(engine: Engine) -> &'static str {
              twins of Nimbus's own `#[shader_fn]`s (see the uniform notes of `media.wind_drift` \
              and `media.coverage`).\n\n"
         }
-        Engine::Wgpu | Engine::Vulkan | Engine::Unity | Engine::Metal => "",
+        Engine::Unity => {
+            "## Unity\n\n\
+             Each pass is `<module>-<key>.hlsl` (both stages, one program) with a ShaderLab \
+             `<module>-<key>.shader` that includes it (`Shader \"Nimbus/<module>-<key>\"`); the \
+             `sun_light` kernel is `sun-light.compute`. `NimbusClouds.cs` is a camera component \
+             of the built-in render pipeline that runs the pair's passes with one command \
+             buffer:\n\n\
+             1. Copy this folder to `Assets/StreamingAssets/Nimbus` (Unity also compiles the \
+             .shader, .compute and .cs files there) and install the `com.unity.mathematics` \
+             package.\n\
+             2. Add `NimbusClouds` to the camera and drag `sun-light.compute` onto its \
+             `Sun Light` field; set the sun, the wind and `pair` in the inspector.\n\n\
+             `NimbusFrame.cs` (`cloud_frame`, `resolve_frame`, `drift_at`), `NimbusWind.cs` \
+             (`wind_velocity`, `wind_velocity_at`, `wind_drift`, `weather_progress`, \
+             `weather_coverage`, `facing_altitude`, `TOP_ALTITUDE`) and `NimbusSun.cs` \
+             (`sun_direction`) are Nimbus's own `#[shader_fn]`s printed as C# \
+             (Unity.Mathematics); the sun's light and the shadow cascades come from the \
+             `sun_light` kernel. Checked without Unity: both HLSL front ends (glslang, Slang) \
+             take every file, the HLSL compiled to SPIR-V draws `nimbus render`'s frame, and \
+             the C# twins compiled by mono compute what the Rust functions do. Not checked \
+             here: Unity's own compilers (FXC, DXC) and `NimbusClouds.cs`, which needs \
+             UnityEngine. In Linear colour space the display pass's sRGB-encoded output needs \
+             a target without sRGB conversion.\n\n"
+        }
+        Engine::Metal => {
+            "## Metal\n\n\
+             `NimbusMetal.swift` is an `MTKViewDelegate` that draws the package's still frame \
+             (sun_light, shadow, air, clouds, display) from these files alone: the MSL compiled \
+             at run time (`makeLibrary(source:)`), each binding at the buffer, texture or \
+             sampler index its file's `.json` lists, the sampler states from the same lists, the \
+             kernel's runtime-sized buffer's length at the `buffer_sizes` index. \
+             `let clouds = try NimbusMetal(view: view, package: url); view.delegate = clouds`. \
+             Unverified: no Apple compiler runs where Nimbus is tested (Linux), so neither the \
+             MSL nor this file has been compiled; the Vulkan host, which takes the same steps, \
+             is checked against `nimbus render` there.\n\n"
+        }
+        Engine::Wgpu | Engine::Vulkan => "",
     }
 }
 

@@ -210,7 +210,10 @@ fn every_engine_gets_a_complete_package() {
         match engine {
             "three" => assert!(stdout.contains("glslangValidator"), "{stdout}"),
             "vulkan" => assert!(stdout.contains("spirv-val"), "{stdout}"),
-            "unity" => assert!(stdout.contains("glslangValidator"), "{stdout}"),
+            "unity" => assert!(
+                stdout.contains("glslangValidator (HLSL) and Slang"),
+                "{stdout}"
+            ),
             _ => assert!(stdout.contains("validated by naga"), "{stdout}"),
         }
     }

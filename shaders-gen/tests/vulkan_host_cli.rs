@@ -3,6 +3,11 @@
 //! frame on this machine's Vulkan device (lavapipe here); the picture must be `nimbus render`'s
 //! for the same scene. The control: the same comparison tells two sun positions apart, so a host
 //! that ignored the package's uniforms, or drew the wrong pass, would fail.
+//!
+//! The same host also draws the Unity package's HLSL: glslang compiles each pass's one HLSL
+//! file to SPIR-V for each entry point (HLSL packing offsets, registers as bindings) in place of
+//! the Vulkan package's, so the frame checks what the HLSL means — its arithmetic, matrices,
+//! register numbers and cbuffer packing — not only that it compiles.
 
 mod common;
 
@@ -64,27 +69,85 @@ fn scene(dir: &Path, v: &View) -> PathBuf {
     file
 }
 
-#[test]
-fn the_vulkan_host_draws_what_nimbus_renders() {
+/// Emits `engine`'s package for `scene_file` into `dir/package-<name>-<engine>`.
+fn emit(dir: &Path, scene_file: &Path, name: &str, engine: &str) -> PathBuf {
+    let package = dir.join(format!("package-{name}-{engine}"));
+    let o = nimbus(&[
+        "emit",
+        "--engine",
+        engine,
+        "--scene",
+        scene_file.to_str().expect("utf8"),
+        "-o",
+        package.to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "emit {engine}: {}", text(&o.stderr));
+    package
+}
+
+/// Replaces every SPIR-V file of the Vulkan package `vulkan` by glslang's compile of the entry
+/// point from the pass's HLSL file in the Unity package `unity`; returns how many.
+fn spirv_from_hlsl(vulkan: &Path, unity: &Path) -> usize {
+    let description: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(vulkan.join("nimbus-package.json")).expect("package description"),
+    )
+    .expect("JSON");
+    let mut done = std::collections::BTreeSet::new();
+    for pass in description["pairs"]
+        .as_array()
+        .expect("pairs")
+        .iter()
+        .flat_map(|p| p["passes"].as_array().expect("passes"))
+    {
+        let hlsl = unity.join(format!("{}.hlsl", pass["shader"].as_str().expect("shader")));
+        assert!(hlsl.exists(), "the Unity package has no {}", hlsl.display());
+        for file in pass["files"].as_array().expect("files") {
+            let spv = file["file"].as_str().expect("file");
+            if !done.insert(spv.to_string()) {
+                continue;
+            }
+            let entry = file["entry_point"].as_str().expect("entry point");
+            let stage = match file["stage"].as_str().expect("stage") {
+                "vertex" => "vert",
+                "fragment" => "frag",
+                _ => "comp",
+            };
+            let out = std::process::Command::new("glslangValidator")
+                .args(["-D", "-V", "--hlsl-offsets", "-S", stage, "-e", entry])
+                .args(["--source-entrypoint", entry, "-o"])
+                .arg(vulkan.join(spv))
+                .arg(&hlsl)
+                .output()
+                .expect("run glslangValidator");
+            assert!(
+                out.status.success(),
+                "glslang on {} ({entry}): {}",
+                hlsl.display(),
+                text(&out.stdout)
+            );
+        }
+    }
+    done.len()
+}
+
+/// Draws each view with the Vulkan host (its shaders from the HLSL when `hlsl`) and compares
+/// it with `nimbus render`, then the control.
+fn host_matches_render(hlsl: bool) {
     if !have_gpu() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
     let (w, h) = (160u32, 90u32);
+    let source = if hlsl { "HLSL" } else { "SPIR-V" };
     let mut frames = Vec::new();
     for v in &VIEWS {
         let scene_file = scene(dir.path(), v);
-        let package = dir.path().join(format!("package-{}", v.name));
-        let o = nimbus(&[
-            "emit",
-            "--engine",
-            "vulkan",
-            "--scene",
-            scene_file.to_str().expect("utf8"),
-            "-o",
-            package.to_str().expect("utf8"),
-        ]);
-        assert!(o.status.success(), "emit: {}", text(&o.stderr));
+        let package = emit(dir.path(), &scene_file, v.name, "vulkan");
+        if hlsl {
+            let unity = emit(dir.path(), &scene_file, v.name, "unity");
+            let n = spirv_from_hlsl(&package, &unity);
+            println!("{}: {n} SPIR-V files compiled from the Unity HLSL", v.name);
+        }
         let reference = dir.path().join(format!("{}-nimbus.png", v.name));
         let size = format!("{w}x{h}");
         let o = nimbus(&[
@@ -109,13 +172,23 @@ fn the_vulkan_host_draws_what_nimbus_renders() {
     }
     for (name, want, got) in &frames {
         let mean = mean_difference(want, got);
-        println!("{name}: Vulkan host vs nimbus render: mean difference {mean:.3}/255");
+        println!("{name}: Vulkan host ({source}) vs nimbus render: mean difference {mean:.3}/255");
         assert!(
             mean <= MAX_MEAN,
-            "{name}: the Vulkan host's frame differs from nimbus render by {mean:.3}/255"
+            "{name}: the Vulkan host's frame ({source}) differs from nimbus render by {mean:.3}/255"
         );
     }
     let control = mean_difference(&frames[0].1, &frames[1].2);
     println!("control (sun 35° vs 8°): mean difference {control:.3}/255");
     assert!(control > 4.0 * MAX_MEAN, "the comparison cannot fail");
+}
+
+#[test]
+fn the_vulkan_host_draws_what_nimbus_renders() {
+    host_matches_render(false);
+}
+
+#[test]
+fn the_unity_hlsl_draws_what_nimbus_renders() {
+    host_matches_render(true);
 }

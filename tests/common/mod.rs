@@ -72,6 +72,16 @@ pub fn tool_available(tool: &str) -> bool {
         .is_ok()
 }
 
+/// Whether Python can import `slangpy`, whose wheel ships the Slang compiler.
+pub fn slang_available() -> bool {
+    std::process::Command::new("python3")
+        .args(["-c", "import slangpy"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
 pub const MIN_INPUTS: usize = 10_000;
 
 /// A relative-plus-absolute tolerance: |gpu − cpu| ≤ abs + rel·|cpu|.

@@ -6,7 +6,6 @@
 //! debug and release builds emit the same bytes.
 
 mod glsl;
-mod hlsl;
 mod msl;
 mod spirv;
 
@@ -114,7 +113,7 @@ pub(crate) fn translate(
             combined = pairs;
             (contents, names)
         }
-        Target::Hlsl => hlsl::write(baked, stage, entry)?,
+        Target::Hlsl => return Err("HLSL is printed, not translated".into()),
         Target::Msl => {
             let (contents, names, sizes) = msl::write(baked, dsl, stage, entry)?;
             sizes_slot = sizes;
@@ -271,8 +270,7 @@ fn manifest_for(
         module: dsl.name.clone(),
         variant: variant.to_string(),
         target: target.name().to_string(),
-        entry_point: entry.to_string(),
-        stage: stage.name().to_string(),
+        entry_points: [(stage.name().to_string(), entry.to_string())].into(),
         bindings,
         combined_samplers: Vec::new(),
         buffer_sizes: None,
