@@ -37,10 +37,23 @@ const KEYWORDS: &[&str] = &[
 fn ident(name: &str) -> String {
     if KEYWORDS.contains(&name) {
         format!("@{name}")
+    } else if name == "math" || name.starts_with("nimbus_") {
+        // A local `math` would hide Unity.Mathematics' class; `nimbus_` names the helpers.
+        format!("{name}_")
     } else {
         name.to_string()
     }
 }
+
+/// WGSL's integer division and remainder, which C# would throw on: `a / 0` is `a`, `a % 0` is
+/// 0, and the most negative `i32` divided by -1 is itself (remainder 0). Printed into a class
+/// that divides integers.
+const INTEGER_DIVISION: &str =
+    "        static uint nimbus_div(uint a, uint b) => b == 0u ? a : a / b;
+        static uint nimbus_rem(uint a, uint b) => b == 0u ? 0u : a % b;
+        static int nimbus_div(int a, int b) => b == 0 || (a == int.MinValue && b == -1) ? a : a / b;
+        static int nimbus_rem(int a, int b) => b == 0 || (a == int.MinValue && b == -1) ? 0 : a % b;
+";
 
 fn scalar(s: Scalar) -> &'static str {
     match s {
@@ -85,46 +98,13 @@ fn literal(l: Literal) -> String {
     }
 }
 
-/// Unity.Mathematics' name of a built-in (`math.<name>`).
+/// Unity.Mathematics' name of a built-in (`math.<name>`): HLSL's, as that library follows it;
+/// it has no `pack4x8unorm`.
 fn builtin(b: Builtin) -> Option<&'static str> {
-    Some(match b {
-        Builtin::Abs => "abs",
-        Builtin::Ceil => "ceil",
-        Builtin::Clamp => "clamp",
-        Builtin::Cos => "cos",
-        Builtin::Cross => "cross",
-        Builtin::Distance => "distance",
-        Builtin::Dot => "dot",
-        Builtin::Exp => "exp",
-        Builtin::Exp2 => "exp2",
-        Builtin::Floor => "floor",
-        Builtin::Fract => "frac",
-        Builtin::InverseSqrt => "rsqrt",
-        Builtin::Length => "length",
-        Builtin::Log => "log",
-        Builtin::Log2 => "log2",
-        Builtin::Max => "max",
-        Builtin::Min => "min",
-        Builtin::Mix => "lerp",
-        Builtin::Normalize => "normalize",
-        Builtin::Pow => "pow",
-        Builtin::Round => "round",
-        Builtin::Select => "select",
-        Builtin::Sign => "sign",
-        Builtin::Sin => "sin",
-        Builtin::Smoothstep => "smoothstep",
-        Builtin::Sqrt => "sqrt",
-        Builtin::Step => "step",
-        Builtin::Tan => "tan",
-        Builtin::Trunc => "trunc",
-        Builtin::Atan2 => "atan2",
-        Builtin::Acos => "acos",
-        Builtin::Asin => "asin",
-        Builtin::Atan => "atan",
-        Builtin::Fma => "mad",
-        Builtin::Saturate => "saturate",
-        Builtin::Pack4x8Unorm => return None,
-    })
+    match b {
+        Builtin::Pack4x8Unorm => None,
+        _ => Some(crate::hlsl::hlsl_builtin(b)),
+    }
 }
 
 /// Prints `exports` and every function they reach as a static C# class `class` in namespace
@@ -159,11 +139,7 @@ pub fn print_csharp(
             .chain(f.locals.iter().map(|l| l.ty))
             .chain(f.exprs.iter().map(|e| e.ty));
         for ty in types {
-            if let Type::Struct(def) = ty
-                && !structs.iter().any(|s| std::ptr::eq(*s, def))
-            {
-                structs.push(def);
-            }
+            collect_structs(ty, &mut structs);
         }
     }
     for def in &structs {
@@ -181,6 +157,15 @@ pub fn print_csharp(
         out.push_str("    }\n\n");
     }
     let _ = writeln!(out, "    public static class {class}\n    {{");
+    let divides = module
+        .functions
+        .iter()
+        .filter(|f| needed.contains(&f.name))
+        .flat_map(|f| f.exprs.iter())
+        .any(|e| integer_division(&e.kind, e.ty));
+    if divides {
+        out.push_str(INTEGER_DIVISION);
+    }
     for g in &module.globals {
         if let GlobalKind::Const { value } = g.kind {
             let public = if exports.contains(&g.name.as_str()) {
@@ -234,6 +219,26 @@ pub fn print_csharp(
     }
     out.push_str("    }\n}\n");
     Ok(out)
+}
+
+/// `ty`'s struct, and the structs its fields hold, each once, inner ones first.
+fn collect_structs(ty: Type, out: &mut Vec<&'static StructDef>) {
+    match ty {
+        Type::Struct(def) if !out.iter().any(|s| std::ptr::eq(*s, def)) => {
+            for f in def.fields {
+                collect_structs(f.ty, out);
+            }
+            out.push(def);
+        }
+        Type::Array(elem, _) => collect_structs(*elem, out),
+        _ => {}
+    }
+}
+
+/// Whether an expression divides or takes the remainder of scalar integers.
+fn integer_division(kind: &ExprKind, ty: Type) -> bool {
+    matches!(kind, ExprKind::Binary(BinaryOp::Div | BinaryOp::Rem, ..))
+        && matches!(ty, Type::Scalar(Scalar::I32 | Scalar::U32))
 }
 
 struct Printer<'a> {
@@ -399,7 +404,14 @@ impl Printer<'_> {
                 }
             }
             ExprKind::Unary(op, a) => {
-                let inner = self.postfix_base(*a)?;
+                let inner = match f.expr(*a).kind {
+                    // `--1.0f` would be a decrement.
+                    ExprKind::Literal(Literal::F32(b)) if f32::from_bits(b).is_sign_negative() => {
+                        format!("({})", self.expr(*a)?)
+                    }
+                    ExprKind::Literal(Literal::I32(v)) if v < 0 => format!("({})", self.expr(*a)?),
+                    _ => self.postfix_base(*a)?,
+                };
                 match op {
                     UnaryOp::Neg => format!("-{inner}"),
                     UnaryOp::Not => format!("!{inner}"),
@@ -422,6 +434,13 @@ impl Printer<'_> {
                     };
                     let sym = if *op == BinaryOp::Shl { "<<" } else { ">>" };
                     format!("{l} {sym} {count}")
+                } else if integer_division(&e.kind, e.ty) {
+                    let helper = if *op == BinaryOp::Div {
+                        "nimbus_div"
+                    } else {
+                        "nimbus_rem"
+                    };
+                    format!("{helper}({}, {})", self.expr(*a)?, self.expr(*b)?)
                 } else {
                     let l = self.operand(*a, *op, false)?;
                     let r = self.operand(*b, *op, true)?;
@@ -517,7 +536,15 @@ impl Printer<'_> {
             (Some(Scalar::Bool), _, _) => {
                 format!("math.select(new {target}(0), new {target}(1), {inner})")
             }
-            (_, Scalar::Bool, Type::Scalar(_)) => format!("({inner} != 0)"),
+            (_, Scalar::Bool, Type::Scalar(_)) => format!("(({inner}) != 0)"),
+            // WGSL saturates a float converted to an integer (C#'s cast is unspecified out of
+            // range): the limits are the largest floats inside each range.
+            (Some(Scalar::F32), Scalar::U32, Type::Scalar(_)) => {
+                format!("(uint)math.clamp({inner}, 0.0f, 4294967040.0f)")
+            }
+            (Some(Scalar::F32), Scalar::I32, Type::Scalar(_)) => {
+                format!("(int)math.clamp({inner}, -2147483648.0f, 2147483520.0f)")
+            }
             (_, Scalar::Bool, _) => return Err(self.refuse("converts a vector to booleans")),
             _ => format!("({target})({inner})"),
         })

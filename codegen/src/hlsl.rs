@@ -114,6 +114,15 @@ fn hlsl_type(ty: Type, names: &Names) -> String {
     }
 }
 
+/// `row_major ` for a matrix (or array of them) in memory: WGSL's columns are then the rows
+/// `m[i]` reads, the transpose every product here is printed for.
+fn major(ty: Type) -> &'static str {
+    match ty {
+        Type::Matrix(_) | Type::Array(Type::Matrix(_), _) => "row_major ",
+        _ => "",
+    }
+}
+
 /// `name` or `name[4]`, as a declarator of `ty`.
 fn declarator(ty: Type, name: &str) -> String {
     match ty {
@@ -122,7 +131,8 @@ fn declarator(ty: Type, name: &str) -> String {
     }
 }
 
-fn hlsl_builtin(b: Builtin) -> &'static str {
+/// HLSL's name of a built-in (`lerp`, `frac`, `rsqrt`, `mad`).
+pub(crate) fn hlsl_builtin(b: Builtin) -> &'static str {
     match b {
         Builtin::Abs => "abs",
         Builtin::Ceil => "ceil",
@@ -215,6 +225,14 @@ impl Names {
             all.extend(f.params.iter().map(|p| p.name.clone()));
             all.extend(f.locals.iter().map(|l| l.name.clone()));
         }
+        // What the printer itself declares: a module identifier spelled so is renamed.
+        let generated = |name: &str| {
+            name == PACK4X8UNORM
+                || name.starts_with("_pad")
+                || name
+                    .strip_prefix("make_")
+                    .is_some_and(|s| module.structs.iter().any(|d| d.name == s))
+        };
         let mut taken = all.clone();
         let mut renamed = BTreeMap::new();
         // Unity creates a sampler the file declares but no texture names from the words in its
@@ -239,7 +257,7 @@ impl Names {
         }
         let reserved_names: Vec<&String> = all
             .iter()
-            .filter(|n| reserved(n) && !renamed.contains_key(*n))
+            .filter(|n| (reserved(n) || generated(n)) && !renamed.contains_key(*n))
             .collect();
         for name in reserved_names {
             let mut new = format!("{name}_");
@@ -462,15 +480,9 @@ impl Printer<'_> {
                     Member::Field(i) => {
                         let field = &def.fields[i];
                         self.doc(field.doc);
-                        let major = if matches!(field.ty, Type::Matrix(_))
-                            || matches!(field.ty, Type::Array(Type::Matrix(_), _))
-                        {
-                            "row_major "
-                        } else {
-                            ""
-                        };
                         let decl = format!(
-                            "{major}{} {};",
+                            "{}{} {};",
+                            major(field.ty),
                             hlsl_type(field.ty, &self.names),
                             declarator(field.ty, self.names.get(field.name))
                         );
@@ -483,25 +495,24 @@ impl Printer<'_> {
             self.out.push('\n');
             if built.contains(def.name) {
                 let name = self.names.get(def.name).to_string();
+                // Parameters by position: a field may be named like the local.
                 let params: Vec<String> = def
                     .fields
                     .iter()
-                    .map(|f| {
-                        format!(
-                            "{} {}",
-                            hlsl_type(f.ty, &self.names),
-                            declarator(f.ty, self.names.get(f.name))
-                        )
+                    .enumerate()
+                    .map(|(i, f)| {
+                        let ty = hlsl_type(f.ty, &self.names);
+                        format!("{ty} {}", declarator(f.ty, &format!("f{i}")))
                     })
                     .collect();
                 self.line(&format!("{name} make_{name}({}) {{", params.join(", ")));
                 self.indent += 1;
-                self.line(&format!("{name} s = ({name})0;"));
-                for f in def.fields {
+                self.line(&format!("{name} value = ({name})0;"));
+                for (i, f) in def.fields.iter().enumerate() {
                     let n = self.names.get(f.name).to_string();
-                    self.line(&format!("s.{n} = {n};"));
+                    self.line(&format!("value.{n} = f{i};"));
                 }
-                self.line("return s;");
+                self.line("return value;");
                 self.indent -= 1;
                 self.line("}");
                 self.out.push('\n');
@@ -511,7 +522,8 @@ impl Printer<'_> {
             self.line("// WGSL's pack4x8unorm: four [0, 1] values to bytes, x in the lowest.");
             self.line(&format!("uint {PACK4X8UNORM}(float4 v) {{"));
             self.indent += 1;
-            self.line("uint4 b = (uint4)round(saturate(v) * 255.0);");
+            // floor(0.5 + x): halves round up, as WGSL says (HLSL's round goes to even).
+            self.line("uint4 b = (uint4)floor(0.5 + saturate(v) * 255.0);");
             self.line("return b.x | (b.y << 8) | (b.z << 16) | (b.w << 24);");
             self.indent -= 1;
             self.line("}");
@@ -534,7 +546,8 @@ impl Printer<'_> {
             let decl = match &g.kind {
                 GlobalKind::Uniform { .. } => {
                     format!(
-                        "cbuffer {name} : {reg} {{ {ty} {}; }};",
+                        "cbuffer {name} : {reg} {{ {}{ty} {}; }};",
+                        major(g.ty),
                         declarator(g.ty, &name)
                     )
                 }

@@ -68,7 +68,7 @@ public final class NimbusMetal: NSObject, MTKViewDelegate {
             throw NimbusMetalError.package("pair \(pair.pair) reads the engine's depth, which this host does not bind")
         }
         super.init()
-        view.colorPixelFormat = .rgba8Unorm // display writes sRGB-encoded bytes: no second encoding
+        view.colorPixelFormat = .bgra8Unorm // display writes sRGB-encoded values: no second encoding
         view.framebufferOnly = true
         // The pair's block twice: as the host fills it (the kernel's input) and as the kernel
         // completes it (what the passes read).
@@ -206,7 +206,7 @@ public final class NimbusMetal: NSObject, MTKViewDelegate {
         let d = MTLRenderPipelineDescriptor()
         d.vertexFunction = functions["vertex"]
         d.fragmentFunction = functions["fragment"]
-        d.colorAttachments[0].pixelFormat = p.writes == "screen" ? .rgba8Unorm : .rgba16Float
+        d.colorAttachments[0].pixelFormat = p.writes == "screen" ? .bgra8Unorm : .rgba16Float
         return Pass(entry: p, render: try device.makeRenderPipelineState(descriptor: d), compute: nil, slots: slots, sizes: nil)
     }
 
