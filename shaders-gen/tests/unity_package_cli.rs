@@ -18,6 +18,8 @@ use nimbus_clouds::model::resolve::facing_altitude;
 use nimbus_clouds::model::sun::sun_direction;
 use nimbus_clouds::timeline::{weather_coverage, weather_progress};
 use nimbus_clouds::wind::{wind_drift, wind_velocity, wind_velocity_at};
+use nimbus_dsl::prelude::*;
+use nimbus_dsl::{ModuleBuilder, host_fn, loc};
 
 fn emit_unity(dir: &Path, scene: &str) -> std::path::PathBuf {
     let out = dir.join("unity");
@@ -262,26 +264,33 @@ fn calls() -> Calls {
     c
 }
 
-/// The C# program that prints each call's result, one line each.
-fn driver(calls: &[String]) -> String {
+/// The C# program that prints each call's result, one line each (`frames`: it prints the
+/// frame sequence's structs, whose file is compiled with it).
+fn driver(calls: &[String], frames: bool) -> String {
     let mut s = String::from(
         "using System;\nusing Nimbus;\nusing Unity.Mathematics;\n\
          static class Driver\n{\n\
          static string B(float x) => BitConverter.ToUInt32(BitConverter.GetBytes(x), 0).ToString();\n\
          static string U(uint x) => x.ToString();\n\
          static void Line(params string[] p) => Console.WriteLine(string.Join(\" \", p));\n\
+         static void P(uint x) => Line(U(x));\n\
+         static void P(int x) => Line(x.ToString());\n\
          static void P(float x) => Line(B(x));\n\
          static void P(float2 v) => Line(B(v.x), B(v.y));\n\
          static void P(float3 v) => Line(B(v.x), B(v.y), B(v.z));\n\
-         static void P(float4 v) => Line(B(v.x), B(v.y), B(v.z), B(v.w));\n\
-         static void P(CloudFrame f) => Line(U(f.frame), B(f.jitter), B(f.pixel_offset.x), \
-         B(f.pixel_offset.y), B(f.pixel_scale), B(f.subpixel.x), B(f.subpixel.y));\n\
-         static void P(ResolveFrame f) => Line(B(f.low_resolution.x), B(f.low_resolution.y), \
-         B(f.pixel_offset.x), B(f.pixel_offset.y), B(f.pixel_scale), B(f.current_weight), \
-         B(f.variance_gamma), B(f.history_valid), B(f.cloud_shift.x), B(f.cloud_shift.y), \
-         B(f.cloud_shift.z));\n\
-         static void Main()\n{\n",
+         static void P(float4 v) => Line(B(v.x), B(v.y), B(v.z), B(v.w));\n",
     );
+    if frames {
+        s.push_str(
+            "static void P(CloudFrame f) => Line(U(f.frame), B(f.jitter), B(f.pixel_offset.x), \
+             B(f.pixel_offset.y), B(f.pixel_scale), B(f.subpixel.x), B(f.subpixel.y));\n\
+             static void P(ResolveFrame f) => Line(B(f.low_resolution.x), B(f.low_resolution.y), \
+             B(f.pixel_offset.x), B(f.pixel_offset.y), B(f.pixel_scale), B(f.current_weight), \
+             B(f.variance_gamma), B(f.history_valid), B(f.cloud_shift.x), B(f.cloud_shift.y), \
+             B(f.cloud_shift.z));\n",
+        );
+    }
+    s.push_str("static void Main()\n{\n");
     for c in calls {
         s.push_str(c);
         s.push_str(";\n");
@@ -309,28 +318,9 @@ fn the_csharp_host_functions_compute_what_the_cpu_twins_do() {
     let dir = tempfile::tempdir().expect("temp dir");
     let out = emit_unity(dir.path(), "scenes/default.toml");
     let calls = calls();
-    let program = dir.path().join("Driver.cs");
-    std::fs::write(&program, driver(&calls.csharp)).expect("write driver");
-    let exe = dir.path().join("driver.exe");
-    let shim = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/csharp/UnityMathematics.cs");
-    let o = Command::new("mcs")
-        .arg("-warnaserror+")
-        .arg(format!("-out:{}", exe.display()))
-        .arg(&shim)
-        .args(["NimbusFrame.cs", "NimbusWind.cs", "NimbusSun.cs"].map(|f| out.join(f)))
-        .arg(&program)
-        .output()
-        .expect("run mcs");
-    assert!(
-        o.status.success(),
-        "mcs: {}{}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
-    let o = Command::new("mono").arg(&exe).output().expect("run mono");
-    assert!(o.status.success(), "mono: {}", text(&o.stderr));
-    let lines: Vec<Vec<f32>> = text(&o.stdout)
-        .lines()
+    let sources = ["NimbusFrame.cs", "NimbusWind.cs", "NimbusSun.cs"].map(|f| out.join(f));
+    let lines: Vec<Vec<f32>> = run_csharp(dir.path(), &sources, &calls.csharp, true)
+        .iter()
         .map(|l| {
             l.split(' ')
                 .map(|w| f32::from_bits(w.parse().expect("bits")))
@@ -364,4 +354,132 @@ fn the_csharp_host_functions_compute_what_the_cpu_twins_do() {
         "{} calls, {compared} values: the C# twins (mono) agree with the Rust CPU twins",
         calls.rust.len()
     );
+}
+
+// WGSL's edge cases, as host functions: C# would throw on an integer division by zero, cast a
+// negative float to a huge `uint`, rank `==` above `&`, and let a local hide `math`.
+#[shader_fn]
+fn quotient(a: u32, b: u32) -> u32 {
+    a / b
+}
+
+#[shader_fn]
+fn remainder(a: i32, b: i32) -> i32 {
+    a % b
+}
+
+#[shader_fn]
+fn to_unsigned(x: f32) -> u32 {
+    x as u32
+}
+
+#[shader_fn]
+fn to_signed(x: f32) -> i32 {
+    x as i32
+}
+
+#[shader_fn]
+fn parity(a: u32) -> u32 {
+    // C# ranks `==` above `&`: the printed comparison needs its parentheses.
+    select(0u32, 1u32, (a & 1u32) == 1u32)
+}
+
+#[shader_fn]
+fn shadowing(x: f32) -> f32 {
+    let math = x * 2.0;
+    math + x.abs()
+}
+
+/// Compiles the driver of `calls` with `sources` and runs it: each call's output line.
+fn run_csharp(
+    dir: &Path,
+    sources: &[std::path::PathBuf],
+    calls: &[String],
+    frames: bool,
+) -> Vec<String> {
+    let program = dir.join("Driver.cs");
+    std::fs::write(&program, driver(calls, frames)).expect("write driver");
+    let exe = dir.join("driver.exe");
+    let shim = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/csharp/UnityMathematics.cs");
+    let o = Command::new("mcs")
+        .arg("-warnaserror+")
+        .arg(format!("-out:{}", exe.display()))
+        .arg(&shim)
+        .args(sources)
+        .arg(&program)
+        .output()
+        .expect("run mcs");
+    assert!(
+        o.status.success(),
+        "mcs: {}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    let o = Command::new("mono").arg(&exe).output().expect("run mono");
+    assert!(o.status.success(), "mono: {}", text(&o.stderr));
+    text(&o.stdout).lines().map(str::to_string).collect()
+}
+
+#[test]
+fn the_csharp_twins_keep_wgsl_semantics_where_csharp_differs() {
+    if !tool("mcs") || !tool("mono") {
+        assert!(
+            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
+            "NIMBUS_REQUIRE_TOOLS=1 but mono's C# compiler (apt-get install mono-mcs) is missing"
+        );
+        eprintln!("SKIPPED: mcs and mono are not installed (apt-get install mono-mcs)");
+        return;
+    }
+    let module = ModuleBuilder::build("edges", "WGSL's edge cases.", loc!(), |m| {
+        m.host(host_fn!(quotient), loc!());
+        m.host(host_fn!(remainder), loc!());
+        m.host(host_fn!(to_unsigned), loc!());
+        m.host(host_fn!(to_signed), loc!());
+        m.host(host_fn!(parity), loc!());
+        m.host(host_fn!(shadowing), loc!());
+    })
+    .expect("records");
+    let exports = [
+        "quotient",
+        "remainder",
+        "to_unsigned",
+        "to_signed",
+        "parity",
+        "shadowing",
+    ];
+    let text_cs = nimbus_codegen::print_csharp(&module, &exports, "Edges").expect("prints");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let source = dir.path().join("Edges.cs");
+    std::fs::write(&source, &text_cs).expect("write");
+    // (call, WGSL's result as printed by the driver): integers as decimal, floats as bits.
+    let cases: Vec<(String, String)> = vec![
+        ("P(Edges.quotient(7u, 2u))".into(), "3".into()),
+        // WGSL: a / 0 is a, a % 0 is 0, the most negative i32 % -1 is 0.
+        ("P(Edges.quotient(7u, 0u))".into(), "7".into()),
+        ("P(Edges.remainder(-7, 2))".into(), "-1".into()),
+        ("P(Edges.remainder(-7, 0))".into(), "0".into()),
+        ("P(Edges.remainder(int.MinValue, -1))".into(), "0".into()),
+        // Float to integer saturates.
+        ("P(Edges.to_unsigned(-3.5f))".into(), "0".into()),
+        ("P(Edges.to_unsigned(3.9f))".into(), "3".into()),
+        ("P(Edges.to_unsigned(1e20f))".into(), "4294967040".into()),
+        ("P(Edges.to_signed(-1e20f))".into(), "-2147483648".into()),
+        ("P(Edges.to_signed(-2.5f))".into(), "-2".into()),
+        ("P(Edges.parity(5u))".into(), "1".into()),
+        ("P(Edges.parity(4u))".into(), "0".into()),
+        ("P(Edges.shadowing(-1.5f))".into(), bits(-1.5)),
+    ];
+    // The CPU twins agree where Rust defines the value (not for a division by zero).
+    assert_eq!(quotient(7, 2), 3);
+    assert_eq!(remainder(-7, 2), -1);
+    assert_eq!(to_unsigned(-3.5), 0);
+    assert_eq!(to_signed(-2.5), -2);
+    assert_eq!(parity(5), 1);
+    assert_eq!(shadowing(-1.5), -1.5);
+    let calls: Vec<String> = cases.iter().map(|(c, _)| c.clone()).collect();
+    let got = run_csharp(dir.path(), &[source], &calls, false);
+    assert_eq!(got.len(), cases.len(), "{text_cs}");
+    for ((call, want), got) in cases.iter().zip(&got) {
+        assert_eq!(got, want, "{call} in:\n{text_cs}");
+    }
 }
