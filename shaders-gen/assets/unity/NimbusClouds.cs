@@ -70,6 +70,12 @@ namespace Nimbus
                 enabled = false;
                 return;
             }
+            if (sunLight == null && Array.Exists(chosen.passes, p => p.pass == "sun_light"))
+            {
+                Debug.LogError("NimbusClouds: assign the package's sun-light.compute to Sun Light");
+                enabled = false;
+                return;
+            }
             blocks["pair_inputs"] = Block.Load(Path.Combine(root, chosen.uniforms));
             blocks["pair"] = Block.Load(Path.Combine(root, chosen.uniforms));
             blocks["resolve"] = Block.Load(Path.Combine(root, "uniforms/resolve.json"));
