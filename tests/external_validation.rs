@@ -132,3 +132,127 @@ fn glslang_validator_rejects_what_webgl2_rejects() {
     };
     assert!(matches!(check_file(&bad), ExternalCheck::Failed { .. }));
 }
+
+/// Member offsets of every struct glslang lays out in `spirv`'s disassembly, by struct name:
+/// `OpName`, `OpMemberName` and `OpMemberDecorate … Offset` joined on the type's id.
+fn spirv_offsets(disassembly: &str) -> Vec<(String, String, u32)> {
+    use std::collections::BTreeMap;
+    let mut names: BTreeMap<&str, &str> = BTreeMap::new();
+    let mut members: BTreeMap<(&str, &str), &str> = BTreeMap::new();
+    let mut offsets = Vec::new();
+    for line in disassembly.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["OpName", id, name] => {
+                names.insert(id, name.trim_matches('"'));
+            }
+            ["OpMemberName", id, index, name] => {
+                members.insert((id, index), name.trim_matches('"'));
+            }
+            ["OpMemberDecorate", id, index, "Offset", offset] => {
+                offsets.push((*id, *index, offset.parse::<u32>().unwrap_or(u32::MAX)));
+            }
+            _ => {}
+        }
+    }
+    offsets
+        .into_iter()
+        .filter_map(|(id, index, offset)| {
+            let s = names.get(id)?;
+            let m = members.get(&(id, index))?;
+            Some((s.to_string(), m.to_string(), offset))
+        })
+        .collect()
+}
+
+/// Compiles every entry point of an HLSL file with glslang, HLSL packing rules, and compares
+/// each struct member's offset with the one its manifest gives (the WGSL layout the host
+/// writes): how many members agreed, or the first that did not.
+fn packing_agrees(file: &nimbus_codegen::OutputFile, text: &str) -> Result<usize, String> {
+    let manifest = file.manifest.as_ref().ok_or("no manifest")?;
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let hlsl = dir.path().join(&file.file_name);
+    std::fs::write(&hlsl, text).map_err(|e| e.to_string())?;
+    let mut agreed = 0;
+    for (stage, entry) in &manifest.entry_points {
+        let stage = match stage.as_str() {
+            "vertex" => "vert",
+            "fragment" => "frag",
+            _ => "comp",
+        };
+        let spv = dir.path().join(format!("{entry}.spv"));
+        let out = std::process::Command::new("glslangValidator")
+            .args(["-D", "-V", "--hlsl-offsets", "-S", stage, "-e", entry, "-o"])
+            .arg(&spv)
+            .arg(&hlsl)
+            .output()
+            .map_err(|e| e.to_string())?;
+        if !out.status.success() {
+            return Err(String::from_utf8_lossy(&out.stdout).into_owned());
+        }
+        let dis = std::process::Command::new("spirv-dis")
+            .arg(&spv)
+            .output()
+            .map_err(|e| e.to_string())?;
+        for (s, member, offset) in spirv_offsets(&String::from_utf8_lossy(&dis.stdout)) {
+            let Some(want) = manifest
+                .structs
+                .iter()
+                .filter(|m| m.name == s)
+                .flat_map(|m| &m.fields)
+                .find(|f| f.target_name == member)
+            else {
+                continue;
+            };
+            if want.offset != offset {
+                return Err(format!(
+                    "{}: {s}.{member} at byte {offset} in HLSL, {} in the WGSL layout",
+                    file.file_name, want.offset
+                ));
+            }
+            agreed += 1;
+        }
+    }
+    Ok(agreed)
+}
+
+#[test]
+fn hlsl_cbuffer_packing_puts_every_member_at_its_wgsl_offset() {
+    // Every uniform struct of the catalogue (the cloud block with its nested groups, media,
+    // march and light blocks; resolve, display, scene depth, previews), laid out by glslang
+    // with HLSL's packing rules, against the offsets the uniform files write. The control: the
+    // sun-light file without its padding members puts members elsewhere.
+    if !common::tool_available("glslangValidator") || !common::tool_available("spirv-dis") {
+        assert!(
+            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
+            "NIMBUS_REQUIRE_TOOLS=1 but glslangValidator or spirv-dis is missing"
+        );
+        eprintln!("SKIPPED: glslangValidator or spirv-dis is not installed");
+        return;
+    }
+    let mut agreed = 0;
+    let mut control = None;
+    for source in catalog() {
+        let g = generate_variant(&source, &[Target::Hlsl]).expect("generate");
+        for f in &g.files {
+            let nimbus_codegen::Contents::Text(text) = &f.contents else {
+                continue;
+            };
+            agreed += packing_agrees(f, text).unwrap_or_else(|e| panic!("{e}"));
+            if text.contains("float _pad") && control.is_none() {
+                let unpadded: String = text
+                    .lines()
+                    .filter(|l| !l.trim_start().starts_with("float _pad"))
+                    .map(|l| format!("{l}\n"))
+                    .collect();
+                control = Some(packing_agrees(f, &unpadded));
+            }
+        }
+    }
+    assert!(agreed > 100, "only {agreed} members compared");
+    match control {
+        Some(Err(why)) => println!("control: {why}"),
+        other => panic!("the comparison cannot fail: {other:?}"),
+    }
+    println!("{agreed} struct members at their WGSL offsets under HLSL packing");
+}
