@@ -491,11 +491,7 @@ impl Printer<'_> {
             }
             ExprKind::Convert(to, a) => self.convert(*to, *a, e.ty)?,
             ExprKind::Bitcast(to, a) => {
-                let func = match to {
-                    Scalar::F32 => "asfloat",
-                    Scalar::I32 => "asint",
-                    Scalar::U32 | Scalar::Bool => "asuint",
-                };
+                let func = crate::hlsl::hlsl_bitcast(*to);
                 format!("math.{func}({})", self.expr(*a)?)
             }
             ExprKind::Select {

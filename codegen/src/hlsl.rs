@@ -131,6 +131,15 @@ fn declarator(ty: Type, name: &str) -> String {
     }
 }
 
+/// HLSL's reinterpretation of bits as `to` (`asfloat`, `asint`, `asuint`).
+pub(crate) fn hlsl_bitcast(to: Scalar) -> &'static str {
+    match to {
+        Scalar::F32 => "asfloat",
+        Scalar::I32 => "asint",
+        Scalar::U32 | Scalar::Bool => "asuint",
+    }
+}
+
 /// HLSL's name of a built-in (`lerp`, `frac`, `rsqrt`, `mad`).
 pub(crate) fn hlsl_builtin(b: Builtin) -> &'static str {
     match b {
@@ -875,12 +884,7 @@ impl Printer<'_> {
                 format!("({})({})", hlsl_type(e.ty, &self.names), self.expr(f, *a)?)
             }
             ExprKind::Bitcast(to, a) => {
-                let func = match to {
-                    Scalar::F32 => "asfloat",
-                    Scalar::I32 => "asint",
-                    Scalar::U32 | Scalar::Bool => "asuint",
-                };
-                format!("{func}({})", self.expr(f, *a)?)
+                format!("{}({})", hlsl_bitcast(*to), self.expr(f, *a)?)
             }
             ExprKind::Select {
                 if_false,

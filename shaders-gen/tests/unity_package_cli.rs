@@ -126,6 +126,19 @@ fn tool(name: &str) -> bool {
     Command::new(name).arg("--version").output().is_ok()
 }
 
+/// Whether mono's C# compiler and runtime are here; says why a test skips (CI fails instead).
+fn mono_available() -> bool {
+    if tool("mcs") && tool("mono") {
+        return true;
+    }
+    assert!(
+        !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
+        "NIMBUS_REQUIRE_TOOLS=1 but mono's C# compiler (apt-get install mono-mcs) is missing"
+    );
+    eprintln!("SKIPPED: mcs and mono are not installed (apt-get install mono-mcs)");
+    false
+}
+
 /// `float` bits as C# prints them back.
 fn bits(x: f32) -> String {
     x.to_bits().to_string()
@@ -307,12 +320,7 @@ fn agree(want: f32, got: f32) -> bool {
 
 #[test]
 fn the_csharp_host_functions_compute_what_the_cpu_twins_do() {
-    if !tool("mcs") || !tool("mono") {
-        assert!(
-            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
-            "NIMBUS_REQUIRE_TOOLS=1 but mono's C# compiler (apt-get install mono-mcs) is missing"
-        );
-        eprintln!("SKIPPED: mcs and mono are not installed (apt-get install mono-mcs)");
+    if !mono_available() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
@@ -422,12 +430,7 @@ fn run_csharp(
 
 #[test]
 fn the_csharp_twins_keep_wgsl_semantics_where_csharp_differs() {
-    if !tool("mcs") || !tool("mono") {
-        assert!(
-            !std::env::var("NIMBUS_REQUIRE_TOOLS").is_ok_and(|v| v == "1"),
-            "NIMBUS_REQUIRE_TOOLS=1 but mono's C# compiler (apt-get install mono-mcs) is missing"
-        );
-        eprintln!("SKIPPED: mcs and mono are not installed (apt-get install mono-mcs)");
+    if !mono_available() {
         return;
     }
     let module = ModuleBuilder::build("edges", "WGSL's edge cases.", loc!(), |m| {
