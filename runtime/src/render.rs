@@ -20,6 +20,7 @@ use nimbus_clouds::Quality;
 use nimbus_clouds::catalog::ShaderKey;
 use nimbus_clouds::frame_sequence::{cloud_frame, resolve_frame};
 use nimbus_clouds::model::air_table::{AirTableInputs, air_table_size};
+use nimbus_clouds::model::slices::{slices_size, stack_inputs};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
@@ -177,6 +178,16 @@ struct AirPass {
     inputs: Option<AirTableInputs>,
 }
 
+/// The slice pass (the `slices` path): its uniform buffer, bind group and stack, kept across
+/// frames and redrawn only when what the stack depends on changes (the key, the sun, the
+/// camera's place, the layers, the weather; not the view).
+struct SlicePass {
+    uniform: wgpu::Buffer,
+    group: Option<BoundGroup>,
+    stack: Target,
+    inputs: Option<(ShaderKey, CloudUniforms)>,
+}
+
 /// The cloud pass: its uniform buffer, bind group and low-resolution target.
 struct CloudPass {
     uniform: wgpu::Buffer,
@@ -230,6 +241,7 @@ pub struct Renderer<'g> {
     pipelines: PipelineCache,
     shadow: Option<ShadowPass>,
     air: Option<AirPass>,
+    slices: Option<SlicePass>,
     clouds: Option<CloudPass>,
     resolve: Option<ResolvePass>,
     history: Option<History>,
@@ -356,6 +368,7 @@ impl<'g> Renderer<'g> {
             pipelines: PipelineCache::default(),
             shadow: None,
             air: None,
+            slices: None,
             clouds: None,
             resolve: None,
             history: None,
@@ -473,6 +486,9 @@ impl<'g> Renderer<'g> {
         if let Some(a) = &self.air {
             textures.push(format!("air_table ({}x{})", a.table.width, a.table.height));
         }
+        if let Some(p) = &self.slices {
+            textures.push(format!("cloud_slices ({}x{})", p.stack.width, p.stack.height));
+        }
         if let Some(h) = &self.history {
             textures.push(format!(
                 "history ({}x{}, 2 targets)",
@@ -586,6 +602,10 @@ impl<'g> Renderer<'g> {
                     .air
                     .as_ref()
                     .map(|a| wgpu::BindingResource::TextureView(&a.table.view)),
+                CloudBinding::Slices => self
+                    .slices
+                    .as_ref()
+                    .map(|p| wgpu::BindingResource::TextureView(&p.stack.view)),
                 CloudBinding::Weather
                 | CloudBinding::Shape
                 | CloudBinding::Detail
@@ -696,6 +716,97 @@ impl<'g> Renderer<'g> {
             self.epoch += 1;
         }
         Ok(())
+    }
+
+    /// The slice stack's pipeline and target, for a cloud key of the `slices` path (made with
+    /// the other targets, before any bind group of the frame); none for another key.
+    fn ensure_slices(&mut self, clouds: CloudKey, uniform_size: usize) -> Result<(), RuntimeError> {
+        if !clouds.reads_slices() {
+            if self.slices.take().is_some() {
+                self.epoch += 1;
+            }
+            return Ok(());
+        }
+        self.prepare(ShaderKey::Slices(clouds))?;
+        if self.slices.is_none() {
+            let (w, h) = slices_size();
+            self.check_size("the slice stack (its slices in a grid)", w, h)?;
+            self.slices = Some(SlicePass {
+                uniform: uniform_buffer(self.gpu, "slice uniforms", uniform_size),
+                group: None,
+                stack: target(self.gpu, "slice stack", w, h),
+                inputs: None,
+            });
+            self.epoch += 1;
+        }
+        Ok(())
+    }
+
+    /// Redraws the slice stack of `clouds` when its key or what it depends on
+    /// ([`stack_inputs`]) changed since it was drawn.
+    fn draw_slices(
+        &mut self,
+        clouds: CloudKey,
+        u: &CloudUniforms,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<PassTimer>,
+    ) -> Result<(), RuntimeError> {
+        if self.slices.is_none() {
+            return Ok(());
+        }
+        let key = ShaderKey::Slices(clouds);
+        let inputs = (key, stack_inputs(u));
+        if self
+            .slices
+            .as_ref()
+            .is_some_and(|p| p.inputs.as_ref() == Some(&inputs))
+        {
+            return Ok(());
+        }
+        let epoch = self.epoch;
+        let rebuild = !matches!(&self.slices, Some(SlicePass { group: Some(g), .. })
+            if g.key == key && g.epoch == epoch);
+        if rebuild {
+            let group = {
+                let p = self.slices.as_ref().ok_or_else(missing)?;
+                self.cloud_group(key, &p.uniform)?
+            };
+            if let Some(p) = &mut self.slices {
+                p.group = Some(BoundGroup { group, key, epoch });
+            }
+        }
+        let pipeline = self.pipelines.get(&key)?;
+        let p = self.slices.as_ref().ok_or_else(missing)?;
+        let group = p.group.as_ref().ok_or_else(missing)?;
+        self.gpu
+            .queue()
+            .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
+        draw(
+            encoder,
+            "slices",
+            &p.stack.view,
+            &pipeline.pipeline,
+            &group.group,
+            PassTimer::next(timer),
+            None,
+        );
+        self.passes.push("slices");
+        if let Some(p) = &mut self.slices {
+            p.inputs = Some(inputs);
+        }
+        Ok(())
+    }
+
+    /// The slice stack as last drawn (density, optical depths to the sun, down and up per
+    /// texel), or `None` when the last frame's key does not read one.
+    pub fn slice_stack(&mut self) -> Result<Option<Image>, RuntimeError> {
+        let Some(p) = self.slices.as_ref() else {
+            return Ok(None);
+        };
+        let (w, h) = size_of(&p.stack);
+        self.ensure_readback(w, h);
+        let p = self.slices.as_ref().ok_or_else(missing)?;
+        self.read_back(&p.stack).map(Some)
     }
 
     /// Cascades in rotation ([`Self::set_cascade_rotation`]): redraws the first out-of-date
@@ -1065,6 +1176,9 @@ impl<'g> Renderer<'g> {
         }
 
         self.ensure_air_table(clouds_key, uniform_size)?;
+        if let ShaderKey::Clouds(k) = clouds_key {
+            self.ensure_slices(k, uniform_size)?;
+        }
 
         // Shadow atlas: kept while its size holds, redrawn only when its inputs change.
         let mut encoder = self
@@ -1198,6 +1312,9 @@ impl<'g> Renderer<'g> {
             self.epoch += 1;
         }
         self.draw_air_table(&u, &mut encoder, &mut timer)?;
+        if let ShaderKey::Clouds(k) = clouds_key {
+            self.draw_slices(k, &u, &mut encoder, &mut timer)?;
+        }
         self.gpu.queue().submit([encoder.finish()]);
 
         // Bind groups, remade only when a resource or the key changed.

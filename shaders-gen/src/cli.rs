@@ -93,6 +93,10 @@ pub(crate) struct ToggleArgs {
     /// Multiple-scattering octaves (1..=12).
     #[arg(long)]
     pub(crate) octaves: Option<u32>,
+    /// How the clouds are drawn (see `nimbus list`): the ray-marched volume, or a path baked
+    /// from the same model.
+    #[arg(long, value_enum, ignore_case = true)]
+    pub(crate) path: Option<nimbus_clouds::Path>,
 }
 
 impl VariantArgs {
@@ -104,6 +108,7 @@ impl VariantArgs {
             enable: &self.toggles.enable,
             disable: &self.toggles.disable,
             octaves: self.toggles.octaves,
+            path: self.toggles.path,
         }
     }
 }

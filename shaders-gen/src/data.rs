@@ -43,6 +43,7 @@ pub(crate) struct Selection<'a> {
     pub enable: &'a [Toggle],
     pub disable: &'a [Toggle],
     pub octaves: Option<u32>,
+    pub path: Option<nimbus_clouds::Path>,
 }
 
 /// The shaders a selection names, and the genus × preset pairs it covers (the table that
@@ -103,6 +104,27 @@ pub(crate) fn keys_json(r: &Resolved) -> Result<String, LayoutError> {
     Ok(s)
 }
 
+/// `path` when Nimbus can draw it; otherwise an error naming where it was asked for (`from`:
+/// the flag, or the scene file and field) and the paths that are built.
+pub(crate) fn built_path(
+    path: nimbus_clouds::Path,
+    from: &str,
+) -> Result<nimbus_clouds::Path, CliError> {
+    if path.is_built() {
+        return Ok(path);
+    }
+    Err(CliError::Unknown {
+        kind: "path (not built yet)",
+        given: format!("{path} (from {from})"),
+        known: nimbus_clouds::Path::ALL
+            .iter()
+            .filter(|p| p.is_built())
+            .map(|p| p.name())
+            .collect::<Vec<_>>()
+            .join(", "),
+    })
+}
+
 pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolved, CliError> {
     let quality = sel.quality;
     let (enable, disable) = (sel.enable, sel.disable);
@@ -114,6 +136,9 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
             given: o.to_string(),
             known: "1..=12".into(),
         });
+    }
+    if let Some(path) = sel.path {
+        built_path(path, "--path")?;
     }
     if let Some(genus) = sel.genus {
         let g = match (lib.genus(genus), lib.problem_of(genus)) {
@@ -141,6 +166,9 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
                 if let Some(o) = sel.octaves {
                     f.octaves = o;
                 }
+                if let Some(p) = sel.path {
+                    f.path = p;
+                }
                 assign(g, q, f)
             })
             .collect();
@@ -151,10 +179,15 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
             uniforms,
         });
     }
-    if !enable.is_empty() || !disable.is_empty() || quality.is_some() || sel.octaves.is_some() {
+    if !enable.is_empty()
+        || !disable.is_empty()
+        || quality.is_some()
+        || sel.octaves.is_some()
+        || sel.path.is_some()
+    {
         return Err(CliError::Unknown {
             kind: "combination",
-            given: "--quality/--enable/--disable/--octaves without --genus".into(),
+            given: "--quality/--enable/--disable/--octaves/--path without --genus".into(),
             known: "pass --genus NAME with them".into(),
         });
     }

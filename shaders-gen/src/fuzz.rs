@@ -147,6 +147,7 @@ pub fn engine_package(data: &[u8]) -> Outcome {
         enable: &[],
         disable: &[],
         octaves: None,
+        path: None,
     };
     let Ok(resolved) = crate::explain::resolved_from(&input, &selection, seconds) else {
         return Outcome::default();

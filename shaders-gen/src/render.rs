@@ -253,6 +253,15 @@ fn derive_features(
         limits::OCTAVES.check(f64::from(o), Origin::Flag(limits::OCTAVES.flag))?;
         features.octaves = o;
     }
+    if let Some(p) = toggles.path {
+        features.path = p;
+    }
+    let from = if toggles.path.is_some() {
+        "--path".to_string()
+    } else {
+        "the scene's features.path".to_string()
+    };
+    crate::data::built_path(features.path, &from)?;
     Ok(features)
 }
 

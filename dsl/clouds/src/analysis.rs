@@ -8,6 +8,7 @@
 
 use super::features::{Features, Toggle};
 use super::genus::Genus;
+use super::path::Path;
 use super::scene::ScenePreset;
 
 /// Camera this far above the highest layer top sees no cloud base lit by the ground (m).
@@ -345,6 +346,15 @@ pub struct Analysis {
     /// Layers in use, and the lane groups they need (1 group = up to 4 layers).
     pub layers: usize,
     pub layer_groups: usize,
+    /// The path the clouds are drawn by, and why.
+    pub path: PathDecision,
+}
+
+/// The path a scene's clouds are drawn by, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathDecision {
+    pub path: Path,
+    pub reason: String,
 }
 
 /// Derives the minimal features for `scene` seen with `genus`.
@@ -387,12 +397,48 @@ pub fn analyse(scene: &ScenePreset, genus: &Genus) -> Analysis {
     if let Some(o) = scene.features.octaves {
         features.octaves = o;
     }
+    let path = path_choice(scene, &features);
+    features.path = path.path;
     let layers = genus.layers.iter().filter(|l| l.is_enabled()).count();
     Analysis {
         features,
         decisions,
         layers,
         layer_groups: genus.layer_groups(),
+        path,
+    }
+}
+
+/// The path a scene draws its clouds by, and why: the scene's `path`, unless its camera or its
+/// layers need the volume.
+fn path_choice(scene: &ScenePreset, features: &Features) -> PathDecision {
+    let Some(wanted) = scene.features.path else {
+        return PathDecision {
+            path: Path::Volume,
+            reason: "the default: the scene names no path".into(),
+        };
+    };
+    if wanted != Path::Volume && features.orthographic {
+        return PathDecision {
+            path: Path::Volume,
+            reason: format!(
+                "the scene asks for `{wanted}`, but an orthographic camera shades each pixel from \
+                 its own origin, which a stack baked around one camera cannot serve"
+            ),
+        };
+    }
+    if wanted != Path::Volume && features.flat_high_layer {
+        return PathDecision {
+            path: Path::Volume,
+            reason: format!(
+                "the scene asks for `{wanted}`, but its one high layer is drawn flat, which costs \
+                 less than any bake"
+            ),
+        };
+    }
+    PathDecision {
+        path: wanted,
+        reason: format!("chosen by the scene (`path = \"{wanted}\"`): {}", wanted.doc()),
     }
 }
 

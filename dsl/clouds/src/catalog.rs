@@ -12,6 +12,7 @@ use nimbus_dsl::{DslError, ShaderVariant, SpecValue};
 use crate::key::{CloudKey, ShadowKey};
 use crate::model::clouds::{
     CloudVariant, air_table_module, cloud_module, display_module, resolve_module, shadow_module,
+    slices_module,
 };
 use crate::model::preview::{PhaseModel, preview_module};
 use crate::{CloudLibrary, Features, Genus, Quality};
@@ -27,6 +28,8 @@ pub enum ShaderKey {
     Shadow(ShadowKey),
     /// The air table (one for every key that reads it).
     AirTable,
+    /// The slice stack of a key of the `slices` path (its density is the key's).
+    Slices(CloudKey),
     /// Temporal upscaling and accumulation (one for every key).
     Resolve,
     /// The display transform: HDR to display sRGB (one for every key).
@@ -47,6 +50,7 @@ impl ShaderKey {
             ShaderKey::Clouds(k) => k.name(),
             ShaderKey::Shadow(k) => k.name(),
             ShaderKey::AirTable => "table".into(),
+            ShaderKey::Slices(k) => k.name(),
             ShaderKey::Resolve => "temporal".into(),
             ShaderKey::Display => "aces-srgb".into(),
             ShaderKey::SunLight => "light".into(),
@@ -61,10 +65,11 @@ impl ShaderKey {
             ShaderKey::Clouds(_) => 1,
             ShaderKey::Shadow(_) => 2,
             ShaderKey::AirTable => 3,
-            ShaderKey::Resolve => 4,
-            ShaderKey::Display => 5,
-            ShaderKey::SunLight => 6,
-            ShaderKey::SceneShadow => 7,
+            ShaderKey::Slices(_) => 4,
+            ShaderKey::Resolve => 5,
+            ShaderKey::Display => 6,
+            ShaderKey::SunLight => 7,
+            ShaderKey::SceneShadow => 8,
         };
         (m, self.key_name())
     }
@@ -77,6 +82,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Clouds(_) => "clouds",
             ShaderKey::Shadow(_) => "shadow",
             ShaderKey::AirTable => "air",
+            ShaderKey::Slices(_) => "slices",
             ShaderKey::Resolve => "resolve",
             ShaderKey::Display => "display",
             ShaderKey::SunLight => "sun",
@@ -94,6 +100,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Clouds(k) => cloud_module(k),
             ShaderKey::Shadow(k) => shadow_module(k),
             ShaderKey::AirTable => air_table_module(),
+            ShaderKey::Slices(k) => slices_module(k),
             ShaderKey::Resolve => resolve_module(),
             ShaderKey::Display => display_module(),
             ShaderKey::SunLight => crate::model::sun::sun_light_module(),
@@ -123,6 +130,9 @@ impl Assignment {
         keys.extend(self.shadow.map(ShaderKey::Shadow));
         if self.clouds.reads_air_table() {
             keys.push(ShaderKey::AirTable);
+        }
+        if self.clouds.reads_slices() {
+            keys.push(ShaderKey::Slices(self.clouds));
         }
         keys
     }
@@ -158,6 +168,9 @@ fn describe(key: &ShaderKey) -> String {
         ShaderKey::Shadow(_) => "beer shadow map atlas".into(),
         ShaderKey::AirTable => {
             "the air's light per direction and distance (sky view and aerial perspective)".into()
+        }
+        ShaderKey::Slices(_) => {
+            "the slice stack: density and optical depths per altitude around the camera".into()
         }
         ShaderKey::Resolve => {
             "temporal upscaling and accumulation, reprojection, history clipping".into()

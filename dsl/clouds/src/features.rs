@@ -10,6 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::{self, SceneContent, Verdict};
+use crate::path::Path;
 use crate::quality::Quality;
 
 /// A scene rule: can the scene show this effect, and why.
@@ -28,6 +29,8 @@ macro_rules! effects {
             $($(#[doc = $doc])+ pub $field: bool,)+
             /// Multiple-scattering octaves (1..=12).
             pub octaves: u32,
+            /// How the cloud pass draws the genus (the volume unless a scene picks another).
+            pub path: Path,
         }
 
         impl Default for Features {
@@ -92,6 +95,7 @@ macro_rules! effects {
         pub struct FeatureOverrides {
             $(pub $field: Option<bool>,)+
             pub octaves: Option<u32>,
+            pub path: Option<Path>,
         }
 
         /// The features of a quality preset, from the table's `presets` column.
@@ -99,6 +103,7 @@ macro_rules! effects {
             Features {
                 $($field: Toggle::$variant.in_preset(q),)+
                 octaves: if q == Quality::Reference { 12 } else { 8 },
+                path: Path::Volume,
             }
         }
     };
@@ -242,6 +247,9 @@ impl FeatureOverrides {
         }
         if let Some(o) = self.octaves {
             f.octaves = o;
+        }
+        if let Some(p) = self.path {
+            f.path = p;
         }
         f
     }

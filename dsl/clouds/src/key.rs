@@ -12,6 +12,7 @@ use nimbus_dsl::SpecValue;
 use crate::features::{Features, Toggle};
 use crate::functions::GenusFunctions;
 use crate::genus::PhaseSpec;
+use crate::path::Path;
 
 /// Phase function of a shader (the genus decides it, `accurate-phase-function` forces Mie).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -150,6 +151,12 @@ impl CloudKey {
         if features.diffusion {
             features.octaves = 1;
         }
+        // A baked path serves one perspective camera with volumetric layers: an orthographic
+        // camera (a ray per pixel origin) and the flat high layer (cheaper than any bake) are
+        // drawn by the volume (`analysis` says so in `explain`).
+        if features.orthographic || features.flat_high_layer {
+            features.path = Path::Volume;
+        }
         CloudKey {
             features,
             phase,
@@ -181,6 +188,9 @@ impl CloudKey {
         parts.push(self.phase.tag().to_string());
         parts.push(format!("g{}", self.groups));
         if let Some(tag) = self.output.tag() {
+            parts.push(tag.into());
+        }
+        if let Some(tag) = self.features.path.tag() {
             parts.push(tag.into());
         }
         parts.extend(function_tags(&self.functions));
@@ -282,6 +292,11 @@ impl CloudKey {
         !f.accurate_air_light
             && !f.orthographic
             && matches!(self.output, PixelOutput::Composite | PixelOutput::Samples)
+    }
+
+    /// Whether the shader reads the slice stack (`model::slices`), which its own pass bakes.
+    pub fn reads_slices(&self) -> bool {
+        !self.uber && self.features.path.reads_slices()
     }
 
     /// The key of this shader's shadow pass, when it samples a shadow map.

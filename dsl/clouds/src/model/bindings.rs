@@ -110,6 +110,15 @@ pub static AIR_TABLE: Binding<Texture2d> = Binding::texture(
     "The air's phase-free light and transmittance per direction and distance.",
 );
 
+/// The slice stack (`model::slices`): density and optical depths per altitude around the
+/// camera, baked by its own pass (keys of the `slices` path).
+pub static SLICES: Binding<Texture2d> = Binding::texture(
+    "cloud_slices",
+    0,
+    11,
+    "The slice stack: density and optical depths to the sun, down and up, per altitude.",
+);
+
 /// Offsets, weights, reprojection.
 pub static RESOLVE: Binding<ResolveParams> =
     Binding::uniform("resolve", 0, 0, "Offsets, weights, reprojection.");
@@ -227,6 +236,8 @@ pass_bindings! {
         Scene = SCENE.slot() => Scene,
         /// The air table pass's target ([`AIR_TABLE`]).
         AirTable = AIR_TABLE.slot() => AirTable,
+        /// The slice pass's target ([`SLICES`]).
+        Slices = SLICES.slot() => CloudSlices,
     }
 }
 

@@ -13,6 +13,7 @@ use super::march::{CloudUniforms, cloud_fragment};
 use super::preview::fullscreen_position;
 use super::resolve::resolve_fragment;
 use super::shadow::shadow_fragment;
+use super::slices::slices_fragment;
 use crate::key::{CloudKey, ShadowKey};
 
 /// A genus at a quality preset with a set of features: it resolves to a shader key (the
@@ -271,6 +272,33 @@ pub fn air_table_module() -> Result<Module, DslError> {
                 "One texel of the air table.",
                 loc!(),
                 air_table_fragment::shader,
+            );
+        },
+    )
+}
+
+/// Records the slice stack module of `key` (a key of the `slices` path): one texel of the
+/// stack per fragment, from the cloud block and the noise textures, with the density the
+/// key's erosion stages and genus functions make.
+pub fn slices_module(key: &CloudKey) -> Result<Module, DslError> {
+    let key = *key;
+    ModuleBuilder::build(
+        "slices",
+        &format!(
+            "The slice stack of key `{}`: density and optical depths to the sun, down and up, \
+             per altitude around the camera.",
+            key.name()
+        ),
+        loc!(),
+        |m| {
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment(
+                "fs_slices",
+                "One texel of the slice stack.",
+                loc!(),
+                |frag_coord| slices_fragment::shader(frag_coord, key),
             );
         },
     )

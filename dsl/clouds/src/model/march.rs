@@ -33,6 +33,7 @@ use super::scene_shadow::sun_through_clouds;
 use super::shadow::{ShadowParams, shadow_texel};
 use super::shell::{ground_hit, ray_shell};
 use super::sky::{AtmosphereParams, ground_radiance, sky_distance, sun_disc};
+use super::slices::slices_at;
 use super::transmission::{DROPLET_ASYMMETRY, slab_diffuse_transmittance};
 
 /// March settings for one quality preset (uniforms: changing them needs no new pipeline).
@@ -787,14 +788,23 @@ pub fn march_clouds(
         let p = direction * t;
         // Cheap coverage test before the full density: no weather here, take a long step. The
         // coverage-stage densities it reads are the erosion's input too (a key has at most
-        // two layer groups).
+        // two layer groups). The slices path reads the density, and the optical depths its
+        // light needs, from the baked stack instead: one sample in place of all of it.
         let q = p + u.camera_offset;
-        let first = weather_density(q, h, 0u32, key);
-        let mut coverage = first.dot(Vec4::ONE);
+        let mut first = Vec4::ZERO;
         let mut second = Vec4::ZERO;
-        if key_count(key, GROUPS) > 1u32 {
-            second = weather_density(q, h, 1u32, key);
-            coverage += second.dot(Vec4::ONE);
+        let mut baked = Vec4::ZERO;
+        if key.reads_slices() {
+            baked = slices_at(p, h);
+        }
+        let mut coverage = baked.x;
+        if !key.reads_slices() {
+            first = weather_density(q, h, 0u32, key);
+            coverage = first.dot(Vec4::ONE);
+            if key_count(key, GROUPS) > 1u32 {
+                second = weather_density(q, h, 1u32, key);
+                coverage += second.dot(Vec4::ONE);
+            }
         }
         if coverage <= m.min_density {
             t += empty_step(t, step);
@@ -804,41 +814,47 @@ pub fn march_clouds(
         // The secondary rays' samples stand for as much as this one: the light at a pixel is
         // the mean over what the pixel covers.
         let footprint = t * pixel_angle;
-        let mut rho = eroded_density(q, h, 0u32, first, footprint, key).dot(Vec4::ONE);
-        if key_count(key, GROUPS) > 1u32 {
-            rho += eroded_density(q, h, 1u32, second, footprint, key).dot(Vec4::ONE);
+        let mut rho = baked.x;
+        if !key.reads_slices() {
+            rho = eroded_density(q, h, 0u32, first, footprint, key).dot(Vec4::ONE);
+            if key_count(key, GROUPS) > 1u32 {
+                rho += eroded_density(q, h, 1u32, second, footprint, key).dot(Vec4::ONE);
+            }
         }
         samples += 1.0;
         let sigma_s = rho * l.scattering_coefficient;
         let sigma_t = rho * sigma_ratio;
         if sigma_t > m.min_extinction {
-            samples += m.sun_steps as f32;
-            // Midpoints in real time; in the reference a stratified offset per sample,
-            // decorrelated from the primary jitter and from the previous sample's.
-            let offset = select(
-                0.5,
-                (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
-                m.secondary_full_path > 0u32,
-            );
-            let tau_sun = sun_optical_depth(p, h, offset, footprint, key);
+            let mut tau_sun = baked.y;
+            let mut tau_ground = baked.z;
+            let mut tau_up = baked.w;
+            if !key.reads_slices() {
+                samples += m.sun_steps as f32;
+                // Midpoints in real time; in the reference a stratified offset per sample,
+                // decorrelated from the primary jitter and from the previous sample's.
+                let offset = select(
+                    0.5,
+                    (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
+                    m.secondary_full_path > 0u32,
+                );
+                tau_sun = sun_optical_depth(p, h, offset, footprint, key);
+                // The optical depth down to the base: the ground's light comes through it,
+                // and the diffusion's slab ends there.
+                if gate(key, GROUND_BOUNCE) {
+                    samples += m.ground_steps as f32;
+                    tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
+                } else if gate(key, DIFFUSION) {
+                    samples += m.ground_steps as f32;
+                    tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
+                }
+                if gate(key, DIFFUSION) {
+                    samples += m.ground_steps as f32;
+                    tau_up = vertical_optical_depth(p, h, 1.0, offset, footprint, key);
+                }
+            }
             let mut sun = l.sun_irradiance;
             if gate(key, SUN_SKY_LIGHT) {
                 sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
-            }
-            // The optical depth down to the base: the ground's light comes through it, and
-            // the diffusion's slab ends there.
-            let mut tau_ground = 0.0f32;
-            if gate(key, GROUND_BOUNCE) {
-                samples += m.ground_steps as f32;
-                tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
-            } else if gate(key, DIFFUSION) {
-                samples += m.ground_steps as f32;
-                tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
-            }
-            let mut tau_up = 0.0f32;
-            if gate(key, DIFFUSION) {
-                samples += m.ground_steps as f32;
-                tau_up = vertical_optical_depth(p, h, 1.0, offset, footprint, key);
             }
             let mut light = sun
                 * sun_scattering(

@@ -26,6 +26,7 @@ pub mod scene_shadow;
 pub mod shadow;
 pub mod shell;
 pub mod sky;
+pub mod slices;
 pub mod sun;
 pub mod tonemap;
 pub mod transmission;

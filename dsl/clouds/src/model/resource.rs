@@ -28,6 +28,8 @@ pub enum Resource {
     ShadowAtlas,
     /// The air table pass's target.
     AirTable,
+    /// The slice pass's target (the `slices` path).
+    CloudSlices,
     /// Linear filtering, repeating.
     LinearRepeat,
     /// The uber-shader's key uniforms (never in a package: packages hold specialised keys).
@@ -73,7 +75,7 @@ pub enum ResourceKind {
 }
 
 impl Resource {
-    pub const ALL: [Resource; 19] = [
+    pub const ALL: [Resource; 20] = [
         Resource::Pair,
         Resource::PairInputs,
         Resource::Weather,
@@ -82,6 +84,7 @@ impl Resource {
         Resource::Turbulence,
         Resource::ShadowAtlas,
         Resource::AirTable,
+        Resource::CloudSlices,
         Resource::LinearRepeat,
         Resource::Key,
         Resource::SceneDepth,
@@ -106,6 +109,7 @@ impl Resource {
             Resource::Turbulence => "turbulence",
             Resource::ShadowAtlas => "shadow_atlas",
             Resource::AirTable => "air_table",
+            Resource::CloudSlices => "cloud_slices",
             Resource::LinearRepeat => "linear_repeat",
             Resource::Key => "key",
             Resource::SceneDepth => "scene_depth",
@@ -132,6 +136,7 @@ impl Resource {
             }
             Resource::ShadowAtlas
             | Resource::AirTable
+            | Resource::CloudSlices
             | Resource::CloudsHdr
             | Resource::HistoryRead
             | Resource::Shown => ResourceKind::Target,
@@ -158,6 +163,7 @@ impl Resource {
             Resource::Turbulence => "textures: turbulence",
             Resource::ShadowAtlas => "the shadow pass's target",
             Resource::AirTable => "the air pass's target",
+            Resource::CloudSlices => "the slice pass's target",
             Resource::LinearRepeat => "linear, repeat",
             Resource::Key => "the uber-shader's key uniforms",
             Resource::SceneDepth => {

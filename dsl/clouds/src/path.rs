@@ -1,0 +1,108 @@
+//! Paths: the ways a genus can be drawn. Ray marching the procedural volume is one; the others
+//! bake part of that same model into a texture once, and draw from it, for devices and views
+//! where a full march costs too much (a phone, a background sky). A path is a generation-time
+//! choice like a toggle: it is part of the cloud key, so it names shaders, and a scene picks
+//! it (`path = "slices"` in a scene file, `--path` on the command line).
+//!
+//! Every path draws from the genus' own `#[shader_fn]` model (density, phase, lighting), so its
+//! error against the reference can be measured beside the presets (`nimbus tradeoff`).
+
+use serde::{Deserialize, Serialize};
+
+/// How the cloud pass draws the genus.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Path {
+    /// Ray marching the procedural density, each sample lit by its own secondary marches.
+    #[default]
+    Volume,
+    /// The density and the optical depths its lighting needs, baked by a pass of their own
+    /// into a stack of altitude slices around the camera (`model::slices`); the view ray
+    /// walks the slices, each sample two texture reads in place of the noise and the
+    /// secondary marches, lit by the same phase and scattering functions.
+    Slices,
+    /// Billboards from an atlas of the genus' clouds baked from several directions.
+    Impostor,
+    /// Instanced mesh clusters shaded with the model's phase and lighting.
+    Mesh,
+    /// A 2D atlas of blobs baked once, overlaid into larger clouds.
+    Blob2d,
+}
+
+impl Path {
+    /// Every path, in the order `nimbus list` shows them.
+    pub const ALL: [Path; 5] = [
+        Path::Volume,
+        Path::Slices,
+        Path::Impostor,
+        Path::Mesh,
+        Path::Blob2d,
+    ];
+
+    /// The scene-file and command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Path::Volume => "volume",
+            Path::Slices => "slices",
+            Path::Impostor => "impostor",
+            Path::Mesh => "mesh",
+            Path::Blob2d => "blob2d",
+        }
+    }
+
+    /// The tag in shader key names (none for the volume, which every key had before paths).
+    pub fn tag(self) -> Option<&'static str> {
+        match self {
+            Path::Volume => None,
+            other => Some(other.name()),
+        }
+    }
+
+    /// One line on what the path draws.
+    pub fn doc(self) -> &'static str {
+        match self {
+            Path::Volume => "ray march through the procedural density (every effect)",
+            Path::Slices => {
+                "altitude slices baked around the camera (density and optical depths), walked \
+                 by the view ray: two texture reads a sample"
+            }
+            Path::Impostor => "billboards from a baked atlas of the genus' clouds",
+            Path::Mesh => "instanced mesh clusters lit by the model",
+            Path::Blob2d => "a 2D blob atlas overlaid into larger clouds",
+        }
+    }
+
+    /// Whether Nimbus can draw this path yet. The others are named so that scenes and flags
+    /// asking for them get a clear refusal, not a parse error.
+    pub fn is_built(self) -> bool {
+        matches!(self, Path::Volume | Path::Slices)
+    }
+
+    /// Whether the cloud pass reads a baked slice stack ([`Path::Slices`]).
+    pub fn reads_slices(self) -> bool {
+        self == Path::Slices
+    }
+
+    /// The path named `s` (any case, `_` for `-`).
+    pub fn parse(s: &str) -> Option<Path> {
+        let s = s.trim().to_ascii_lowercase().replace('_', "-");
+        Path::ALL.iter().copied().find(|p| p.name() == s)
+    }
+}
+
+impl std::fmt::Display for Path {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[cfg(feature = "clap")]
+impl clap::ValueEnum for Path {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Path::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(clap::builder::PossibleValue::new(self.name()).help(self.doc()))
+    }
+}
