@@ -6,10 +6,10 @@
 //! atlas, the cloud pass (and the resolve when upscaled), and the readback that waits for the
 //! GPU. Pipelines and textures are built in an untimed warm-up.
 
-use std::path::Path;
+use std::path::Path as FilePath;
 use std::time::Instant;
 
-use nimbus_clouds::{Quality, Toggle};
+use nimbus_clouds::{Path, Quality, Toggle};
 use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
 
@@ -49,7 +49,7 @@ fn time_frames(
 }
 
 pub(crate) fn run(
-    data: Option<&Path>,
+    data: Option<&FilePath>,
     args: &RenderArgs,
     iterations: u32,
     uber: bool,
@@ -92,8 +92,57 @@ pub(crate) fn run(
             full / up
         );
     }
+    compare_paths(&mut renderer, &base, iterations, &rows)?;
     if uber {
         compare_uber(&mut renderer, &base, iterations, |q| ms_of(&rows, q, false))?;
+    }
+    Ok(())
+}
+
+/// Each built path other than the volume at every preset, full resolution and upscaled,
+/// against the volume's rows timed above; and what a frame costs when the path's bake must be
+/// redrawn (the sun moved), against the same frame with the bake kept.
+fn compare_paths(
+    renderer: &mut Renderer<'_>,
+    base: &Frame,
+    iterations: u32,
+    volume: &[(Quality, bool, f64)],
+) -> Result<(), Box<dyn std::error::Error>> {
+    for path in Path::ALL
+        .into_iter()
+        .filter(|p| p.is_built() && *p != Path::Volume)
+    {
+        say!();
+        say!("path `{path}`: {}", path.doc());
+        say!("| preset | full res ms/frame | ×volume | upscaled ms/frame | ×volume | full res, bake redrawn ms/frame |");
+        say!("|---|---:|---:|---:|---:|---:|");
+        for q in Quality::ALL {
+            let mut ms = [0.0; 2];
+            for (i, upscale) in [false, true].into_iter().enumerate() {
+                let mut f = preset_frame(base, q, upscale);
+                f.features.path = path;
+                ms[i] = time_frames(renderer, &f, iterations)?;
+            }
+            // A sun moving a little each frame: every frame's bake is out of date.
+            let mut f = preset_frame(base, q, false);
+            f.features.path = path;
+            let mut times = Vec::new();
+            for i in 0..iterations {
+                f.sun_azimuth_deg += SUN_STEP_DEG * (i + 1) as f32;
+                let start = Instant::now();
+                renderer.render(&f)?;
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+            let moving = median(times);
+            say!(
+                "| {} | {:.1} | {:.2} | {:.1} | {:.2} | {moving:.1} |",
+                q.name(),
+                ms[0],
+                ms[0] / ms_of(volume, q, false),
+                ms[1],
+                ms[1] / ms_of(volume, q, true),
+            );
+        }
     }
     Ok(())
 }
@@ -106,7 +155,7 @@ const SUN_STEP_DEG: f32 = 0.05;
 /// redrawn whole every frame against cascades in rotation (one tile a frame:
 /// `Renderer::set_cascade_rotation`), and the atlas cached (the sun still) for reference.
 pub(crate) fn run_moving_sun(
-    data: Option<&Path>,
+    data: Option<&FilePath>,
     args: &RenderArgs,
     iterations: u32,
 ) -> Result<(), Box<dyn std::error::Error>> {
@@ -180,7 +229,7 @@ const FRAMES_PER_STATE: usize = 8;
 /// a band per frame: `Renderer::set_no_stall`), and reports each run's median frame, its worst
 /// frame, and their ratio.
 pub(crate) fn run_effect_changes(
-    data: Option<&Path>,
+    data: Option<&FilePath>,
     args: &RenderArgs,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let mut base = frame(data, args)?;
@@ -296,7 +345,7 @@ fn compare_uber(
 /// Every scene of the data folder: ms per frame of the variant the scene derives against the
 /// all-effects variant of the same preset, measured in one run.
 pub(crate) fn run_scenes(
-    data: Option<&Path>,
+    data: Option<&FilePath>,
     resolution: (u32, u32),
     iterations: u32,
 ) -> Result<(), Box<dyn std::error::Error>> {

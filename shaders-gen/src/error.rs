@@ -42,6 +42,17 @@ pub(crate) enum CliError {
     NoPairs,
 
     #[error(
+        "--engine {engine}: `{pair}` is drawn by the `{path}` path, which has no engine package \
+         yet (its renderer runs in Nimbus's own runtime: `nimbus render --path {path}`); emit \
+         the volume (no --path) for this engine"
+    )]
+    PathWithoutPackage {
+        engine: &'static str,
+        pair: String,
+        path: nimbus_clouds::Path,
+    },
+
+    #[error(
         "--engine {engine}: {what} is {size} px, beyond the {limit} px the engine's API \
          guarantees on every device ({basis}); choose a lower --quality"
     )]

@@ -34,6 +34,10 @@ pub(crate) fn derive_from(
     let mut out = Vec::new();
     for state in input.at(seconds)? {
         let analysis = analyse(&state.scene, &state.genus);
+        crate::data::built_path(
+            analysis.features.path,
+            &format!("scene `{}`, field features.path", state.scene.name),
+        )?;
         let variant = CloudVariant::new(&state.genus, state.scene.quality, analysis.features);
         out.push((state, variant, analysis));
     }
@@ -67,6 +71,9 @@ pub(crate) fn resolved_from(
         }
         for t in sel.disable {
             t.set(&mut features, false);
+        }
+        if let Some(p) = sel.path {
+            features.path = crate::data::built_path(p, "--path")?;
         }
         table.push(assign(&state.genus, state.scene.quality, features));
         // The scene's own sun, camera, weather offset and haze at that time, as `render` sets
@@ -170,6 +177,22 @@ fn explain_state(
             "nothing samples it: no pass, no texture"
         }
     );
+    say!(
+        "  {:<24} {:<4} {}",
+        "path",
+        analysis.path.path.name(),
+        analysis.path.reason
+    );
+    if variant.key.reads_slices() {
+        let (w, h) = nimbus_clouds::model::slices::slices_size();
+        say!(
+            "  {:<24} {:<4} {w}×{h} stack of {} slices, baked when the sun, the camera's place \
+             or the weather moves",
+            "slice-pass",
+            "in",
+            nimbus_clouds::model::slices::SLICE_LEVELS,
+        );
+    }
     // The genus' density functions: built-in defaults, or its own (each in the key).
     for (slot, name, path, about) in variant.key.functions.slots() {
         let own = variant

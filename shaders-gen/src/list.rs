@@ -65,6 +65,16 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
     for t in Toggle::ALL {
         say!("  {:<26} {:<8} {}", t.name(), t.tag(), t.doc());
     }
+    say!("paths (--path, or `path` in a scene's [features]; tag in shader keys):");
+    for p in nimbus_clouds::Path::ALL {
+        say!(
+            "  {:<26} {:<8} {}{}",
+            p.name(),
+            p.tag().unwrap_or("-"),
+            p.doc(),
+            if p.is_built() { "" } else { " (not built yet)" }
+        );
+    }
     let mut entries = catalog();
     let clouds = cloud_catalog(&lib);
     entries.extend(clouds);

@@ -255,6 +255,16 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     if table.is_empty() {
         return Err(CliError::NoPairs);
     }
+    if let Some(a) = table
+        .iter()
+        .find(|a| a.clouds.features.path != nimbus_clouds::Path::Volume)
+    {
+        return Err(CliError::PathWithoutPackage {
+            engine: engine.name(),
+            pair: a.name(),
+            path: a.clouds.features.path,
+        });
+    }
     let limits = engine.limits();
     let sizes = TextureSizes::default();
     for (a, u) in table.iter().zip(uniforms) {

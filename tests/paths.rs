@@ -1,0 +1,191 @@
+//! The paths other than the volume draw the same clouds as the volume, at the scale each is
+//! meant for, and their bakers draw what their CPU twins compute.
+//!
+//! The `slices` path ([`nimbus_clouds::Path::Slices`]) bakes the density and the optical depths
+//! its light needs into a stack of altitude slices around the camera; the view march reads the
+//! stack in place of the noise. Its picture is the volume seen at the stack's resolution (a
+//! texel subtends about 2° beside the camera's vertical), so the comparison is made on both
+//! pictures box-filtered to that scale: every genus, at `low`, against the volume's picture of
+//! the same frame. Controls: the same slices picture against the volume with the sun 6° lower,
+//! and against the volume with its weather 2 km away, must fail the bound every genus meets
+//! wherever the picture has broken cloud to tell them apart.
+
+mod common;
+
+use std::path::Path;
+
+use glam::Vec4;
+use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::slices::{SLICE_TEXELS, slices_fragment, slices_size};
+use nimbus_clouds::{CloudLibrary, Path as DrawPath, Quality};
+use nimbus_runtime::density_export::generate_cpu_textures;
+use nimbus_runtime::render::{Frame, Image, Renderer, TextureSizes};
+
+fn library() -> CloudLibrary {
+    CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data")
+}
+
+/// Pixels of the comparison image per side of a block: at 160 × 90 and a 60° field of view a
+/// block of 4 subtends 1.5°, about a stack texel beside the camera's vertical.
+const BLOCK: u32 = 4;
+
+/// Mean absolute difference of the display-referred (exposure 1, ACES, sRGB) pictures, each
+/// box-filtered over [`BLOCK`]² pixels, in units of 1/255.
+fn block_difference(a: &Image, b: &Image) -> f64 {
+    let (a8, b8) = (a.to_rgba8(1.0), b.to_rgba8(1.0));
+    let (w, h) = (a.width / BLOCK, a.height / BLOCK);
+    let mut sum = 0.0f64;
+    for by in 0..h {
+        for bx in 0..w {
+            for c in 0..3 {
+                let mean = |img: &image::RgbaImage| {
+                    let mut s = 0.0f64;
+                    for y in 0..BLOCK {
+                        for x in 0..BLOCK {
+                            s += f64::from(img.get_pixel(bx * BLOCK + x, by * BLOCK + y)[c]);
+                        }
+                    }
+                    s / f64::from(BLOCK * BLOCK)
+                };
+                sum += (mean(&a8) - mean(&b8)).abs();
+            }
+        }
+    }
+    sum / f64::from(3 * w * h)
+}
+
+/// The frame every genus is compared in: `low`, 160 × 90, a camera 500 m up looking 12° above
+/// the horizon, the sun 30° up to the side.
+fn frame(genus: &nimbus_clouds::Genus, path: DrawPath) -> Frame {
+    let mut f = Frame::new(genus.clone(), Quality::Low, 160, 90);
+    f.frames = 4;
+    f.camera_altitude = 500.0;
+    f.camera_pitch_deg = 12.0;
+    f.sun_elevation_deg = 30.0;
+    f.sun_azimuth_deg = 120.0;
+    f.features.path = path;
+    f
+}
+
+/// Bound on [`block_difference`] between the slices picture and the volume's, /255.
+const SLICES_BOUND: f64 = 3.0;
+
+/// Genera whose picture has structure at the block scale (broken cloud): in these a stack
+/// misplaced by a few texels or lit by another sun must fail the bound. An overcast's picture
+/// (nimbostratus, stratus) is the same under both; that says nothing against the path.
+const STRUCTURED: [&str; 5] = [
+    "altocumulus",
+    "cirrocumulus",
+    "cumulus",
+    "stratocumulus",
+    "takram-default",
+];
+
+#[test]
+fn slices_draw_every_genus_as_the_volume_does_at_the_stack_scale() {
+    let Some(gpu) = common::gpu() else { return };
+    println!("adapter: {}", gpu.info());
+    let lib = library();
+    let mut renderer = Renderer::new(gpu, TextureSizes::default());
+    let mut failures = Vec::new();
+    for (name, (_, genus)) in &lib.genera {
+        let volume = renderer
+            .render(&frame(genus, DrawPath::Volume))
+            .expect("volume");
+        let slices = renderer
+            .render(&frame(genus, DrawPath::Slices))
+            .expect("slices");
+        assert!(
+            renderer
+                .stats()
+                .textures
+                .iter()
+                .any(|t| t.starts_with("cloud_slices")),
+            "{name}: the slices frame drew no stack"
+        );
+        let d = block_difference(&slices, &volume);
+        // Controls, as a broken path would draw them: the volume lit by a sun 6° lower, and
+        // the volume with its weather 2 km away (a stack misplaced by a few texels).
+        let mut lower = frame(genus, DrawPath::Volume);
+        lower.sun_elevation_deg -= 6.0;
+        let lower = block_difference(&slices, &renderer.render(&lower).expect("lower sun"));
+        let mut moved = frame(genus, DrawPath::Volume);
+        moved.weather_offset.x += 0.02;
+        let moved = block_difference(&slices, &renderer.render(&moved).expect("moved"));
+        println!(
+            "{name:<18} slices vs volume {d:.2}/255; controls: sun 6° lower {lower:.2}, \
+             weather 2 km away {moved:.2}"
+        );
+        if d > SLICES_BOUND {
+            failures.push(format!("{name}: {d:.2}/255 from the volume"));
+        }
+        if STRUCTURED.contains(&name.as_str()) && lower.max(moved) <= SLICES_BOUND {
+            failures.push(format!(
+                "{name}: the controls ({lower:.2}, {moved:.2}) pass the bound: it cannot tell \
+                 these clouds apart"
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "bound {SLICES_BOUND}/255:\n{}",
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn the_slice_pass_draws_what_its_cpu_twin_computes() {
+    let Some(gpu) = common::gpu() else { return };
+    println!("adapter: {}", gpu.info());
+    let lib = library();
+    let sizes = TextureSizes::default();
+    let mut renderer = Renderer::new(gpu, sizes);
+    let genus = lib.genus("cumulus").expect("cumulus");
+    let mut f = frame(genus, DrawPath::Slices);
+    // The medium preset: shape detail and ground bounce, so the stack's density erodes and
+    // its third channel (the optical depth down to the base) is baked.
+    f.quality = Quality::Medium;
+    f.features = Quality::Medium.features();
+    f.features.ground_bounce = true;
+    f.features.path = DrawPath::Slices;
+    f.frames = 1;
+    renderer.render(&f).expect("render");
+    let stack = renderer
+        .slice_stack()
+        .expect("read back")
+        .expect("a slices frame keeps its stack");
+    let (w, h) = slices_size();
+    assert_eq!((stack.width, stack.height), (w, h));
+    let key = nimbus_clouds::catalog::assign(genus, f.quality, f.features).clouds;
+    assert!(key.reads_slices());
+    let u: CloudUniforms = Renderer::uniforms(&f);
+    let textures = generate_cpu_textures(sizes);
+    let _bound = textures.bind(u);
+    let mut rng = common::Rng::new(33);
+    let (mut compared, mut cloudy, mut worst) = (0, 0, 0.0f32);
+    for _ in 0..400 {
+        let x = (rng.range(0.0, w as f32) as u32).min(w - 1);
+        let y = (rng.range(0.0, h as f32) as u32).min(h - 1);
+        let cpu = slices_fragment(Vec4::new(x as f32 + 0.5, y as f32 + 0.5, 0.0, 1.0), key);
+        let gpu = Vec4::from(stack.pixels[(y * w + x) as usize]);
+        // Half floats hold the GPU's texels: 1/1024 relative, and the noise's texel
+        // interpolation differs between a GPU sampler and the CPU's in the last bits.
+        for c in 0..3 {
+            let scale = cpu[c].abs().max(if c == 0 { 1e-3 } else { 0.05 });
+            worst = worst.max((gpu[c] - cpu[c]).abs() / scale);
+        }
+        compared += 1;
+        if cpu.x > 1e-3 {
+            cloudy += 1;
+        }
+    }
+    println!(
+        "{compared} texels of the {SLICE_TEXELS}-texel slices ({cloudy} in cloud): worst \
+         relative difference {worst:.4}"
+    );
+    assert!(cloudy >= 20, "too few texels in cloud to compare: {cloudy}");
+    assert!(
+        worst < 0.02,
+        "the slice pass departs from its CPU twin by {worst}"
+    );
+}
