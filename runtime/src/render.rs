@@ -20,7 +20,6 @@ use nimbus_clouds::Quality;
 use nimbus_clouds::catalog::ShaderKey;
 use nimbus_clouds::frame_sequence::{cloud_frame, resolve_frame};
 use nimbus_clouds::model::air_table::{AirTableInputs, air_table_size};
-use nimbus_clouds::model::slices::{slices_size, stack_inputs};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
@@ -28,6 +27,7 @@ use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::shadow::{
     CascadeLookup, anchored_tiles, atlas_columns, redrawn_tiles, shadow_anchor,
 };
+use nimbus_clouds::model::slices::{slices_size, stack_inputs};
 use nimbus_clouds::wind::Drift;
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -487,7 +487,10 @@ impl<'g> Renderer<'g> {
             textures.push(format!("air_table ({}x{})", a.table.width, a.table.height));
         }
         if let Some(p) = &self.slices {
-            textures.push(format!("cloud_slices ({}x{})", p.stack.width, p.stack.height));
+            textures.push(format!(
+                "cloud_slices ({}x{})",
+                p.stack.width, p.stack.height
+            ));
         }
         if let Some(h) = &self.history {
             textures.push(format!(

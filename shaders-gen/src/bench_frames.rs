@@ -114,7 +114,9 @@ fn compare_paths(
     {
         say!();
         say!("path `{path}`: {}", path.doc());
-        say!("| preset | full res ms/frame | ×volume | upscaled ms/frame | ×volume | full res, bake redrawn ms/frame |");
+        say!(
+            "| preset | full res ms/frame | ×volume | upscaled ms/frame | ×volume | full res, bake redrawn ms/frame |"
+        );
         say!("|---|---:|---:|---:|---:|---:|");
         for q in Quality::ALL {
             let mut ms = [0.0; 2];

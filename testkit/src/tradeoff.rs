@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use nimbus_clouds::{Features, Quality, Toggle};
+use nimbus_clouds::{Features, Path, Quality, Toggle};
 
 use crate::metrics::{BiasNoise, ImageError, bias_noise, image_error, linear_rms};
 use nimbus_runtime::RuntimeError;
@@ -58,6 +58,24 @@ pub fn rows() -> Vec<RowSpec> {
         },
         preset: false,
     });
+    // Each path drawn from the same model, at the cheapest and the default preset: its
+    // stack baked once per view (the sun and the camera stand still), as a game draws it.
+    for path in Path::ALL
+        .into_iter()
+        .filter(|p| p.is_built() && *p != Path::Volume)
+    {
+        for q in [Quality::Low, Quality::High] {
+            rows.push(RowSpec {
+                label: format!("{path} ({})", q.name()),
+                quality: q,
+                features: Features {
+                    path,
+                    ..q.features()
+                },
+                preset: false,
+            });
+        }
+    }
     rows
 }
 
@@ -276,16 +294,28 @@ mod tests {
     }
 
     #[test]
-    fn rows_are_the_presets_then_high_minus_each_effect() {
+    fn rows_are_the_presets_then_high_minus_each_effect_then_the_paths() {
         let r = rows();
         let labels: Vec<&str> = r.iter().map(|s| s.label.as_str()).collect();
         assert_eq!(&labels[..4], ["low", "medium", "high", "ultra"]);
         assert!(r[..4].iter().all(|s| s.preset) && r[4..].iter().all(|s| !s.preset));
         let high = Quality::High.features();
-        for s in &r[4..] {
+        let (volume, paths): (Vec<_>, Vec<_>) =
+            r[4..].iter().partition(|s| s.features.path == Path::Volume);
+        for s in volume {
             assert_eq!(s.quality, Quality::High);
             assert_ne!(s.features, high, "{} must differ from high", s.label);
         }
+        // Each built path beside the volume, at `low` and `high`, with the preset's effects.
+        for s in &paths {
+            assert!(s.features.path.is_built());
+            let preset = Features {
+                path: s.features.path,
+                ..s.quality.features()
+            };
+            assert_eq!(s.features, preset, "{}", s.label);
+        }
+        assert!(labels.contains(&"slices (low)") && paths.len() >= 2);
         assert!(
             labels.contains(&"high - shadows") && labels.contains(&"high - multiple-scattering")
         );

@@ -438,7 +438,10 @@ fn path_choice(scene: &ScenePreset, features: &Features) -> PathDecision {
     }
     PathDecision {
         path: wanted,
-        reason: format!("chosen by the scene (`path = \"{wanted}\"`): {}", wanted.doc()),
+        reason: format!(
+            "chosen by the scene (`path = \"{wanted}\"`): {}",
+            wanted.doc()
+        ),
     }
 }
 

@@ -10,7 +10,9 @@
 use serde::{Deserialize, Serialize};
 
 /// How the cloud pass draws the genus.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Path {
     /// Ray marching the procedural density, each sample lit by its own secondary marches.

@@ -788,19 +788,22 @@ pub fn march_clouds(
         let p = direction * t;
         // Cheap coverage test before the full density: no weather here, take a long step. The
         // coverage-stage densities it reads are the erosion's input too (a key has at most
-        // two layer groups). The slices path reads the density, and the optical depths its
-        // light needs, from the baked stack instead: one sample in place of all of it.
+        // two layer groups). The slices path reads the density and the optical depths its
+        // light needs from the baked stack instead (into `first`: density, to the sun, down,
+        // up): one sample in place of the noise and the secondary marches.
         let q = p + u.camera_offset;
-        let mut first = Vec4::ZERO;
+        let first = if key.reads_slices() {
+            slices_at(p, h)
+        } else {
+            weather_density(q, h, 0u32, key)
+        };
+        let mut coverage = if key.reads_slices() {
+            first.x
+        } else {
+            first.dot(Vec4::ONE)
+        };
         let mut second = Vec4::ZERO;
-        let mut baked = Vec4::ZERO;
-        if key.reads_slices() {
-            baked = slices_at(p, h);
-        }
-        let mut coverage = baked.x;
         if !key.reads_slices() {
-            first = weather_density(q, h, 0u32, key);
-            coverage = first.dot(Vec4::ONE);
             if key_count(key, GROUPS) > 1u32 {
                 second = weather_density(q, h, 1u32, key);
                 coverage += second.dot(Vec4::ONE);
@@ -814,9 +817,12 @@ pub fn march_clouds(
         // The secondary rays' samples stand for as much as this one: the light at a pixel is
         // the mean over what the pixel covers.
         let footprint = t * pixel_angle;
-        let mut rho = baked.x;
+        let mut rho = if key.reads_slices() {
+            first.x
+        } else {
+            eroded_density(q, h, 0u32, first, footprint, key).dot(Vec4::ONE)
+        };
         if !key.reads_slices() {
-            rho = eroded_density(q, h, 0u32, first, footprint, key).dot(Vec4::ONE);
             if key_count(key, GROUPS) > 1u32 {
                 rho += eroded_density(q, h, 1u32, second, footprint, key).dot(Vec4::ONE);
             }
@@ -825,21 +831,29 @@ pub fn march_clouds(
         let sigma_s = rho * l.scattering_coefficient;
         let sigma_t = rho * sigma_ratio;
         if sigma_t > m.min_extinction {
-            let mut tau_sun = baked.y;
-            let mut tau_ground = baked.z;
-            let mut tau_up = baked.w;
             if !key.reads_slices() {
                 samples += m.sun_steps as f32;
-                // Midpoints in real time; in the reference a stratified offset per sample,
-                // decorrelated from the primary jitter and from the previous sample's.
-                let offset = select(
-                    0.5,
-                    (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
-                    m.secondary_full_path > 0u32,
-                );
-                tau_sun = sun_optical_depth(p, h, offset, footprint, key);
-                // The optical depth down to the base: the ground's light comes through it,
-                // and the diffusion's slab ends there.
+            }
+            // Midpoints in real time; in the reference a stratified offset per sample,
+            // decorrelated from the primary jitter and from the previous sample's.
+            let offset = select(
+                0.5,
+                (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
+                m.secondary_full_path > 0u32,
+            );
+            let tau_sun = if key.reads_slices() {
+                first.y
+            } else {
+                sun_optical_depth(p, h, offset, footprint, key)
+            };
+            let mut sun = l.sun_irradiance;
+            if gate(key, SUN_SKY_LIGHT) {
+                sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
+            }
+            // The optical depth down to the base: the ground's light comes through it, and
+            // the diffusion's slab ends there.
+            let mut tau_ground = if key.reads_slices() { first.z } else { 0.0f32 };
+            if !key.reads_slices() {
                 if gate(key, GROUND_BOUNCE) {
                     samples += m.ground_steps as f32;
                     tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
@@ -847,14 +861,13 @@ pub fn march_clouds(
                     samples += m.ground_steps as f32;
                     tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
                 }
+            }
+            let mut tau_up = if key.reads_slices() { first.w } else { 0.0f32 };
+            if !key.reads_slices() {
                 if gate(key, DIFFUSION) {
                     samples += m.ground_steps as f32;
                     tau_up = vertical_optical_depth(p, h, 1.0, offset, footprint, key);
                 }
-            }
-            let mut sun = l.sun_irradiance;
-            if gate(key, SUN_SKY_LIGHT) {
-                sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
             }
             let mut light = sun
                 * sun_scattering(

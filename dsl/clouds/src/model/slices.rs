@@ -136,7 +136,13 @@ pub fn slices_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
 
 /// Optical depth from `p` straight along `vertical` (±1) out of the slab, the whole way.
 #[shader_fn]
-pub fn vertical_depth(p: Vec3, h: f32, vertical: f32, footprint: f32, #[spec] key: CloudKey) -> f32 {
+pub fn vertical_depth(
+    p: Vec3,
+    h: f32,
+    vertical: f32,
+    footprint: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
     secondary_optical_depth(
         p,
         h,
