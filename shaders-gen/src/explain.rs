@@ -34,10 +34,6 @@ pub(crate) fn derive_from(
     let mut out = Vec::new();
     for state in input.at(seconds)? {
         let analysis = analyse(&state.scene, &state.genus);
-        crate::data::built_path(
-            analysis.features.path,
-            &format!("scene `{}`, field features.path", state.scene.name),
-        )?;
         let variant = CloudVariant::new(&state.genus, state.scene.quality, analysis.features);
         out.push((state, variant, analysis));
     }

@@ -253,15 +253,10 @@ fn derive_features(
         limits::OCTAVES.check(f64::from(o), Origin::Flag(limits::OCTAVES.flag))?;
         features.octaves = o;
     }
+    // A scene file's path was checked when it was loaded.
     if let Some(p) = toggles.path {
-        features.path = p;
+        features.path = crate::data::built_path(p, "--path")?;
     }
-    let from = if toggles.path.is_some() {
-        "--path".to_string()
-    } else {
-        "the scene's features.path".to_string()
-    };
-    crate::data::built_path(features.path, &from)?;
     Ok(features)
 }
 

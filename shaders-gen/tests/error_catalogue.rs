@@ -76,6 +76,7 @@ fn cases() -> Vec<Case> {
         ("haze_density", "1.0", "1"),
         ("turbulence_displacement", "6000.0", "6000"),
         ("weather_offset", "[nan, 0.0]", "NaN"),
+        ("features.path", "\"mesh\"", "mesh"),
     ];
     for (field, value, shown) in scene_values {
         let file = scene_with(&format!("{field} = {value}"));
@@ -131,6 +132,8 @@ fn cases() -> Vec<Case> {
         ("--resolution", "640", "640"),
         ("--octaves", "0", "0"),
         ("--octaves", "13", "13"),
+        ("--path", "impostor", "impostor"),
+        ("--path", "hologram", "hologram"),
     ];
     for (flag, value, shown) in flags {
         all.push(case(

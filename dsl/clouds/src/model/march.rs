@@ -733,6 +733,11 @@ pub fn ground_bounce_light(tau_ground: f32) -> Vec3 {
     reason = "the march down runs once for either of two key gates: one `if` per gate is how a \
               shader function branches on the key"
 )]
+#[expect(
+    clippy::collapsible_if,
+    reason = "the outer `if` is a generation-time choice (the path), the inner one a gate or a \
+              shader value: `&&` cannot join a Rust `bool` to a shader `Bool`"
+)]
 pub fn march_clouds(
     direction: Vec3,
     jitter: f32,

@@ -103,6 +103,11 @@ pub fn curved_height(altitude: f32, d: f32) -> f32 {
 /// density, optical depth to the sun, and down and up through the slab where the key needs
 /// them.
 #[shader_fn]
+#[expect(
+    clippy::if_same_then_else,
+    reason = "the march down runs once for either of two key gates: one `if` per gate is how a \
+              shader function branches on the key"
+)]
 pub fn slices_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     let texel = vec2(frag_coord.x, frag_coord.y).floor();
     let n = SLICE_TEXELS as f32;
