@@ -242,6 +242,60 @@ fn the_air_table_stands_in_for_the_air_integrals() {
     );
 }
 
+/// The slices path's march reads the stack in place of the noise and the secondary marches
+/// (its slice pass is what reads them); the volume's has no trace of the stack.
+#[test]
+fn the_slices_path_marches_through_its_stack() {
+    let lib = library();
+    let mut features = Quality::Medium.features();
+    features.path = nimbus_clouds::Path::Slices;
+    let sliced = build(&lib, "cumulus", Quality::Medium, features);
+    let volume = build(&lib, "cumulus", Quality::Medium, Quality::Medium.features());
+    assert!(sliced.wgsl.contains("var cloud_slices"), "{}", sliced.wgsl);
+    assert!(sliced.wgsl.contains("fn slices_at("));
+    // No secondary march is left; the march itself reads no noise (the ground's overhead
+    // occlusion under a shadowing deck still takes its four density samples).
+    for marched in ["fn sun_optical_depth(", "fn secondary_optical_depth("] {
+        assert!(
+            !sliced.wgsl.contains(marched),
+            "{marched} in the slices march"
+        );
+        assert!(volume.wgsl.contains(marched));
+    }
+    let march = |wgsl: &str| {
+        let start = wgsl.find("fn march_clouds(").expect("a march");
+        let end = wgsl[start + 1..]
+            .find("\nfn ")
+            .map_or(wgsl.len(), |e| start + 1 + e);
+        wgsl[start..end].to_string()
+    };
+    for noise in ["weather_density(", "eroded_density("] {
+        assert!(
+            !march(&sliced.wgsl).contains(noise),
+            "{noise} in the slices march"
+        );
+        assert!(march(&volume.wgsl).contains(noise));
+    }
+    assert!(!volume.wgsl.contains("cloud_slices"));
+    let genus = lib.genus("cumulus").expect("genus");
+    let key = CloudVariant::new(genus, Quality::Medium, features).key;
+    assert!(key.reads_slices() && key.name().ends_with("-slices"));
+    let stack = generate_variant(&ShaderKey::Slices(key), &Target::ALL).expect("slice pass");
+    assert!(stack.wgsl.contains("fn slices_fragment("));
+    assert!(
+        stack.wgsl.contains("fn sun_optical_depth(")
+            || stack.wgsl.contains("fn secondary_optical_depth(")
+    );
+    // The flat high layer and an orthographic camera keep the volume: the key drops the path.
+    let mut flat = features;
+    flat.flat_high_layer = true;
+    assert!(
+        !CloudVariant::new(genus, Quality::Medium, flat)
+            .key
+            .reads_slices()
+    );
+}
+
 /// The uber-shader reads every generation-time choice from the key uniforms: it validates on
 /// every target, declares the `key` binding, loops to run-time bounds and keeps every effect's
 /// code; a specialised shader has none of that.
@@ -338,6 +392,12 @@ fn representative_cloud_keys_are_pinned_per_target() {
     keys.push(ShaderKey::Clouds(
         CloudVariant::new(cirrus, Quality::High, derived).key,
     ));
+    // The slices path of cumulus at low: its cloud pass and its slice pass.
+    let mut sliced = Quality::Low.features();
+    sliced.path = nimbus_clouds::Path::Slices;
+    let sliced = CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, sliced).key;
+    keys.push(ShaderKey::Clouds(sliced));
+    keys.push(ShaderKey::Slices(sliced));
     for key in keys {
         let g = generate_variant(&key, &Target::ALL).expect("generate");
         insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);
