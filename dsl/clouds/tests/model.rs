@@ -173,7 +173,7 @@ fn binding_enums_find_every_slot_they_declare() {
         assert_eq!(CloudBinding::at(CloudBinding::GROUP, b.binding()), Some(b));
     }
     assert_eq!(CloudBinding::at(1, 0), None);
-    assert_eq!(CloudBinding::at(0, 11), None);
+    assert_eq!(CloudBinding::at(0, 12), None);
     for (i, b) in ResolveBinding::ALL.into_iter().enumerate() {
         assert_eq!(ResolveBinding::at(ResolveBinding::GROUP, i as u32), Some(b));
         assert_eq!(b as usize, i);
