@@ -168,9 +168,48 @@ for (const quality of presets) {
     console.error(`${quality} upscale=${upscale}: Nimbus ${row.every} / ${row.cached} ms, takram ${row.takram} ms`);
   }
 }
+// The paths other than the volume, each at `low` (the cheapest picture of each), against the
+// volume's `low` timed above: the same scene, drawn by another path (BENCH_PATHS=slices,...;
+// BENCH_PATHS= for none). `every` rebakes the path's own tables each frame as for a sun that
+// moves every frame; `cached` bakes them once.
+const paths = (process.env.BENCH_PATHS ?? 'slices').split(',').filter((p) => p);
+const pathRows = [];
+for (const path of paths) {
+  const scene = join(work, `path-${path}.toml`);
+  writeFileSync(scene, [
+    `name = "path-${path}"`, 'description = "The browser benchmark\'s scene, drawn by another path."',
+    'genus = "takram-default"', 'quality = "low"', `coverage = ${coverage}`, 'sun_elevation_deg = 35.0',
+    'sun_azimuth_deg = 150.0', 'camera_altitude = 2.0', 'camera_pitch_deg = 10.0', '[features]',
+    `path = "${path}"`, '',
+  ].join('\n'));
+  const pkg = join(work, `package-path-${path}`);
+  execFileSync(nimbus, ['emit', '--engine', 'three', '--scene', scene, '-o', pkg], { stdio: ['ignore', 'ignore', 'inherit'] });
+  for (const upscale of [false, true]) {
+    const row = { path, upscale };
+    for (const shadow of ['every', 'cached']) {
+      const out = join(work, `path-${path}-${upscale}-${shadow}.png`);
+      const args = ['render.mjs', pkg, out, 'width=640', 'height=360', 'pitch=10', `bench=${frames}`,
+        'warmup=2', `shadow=${shadow}`, `upscale=${upscale ? 1 : 0}`];
+      row[shadow] = median(execFileSync('node', args, { cwd: here, encoding: 'utf8' }));
+    }
+    pathRows.push(row);
+    console.error(`path ${path} upscale=${upscale}: ${row.every} / ${row.cached} ms`);
+  }
+}
+
 console.log('| preset | upscaling | Nimbus, atlas every frame | Nimbus, atlas cached | @takram/three-clouds | Nimbus ÷ takram (every frame / cached) |');
 console.log('|---|---|---|---|---|---|');
 for (const r of rows) {
   const ratio = (x) => (x / r.takram).toFixed(2);
   console.log(`| ${r.quality} | ${r.upscale ? 'on' : 'off'} | ${r.every.toFixed(1)} | ${r.cached.toFixed(1)} | ${r.takram.toFixed(1)} | ${ratio(r.every)} / ${ratio(r.cached)} |`);
+}
+if (pathRows.length) {
+  console.log();
+  console.log('| path (at `low`) | upscaling | every frame | cached | volume `low`, cached | ÷ volume `low` (every frame / cached) |');
+  console.log('|---|---|---|---|---|---|');
+  for (const r of pathRows) {
+    const low = rows.find((v) => v.quality === 'low' && v.upscale === r.upscale);
+    const ratio = (x) => (low ? (x / low.cached).toFixed(2) : '–');
+    console.log(`| ${r.path} | ${r.upscale ? 'on' : 'off'} | ${r.every.toFixed(1)} | ${r.cached.toFixed(1)} | ${low ? low.cached.toFixed(1) : '–'} | ${ratio(r.every)} / ${ratio(r.cached)} |`);
+  }
 }

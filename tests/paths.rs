@@ -189,3 +189,62 @@ fn the_slice_pass_draws_what_its_cpu_twin_computes() {
         "the slice pass departs from its CPU twin by {worst}"
     );
 }
+
+/// The stack is redrawn when what it is baked from moves (the sun, the camera's place and
+/// height, the weather) and kept when only the view does (turning the camera, another frame's
+/// jitter, the image's size): the members engine hosts are told to ignore
+/// (`cloud_slices.ignores`) are members of the block, and nothing the bake reads.
+#[test]
+fn the_stack_follows_the_sun_and_the_place_not_the_view() {
+    use nimbus_clouds::model::slices::{STACK_IGNORES, stack_inputs};
+    use nimbus_dsl::layout::{UniformBytes, read_members};
+    let lib = library();
+    let genus = lib.genus("cumulus").expect("cumulus");
+    let u: CloudUniforms = Renderer::uniforms(&frame(genus, DrawPath::Slices));
+    let bytes = u.to_uniform_bytes().expect("bytes");
+    let members = read_members(CloudUniforms::shader_type(), &bytes);
+    for m in STACK_IGNORES {
+        assert!(
+            members
+                .iter()
+                .any(|(p, _)| p == m || p.starts_with(&format!("{m}."))),
+            "`{m}` names no member of the cloud block"
+        );
+    }
+    let base = stack_inputs(&u).expect("inputs");
+    let mut view = u;
+    view.inverse_view_projection = glam::Mat4::from_rotation_y(0.4) * u.inverse_view_projection;
+    view.jitter = 0.73;
+    view.frame = 11;
+    view.resolution = glam::Vec2::new(320.0, 180.0);
+    view.shadow.lookup.u = glam::Mat4::IDENTITY;
+    assert_eq!(
+        stack_inputs(&view).expect("inputs"),
+        base,
+        "the view moved the stack"
+    );
+    let moved: [(&str, Box<dyn Fn(&mut CloudUniforms)>); 4] = [
+        (
+            "the sun",
+            Box::new(|u| u.light.sun_direction = glam::Vec3::new(0.0, 1.0, 0.0)),
+        ),
+        (
+            "the camera's place",
+            Box::new(|u| u.camera_offset.x += 30.0),
+        ),
+        (
+            "the camera's height",
+            Box::new(|u| u.camera_altitude += 10.0),
+        ),
+        ("the coverage", Box::new(|u| u.media.coverage += 0.01)),
+    ];
+    for (what, change) in moved {
+        let mut v = u;
+        change(&mut v);
+        assert_ne!(
+            stack_inputs(&v).expect("inputs"),
+            base,
+            "{what} left the stack as it was"
+        );
+    }
+}

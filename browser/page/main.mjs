@@ -53,6 +53,8 @@ async function run(result) {
       if (q.get('shadow') === 'every') {
         clouds.shadowDirty = true;
         clouds.airDirty = true;
+        // A slices pair's stack follows the sun too.
+        clouds.stackDrawn = null;
       }
       clouds.render(renderer);
     };

@@ -185,7 +185,7 @@ struct SlicePass {
     uniform: wgpu::Buffer,
     group: Option<BoundGroup>,
     stack: Target,
-    inputs: Option<(ShaderKey, CloudUniforms)>,
+    inputs: Option<(ShaderKey, Vec<(String, Vec<f64>)>)>,
 }
 
 /// The cloud pass: its uniform buffer, bind group and low-resolution target.
@@ -758,7 +758,7 @@ impl<'g> Renderer<'g> {
             return Ok(());
         }
         let key = ShaderKey::Slices(clouds);
-        let inputs = (key, stack_inputs(u));
+        let inputs = (key, stack_inputs(u)?);
         if self
             .slices
             .as_ref()

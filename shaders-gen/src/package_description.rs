@@ -92,6 +92,7 @@ impl ResourceEntry {
 pub(crate) struct Targets {
     pub shadow_atlas: Target,
     pub air_table: Target,
+    pub cloud_slices: Target,
     pub clouds_hdr: Target,
     pub scene_shadow: Target,
     pub history_a: Target,
@@ -161,6 +162,19 @@ pub(crate) struct AtlasSize {
     pub height: u32,
 }
 
+/// The slice stack of a pair drawn by the `slices` path: its size, and what does not make it
+/// out of date. The stack depends on the pair's block less these members (the view, the
+/// frame's jitter, the composite's switches, the haze and the shadow cascades); a host redraws
+/// it when any other member changed since it was drawn (drawing it every frame is correct too).
+#[derive(Serialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub(crate) struct SliceStack {
+    pub width: u32,
+    pub height: u32,
+    /// Member paths of the block (a member and everything under it) the stack ignores.
+    pub ignores: Vec<String>,
+}
+
 /// One genus × preset pair.
 #[derive(Serialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
@@ -180,6 +194,8 @@ pub(crate) struct Pair {
     pub shadow_atlas: Option<AtlasSize>,
     /// The air table's size, when the pair has an air pass.
     pub air_table: Option<AtlasSize>,
+    /// The slice stack, when the pair is drawn by the `slices` path.
+    pub cloud_slices: Option<SliceStack>,
     /// Its passes, in the order of a frame.
     pub passes: Vec<PassDescription>,
 }
@@ -194,6 +210,8 @@ pub(crate) enum Pass {
     SceneShadow,
     /// The air table the clouds pass reads (`air_table`).
     Air,
+    /// The slice stack the clouds pass reads (`cloud_slices`; the `slices` path).
+    Slices,
     Clouds,
     Resolve,
     Display,
@@ -240,6 +258,7 @@ pub(crate) enum Output {
     ShadowAtlas,
     SceneShadow,
     AirTable,
+    CloudSlices,
     CloudsHdr,
     /// The history target not read this frame (`history_a` and `history_b` alternate).
     History,

@@ -2,7 +2,8 @@
 //! SwiftShader) driven by playwright-core renders the package with three.js from npm, and each
 //! frame is compared with `nimbus render` of the same scene: two sun positions (a package per
 //! scene), one camera move, and the sun moved at run time by the package's own JavaScript
-//! (`setSun`, no Nimbus code); the shader logs must be empty. A third test drives the wind, a
+//! (`setSun`, no Nimbus code); the shader logs must be empty. The `slices` path too: its slice
+//! pass baked in the browser, and baked again when `setSun` moves the sun. A third test drives the wind, a
 //! weather state and the clock through the package's `setWind`, `setWeather` and `setTime`
 //! against `nimbus render --time`. The screenshots stay in a folder the test prints.
 //!
@@ -41,9 +42,11 @@ struct View {
     sun_azimuth: f32,
     pitch: f32,
     yaw: f32,
+    /// The path the scene draws its clouds by (`volume`, or a baked one).
+    path: &'static str,
 }
 
-const VIEWS: [View; 5] = [
+const VIEWS: [View; 7] = [
     View {
         name: "sun-high",
         quality: "low",
@@ -52,6 +55,7 @@ const VIEWS: [View; 5] = [
         sun_azimuth: 150.0,
         pitch: 10.0,
         yaw: 0.0,
+        path: "volume",
     },
     View {
         name: "sun-low",
@@ -61,6 +65,7 @@ const VIEWS: [View; 5] = [
         sun_azimuth: 230.0,
         pitch: 10.0,
         yaw: 0.0,
+        path: "volume",
     },
     // The first scene, seen after a camera move.
     View {
@@ -71,6 +76,7 @@ const VIEWS: [View; 5] = [
         sun_azimuth: 150.0,
         pitch: 25.0,
         yaw: 60.0,
+        path: "volume",
     },
     // `medium` (shape detail, the ground bounce) with a low sun over the ground between the
     // clouds' shadows: the distant ground's shadow-map lookups straddle cloudy and empty
@@ -83,6 +89,7 @@ const VIEWS: [View; 5] = [
         sun_azimuth: 230.0,
         pitch: 12.0,
         yaw: 0.0,
+        path: "volume",
     },
     // `ultra`: three shadow cascades of 1,024 texels, in a 2×2 grid of tiles (side by side
     // they were 3,072 wide, past WebGL2's 2,048); a low sun over a broken field reads the
@@ -95,6 +102,29 @@ const VIEWS: [View; 5] = [
         sun_azimuth: 230.0,
         pitch: 12.0,
         yaw: 0.0,
+        path: "volume",
+    },
+    // The slices path (its slice pass baked in the browser, the march reading the stack), and
+    // its scene with the sun low, which the package's setSun must rebake the stack for.
+    View {
+        name: "slices",
+        quality: "low",
+        coverage: 0.6,
+        sun_elevation: 35.0,
+        sun_azimuth: 150.0,
+        pitch: 10.0,
+        yaw: 0.0,
+        path: "slices",
+    },
+    View {
+        name: "slices-sun-low",
+        quality: "low",
+        coverage: 0.6,
+        sun_elevation: 8.0,
+        sun_azimuth: 230.0,
+        pitch: 10.0,
+        yaw: 0.0,
+        path: "slices",
     },
 ];
 
@@ -110,8 +140,11 @@ fn scene(dir: &Path, v: &View) -> PathBuf {
          sun_azimuth_deg = {az}\n\
          camera_altitude = 2.0\n\
          camera_pitch_deg = {pitch}\n\
-         camera_yaw_deg = {yaw}\n",
+         camera_yaw_deg = {yaw}\n\
+         [features]\n\
+         path = \"{path}\"\n",
         name = v.name,
+        path = v.path,
         quality = v.quality,
         coverage = v.coverage,
         el = v.sun_elevation,
@@ -150,7 +183,7 @@ struct Case {
     upscale: bool,
 }
 
-const CASES: [Case; 8] = [
+const CASES: [Case; 10] = [
     Case {
         name: "sun-high",
         package: 0,
@@ -216,6 +249,23 @@ const CASES: [Case; 8] = [
         move_sun: false,
         frames: 16,
         upscale: true,
+    },
+    // The slices path, and its sun moved in the browser (the stack rebaked by the host).
+    Case {
+        name: "slices",
+        package: 5,
+        view: 5,
+        move_sun: false,
+        frames: 1,
+        upscale: false,
+    },
+    Case {
+        name: "slices-sun-moved",
+        package: 5,
+        view: 6,
+        move_sun: true,
+        frames: 1,
+        upscale: false,
     },
 ];
 

@@ -132,6 +132,12 @@ export declare class NimbusHost {
    * `shadow.lookup` written for them: call before the block is uploaded.
    */
   shadowTiles(): [number, number, number, number][];
+  /**
+   * Whether the slice stack (a pair of the slices path) must be redrawn this frame: a member
+   * of the block outside the package's `cloud_slices.ignores` changed since it was drawn.
+   * Marks it drawn.
+   */
+  stackOutOfDate(): boolean;
   setWind(speed: number, directionDeg: number, topSpeed?: number, topDirectionDeg?: number): void;
   setWeather(coverage: number, options?: { at?: number; over?: number }): void;
   clearWeather(): void;

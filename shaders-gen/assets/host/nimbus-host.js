@@ -187,6 +187,18 @@ export async function loadPackage(base, engine, options = {}) {
 const same = (a, b) => a.length === b.length && a.every((v, i) => Object.is(v, b[i]));
 
 /**
+ * The word indices of `block` outside the members `ignores` names (each a dotted path, with
+ * everything under it): what a slice stack depends on.
+ */
+function stackWords(block, ignores) {
+  const ignored = (path) =>
+    ignores.some((m) => path === m || path.startsWith(`${m}.`) || path.startsWith(`${m}[`));
+  return block.members
+    .filter((m) => !ignored(m.member))
+    .flatMap((m) => Array.from({ length: m.value.length }, (_, i) => m.offset / 4 + i));
+}
+
+/**
  * What a host of one package pair keeps between frames and writes into its blocks: no
  * graphics API. Engine hosts extend it with their passes, targets and textures.
  */
@@ -220,6 +232,10 @@ export class NimbusHost {
     };
     // The air table follows the sun and the camera's altitude.
     this.airDirty = true;
+    // The slice stack (pairs of the slices path) follows every member of the block but those
+    // the package says it ignores: the words it depends on, and those it was last drawn from.
+    this.stackWords = pair.cloud_slices ? stackWords(blocks.pair, pair.cloud_slices.ignores) : null;
+    this.stackDrawn = null;
     // Seconds since the timeline's start, and its wind and weather states (none: still air,
     // the package's coverage).
     this.time = 0;
@@ -339,6 +355,19 @@ export class NimbusHost {
     this.currentTiles = light.shadow_lookup;
     this.shadowDirty = true;
     this.airDirty = true;
+  }
+
+  /**
+   * Whether the slice stack must be redrawn this frame (pairs of the slices path): a block
+   * member it depends on changed since it was drawn. Marks it drawn.
+   */
+  stackOutOfDate() {
+    if (!this.stackWords) return false;
+    const words = this.blocks.pair.uints;
+    const now = this.stackWords.map((w) => words[w]);
+    if (this.stackDrawn && same(now, this.stackDrawn)) return false;
+    this.stackDrawn = now;
+    return true;
   }
 
   /**

@@ -128,6 +128,9 @@ export class NimbusClouds extends NimbusHost {
     this.airTarget = pair.air_table
       ? hdrTarget(pair.air_table.width, pair.air_table.height, THREE.RepeatWrapping)
       : null;
+    this.slicesTarget = pair.cloud_slices
+      ? hdrTarget(pair.cloud_slices.width, pair.cloud_slices.height, THREE.RepeatWrapping)
+      : null;
     this.cloudTarget = hdrTarget(1, 1, THREE.ClampToEdgeWrapping);
     // The clouds' shadow on the engine's objects, one texel per pixel of its depth buffer.
     this.sceneShadowTarget = pair.passes.some((p) => p.pass === 'scene_shadow')
@@ -192,6 +195,7 @@ export class NimbusClouds extends NimbusHost {
     return {
       shadow_atlas: this.shadowTarget,
       air_table: this.airTarget,
+      cloud_slices: this.slicesTarget,
       clouds_hdr: this.cloudTarget,
       shown: this.cloudTarget,
       history_read: this.history[0],
@@ -304,6 +308,7 @@ export class NimbusClouds extends NimbusHost {
     const previous = renderer.getRenderTarget();
     this.drawShadowAtlas(renderer);
     this.drawAirTable(renderer);
+    this.drawSlices(renderer);
     this.draw(renderer, this.passes.clouds, this.cloudTarget);
     let shown = this.cloudTarget;
     if (this.temporal) {
@@ -368,6 +373,13 @@ export class NimbusClouds extends NimbusHost {
     if (this.passes.air && this.airDirty) {
       this.draw(renderer, this.passes.air, this.airTarget);
       this.airDirty = false;
+    }
+  }
+
+  /** Redraws the slice stack (pairs of the slices path) when what it depends on changed. */
+  drawSlices(renderer) {
+    if (this.passes.slices && this.stackOutOfDate()) {
+      this.draw(renderer, this.passes.slices, this.slicesTarget);
     }
   }
 
@@ -460,6 +472,8 @@ export class NimbusClouds extends NimbusHost {
     this.cloudTarget.dispose();
     for (const h of this.history) h.dispose();
     if (this.shadowTarget) this.shadowTarget.dispose();
+    if (this.airTarget) this.airTarget.dispose();
+    if (this.slicesTarget) this.slicesTarget.dispose();
     for (const p of Object.values(this.passes)) p.material.dispose();
     for (const t of Object.values(this.textures)) t.dispose();
   }

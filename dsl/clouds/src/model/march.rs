@@ -1016,7 +1016,13 @@ pub fn overhead_optical_depth(ground: Vec3, jitter: f32, #[spec] key: CloudKey) 
         // Straight up from the ground point: its horizontal position is the noise's, `h` its
         // altitude.
         let p = vec3(ground.x, h - u.camera_altitude, ground.z);
-        tau += total_density(p, h, dh, key) * sigma_ratio * dh;
+        // The slices path reads its stack here too: its cloud pass reads no noise at all.
+        tau += (if key.reads_slices() {
+            slices_at(p, h).x
+        } else {
+            total_density(p, h, dh, key)
+        }) * sigma_ratio
+            * dh;
     }
     tau
 }

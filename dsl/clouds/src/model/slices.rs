@@ -197,31 +197,43 @@ pub fn slices_at(p: Vec3, altitude: f32) -> Vec4 {
     select(value, Vec4::ZERO, outside)
 }
 
-/// What the slice stack of the block `u` depends on: the block less what only the view decides
-/// (its projection, the image's size and pixel mapping, the frame's jitter), the composite's
-/// switches, the haze and the shadow map's cascades (the bake marches its whole way to the sun
-/// and reads no map). Two blocks with equal inputs have the same stack: a host redraws it when
-/// they differ.
-pub fn stack_inputs(u: &CloudUniforms) -> CloudUniforms {
-    let mut kept = *u;
-    kept.inverse_view_projection = glam::Mat4::ZERO;
-    kept.resolution = Vec2::ZERO;
-    kept.pixel_offset = Vec2::ZERO;
-    kept.pixel_scale = 0.0;
-    kept.subpixel = Vec2::ZERO;
-    kept.frame = 0;
-    kept.jitter = 0.0;
-    kept.composite = super::march::CompositeParams::NONE;
-    kept.haze = super::march::HazeParams {
-        density: 0.0,
-        exponent: 0.0,
-        scattering_coefficient: 0.0,
-        absorption_coefficient: 0.0,
-    };
-    kept.shadow.lookup = super::shadow::CascadeLookup {
-        u: glam::Mat4::ZERO,
-        v: glam::Mat4::ZERO,
-    };
-    kept.shadow.inverse_matrix = glam::Mat4::ZERO;
-    kept
+/// Members of the cloud block (dotted paths, each with everything under it) the slice stack
+/// does not depend on: what only the view decides (its projection, the image's size and pixel
+/// mapping, the frame's jitter), the composite's switches, the haze and the shadow map's
+/// cascades (the bake marches its whole way to the sun and reads no map). Engine packages list
+/// them (`cloud_slices.ignores`) for their hosts' redraw test.
+pub const STACK_IGNORES: [&str; 11] = [
+    "inverse_view_projection",
+    "resolution",
+    "pixel_offset",
+    "pixel_scale",
+    "subpixel",
+    "frame",
+    "jitter",
+    "composite",
+    "haze",
+    "shadow.lookup",
+    "shadow.inverse_matrix",
+];
+
+/// Whether the member at dotted path `path` is one of [`STACK_IGNORES`] or lies within one.
+pub fn stack_ignores(path: &str) -> bool {
+    STACK_IGNORES.iter().any(|m| {
+        path.strip_prefix(m)
+            .is_some_and(|rest| rest.is_empty() || rest.starts_with('.') || rest.starts_with('['))
+    })
+}
+
+/// What the slice stack of the block `u` depends on: every leaf member's path and value but
+/// those of [`STACK_IGNORES`]. Two blocks with equal inputs have the same stack: a host redraws
+/// it when they differ.
+pub fn stack_inputs(
+    u: &CloudUniforms,
+) -> Result<Vec<(String, Vec<f64>)>, nimbus_dsl::layout::LayoutError> {
+    use nimbus_dsl::layout::{UniformBytes, read_members};
+    let bytes = u.to_uniform_bytes()?;
+    Ok(read_members(CloudUniforms::shader_type(), &bytes)
+        .into_iter()
+        .filter(|(path, _)| !stack_ignores(path))
+        .collect())
 }
