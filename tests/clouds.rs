@@ -286,11 +286,17 @@ fn the_slices_path_marches_through_its_stack() {
         stack.wgsl.contains("fn sun_optical_depth(")
             || stack.wgsl.contains("fn secondary_optical_depth(")
     );
-    // The flat high layer and an orthographic camera keep the volume: the key drops the path.
+    // A path asked for draws a thin high layer from its stack (the flat layer is the volume's
+    // shortcut: the key drops it); an orthographic camera keeps the volume (the key drops the
+    // path).
     let mut flat = features;
     flat.flat_high_layer = true;
+    let flat = CloudVariant::new(genus, Quality::Medium, flat).key;
+    assert!(flat.reads_slices() && !flat.features.flat_high_layer);
+    let mut ortho = features;
+    ortho.orthographic = true;
     assert!(
-        !CloudVariant::new(genus, Quality::Medium, flat)
+        !CloudVariant::new(genus, Quality::Medium, ortho)
             .key
             .reads_slices()
     );

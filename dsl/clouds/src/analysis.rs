@@ -399,6 +399,21 @@ pub fn analyse(scene: &ScenePreset, genus: &Genus) -> Analysis {
     }
     let path = path_choice(scene, &features);
     features.path = path.path;
+    if path.path != Path::Volume && features.flat_high_layer {
+        // The flat layer is the volume's shortcut; a baked path draws the layer from its own
+        // tables.
+        features.flat_high_layer = false;
+        if let Some(d) = decisions
+            .iter_mut()
+            .find(|d| d.toggle == Toggle::FlatHighLayer)
+        {
+            d.included = false;
+            d.reason = format!(
+                "the `{}` path draws the high layer from its bake",
+                path.path
+            );
+        }
+    }
     let layers = genus.layers.iter().filter(|l| l.is_enabled()).count();
     Analysis {
         features,
@@ -424,15 +439,6 @@ fn path_choice(scene: &ScenePreset, features: &Features) -> PathDecision {
             reason: format!(
                 "the scene asks for `{wanted}`, but an orthographic camera shades each pixel from \
                  its own origin, which a stack baked around one camera cannot serve"
-            ),
-        };
-    }
-    if wanted != Path::Volume && features.flat_high_layer {
-        return PathDecision {
-            path: Path::Volume,
-            reason: format!(
-                "the scene asks for `{wanted}`, but its one high layer is drawn flat, which costs \
-                 less than any bake"
             ),
         };
     }

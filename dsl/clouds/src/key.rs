@@ -151,11 +151,15 @@ impl CloudKey {
         if features.diffusion {
             features.octaves = 1;
         }
-        // A baked path serves one perspective camera with volumetric layers: an orthographic
-        // camera (a ray per pixel origin) and the flat high layer (cheaper than any bake) are
-        // drawn by the volume (`analysis` says so in `explain`).
-        if features.orthographic || features.flat_high_layer {
+        // A baked path serves one perspective camera: an orthographic camera (a ray from each
+        // pixel's own origin) is drawn by the volume. A path asked for draws every layer, a
+        // thin high one too: the flat layer is the volume's shortcut (`analysis` says both in
+        // `explain`).
+        if features.orthographic {
             features.path = Path::Volume;
+        }
+        if features.path != Path::Volume {
+            features.flat_high_layer = false;
         }
         CloudKey {
             features,
@@ -233,8 +237,10 @@ impl CloudKey {
     /// with an orthographic camera, which integrates the air anyway; the flat high layer, the
     /// untiled weather, the engine's scene depth and an orthographic camera with any of them),
     /// 1–12 octaves (one with the diffusion, which replaces the others), the five phase kinds
-    /// and one or two lane groups: (4,608 × 12 + 4,608) × 5 × 2 = 599,040 keys. A genus' own
-    /// functions multiply these by its choices (see [`CloudKey::with_functions`]).
+    /// and one or two lane groups: (4,608 × 12 + 4,608) × 5 × 2 = 599,040 keys, each drawn by
+    /// the volume. A genus' own functions multiply these by its choices (see
+    /// [`CloudKey::with_functions`]), and each baked path (`crate::Path`) by its own: a path's
+    /// keys are these with the path set, less the orthographic camera and the flat layer.
     pub fn reachable() -> Vec<CloudKey> {
         let toggles: Vec<Toggle> = Toggle::ALL
             .iter()
