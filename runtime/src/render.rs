@@ -465,8 +465,11 @@ impl<'g> Renderer<'g> {
             }
         }
         self.epoch += 1;
-        // The atlas was marched through the old texture: redraw it.
+        // The atlas and the slice stack were baked from the old texture: redraw them.
         if let Some(p) = &mut self.shadow {
+            p.inputs = None;
+        }
+        if let Some(p) = &mut self.slices {
             p.inputs = None;
         }
     }
@@ -939,8 +942,8 @@ impl<'g> Renderer<'g> {
         if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             return None;
         }
-        // Shadow and air, then clouds and resolve per frame: two timestamps each.
-        let capacity = (2 * (2 + 2 * frames)).min(4096);
+        // Shadow, air and slices, then clouds and resolve per frame: two timestamps each.
+        let capacity = (2 * (3 + 2 * frames)).min(4096);
         if let Some(mut t) = self.timer.take()
             && t.capacity >= capacity
         {
