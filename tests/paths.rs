@@ -223,20 +223,14 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
         base,
         "the view moved the stack"
     );
-    let moved: [(&str, Box<dyn Fn(&mut CloudUniforms)>); 4] = [
-        (
-            "the sun",
-            Box::new(|u| u.light.sun_direction = glam::Vec3::new(0.0, 1.0, 0.0)),
-        ),
-        (
-            "the camera's place",
-            Box::new(|u| u.camera_offset.x += 30.0),
-        ),
-        (
-            "the camera's height",
-            Box::new(|u| u.camera_altitude += 10.0),
-        ),
-        ("the coverage", Box::new(|u| u.media.coverage += 0.01)),
+    type Change = fn(&mut CloudUniforms);
+    let moved: [(&str, Change); 4] = [
+        ("the sun", |u| {
+            u.light.sun_direction = glam::Vec3::new(0.0, 1.0, 0.0)
+        }),
+        ("the camera's place", |u| u.camera_offset.x += 30.0),
+        ("the camera's height", |u| u.camera_altitude += 10.0),
+        ("the coverage", |u| u.media.coverage += 0.01),
     ];
     for (what, change) in moved {
         let mut v = u;

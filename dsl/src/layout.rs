@@ -274,11 +274,14 @@ impl<T: Flatten, const N: usize> Flatten for [T; N] {
 
 flatten_glam!(glam::Vec2, glam::Vec3, glam::Vec4, glam::Mat3, glam::Mat4);
 
+/// Members of a uniform value by dotted path, each with its scalar components.
+pub type Members = Vec<(String, Vec<f64>)>;
+
 /// The members of a uniform value read back from its buffer bytes, flattened to dotted paths
 /// (`group0.min_height`) with their scalar components (matrices column by column): what a host
 /// that sets uniforms member by member, or a manifest, needs. Integers and booleans are exact
 /// in `f64`.
-pub fn read_members(ty: Type, bytes: &[u8]) -> Vec<(String, Vec<f64>)> {
+pub fn read_members(ty: Type, bytes: &[u8]) -> Members {
     member_layout(ty, bytes)
         .into_iter()
         .map(|m| (m.path, m.value))

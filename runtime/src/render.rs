@@ -185,7 +185,7 @@ struct SlicePass {
     uniform: wgpu::Buffer,
     group: Option<BoundGroup>,
     stack: Target,
-    inputs: Option<(ShaderKey, Vec<(String, Vec<f64>)>)>,
+    inputs: Option<(ShaderKey, nimbus_dsl::layout::Members)>,
 }
 
 /// The cloud pass: its uniform buffer, bind group and low-resolution target.

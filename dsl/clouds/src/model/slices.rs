@@ -229,7 +229,7 @@ pub fn stack_ignores(path: &str) -> bool {
 /// it when they differ.
 pub fn stack_inputs(
     u: &CloudUniforms,
-) -> Result<Vec<(String, Vec<f64>)>, nimbus_dsl::layout::LayoutError> {
+) -> Result<nimbus_dsl::layout::Members, nimbus_dsl::layout::LayoutError> {
     use nimbus_dsl::layout::{UniformBytes, read_members};
     let bytes = u.to_uniform_bytes()?;
     Ok(read_members(CloudUniforms::shader_type(), &bytes)
