@@ -251,7 +251,7 @@ fn the_slices_path_marches_through_its_stack() {
     features.path = nimbus_clouds::Path::Slices;
     let sliced = build(&lib, "cumulus", Quality::Medium, features);
     let volume = build(&lib, "cumulus", Quality::Medium, Quality::Medium.features());
-    assert!(sliced.wgsl.contains("var cloud_slices"), "{}", sliced.wgsl);
+    assert!(sliced.wgsl.contains("var cloud_bake"), "{}", sliced.wgsl);
     assert!(sliced.wgsl.contains("fn slices_at("));
     // No secondary march is left; the march itself reads no noise (the ground's overhead
     // occlusion under a shadowing deck still takes its four density samples).
@@ -276,11 +276,11 @@ fn the_slices_path_marches_through_its_stack() {
         );
         assert!(march(&volume.wgsl).contains(noise));
     }
-    assert!(!volume.wgsl.contains("cloud_slices"));
+    assert!(!volume.wgsl.contains("cloud_bake"));
     let genus = lib.genus("cumulus").expect("genus");
     let key = CloudVariant::new(genus, Quality::Medium, features).key;
     assert!(key.reads_slices() && key.name().ends_with("-slices"));
-    let stack = generate_variant(&ShaderKey::Slices(key), &Target::ALL).expect("slice pass");
+    let stack = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("slice pass");
     assert!(stack.wgsl.contains("fn slices_fragment("));
     assert!(
         stack.wgsl.contains("fn sun_optical_depth(")
@@ -403,7 +403,7 @@ fn representative_cloud_keys_are_pinned_per_target() {
     sliced.path = nimbus_clouds::Path::Slices;
     let sliced = CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, sliced).key;
     keys.push(ShaderKey::Clouds(sliced));
-    keys.push(ShaderKey::Slices(sliced));
+    keys.push(ShaderKey::Bake(sliced));
     for key in keys {
         let g = generate_variant(&key, &Target::ALL).expect("generate");
         insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);

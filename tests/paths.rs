@@ -6,9 +6,11 @@
 //! stack in place of the noise. Its picture is the volume seen at the stack's resolution (a
 //! texel subtends about 2° beside the camera's vertical), so the comparison is made on both
 //! pictures box-filtered to that scale: every genus, at `low`, against the volume's picture of
-//! the same frame. Controls: the same slices picture against the volume with the sun 6° lower,
-//! and against the volume with its weather 2 km away, must fail the bound every genus meets
-//! wherever the picture has broken cloud to tell them apart.
+//! the same frame. The `blob2d` path ([`nimbus_clouds::Path::Blob2d`]) bakes a 2D map of the
+//! clouds' columns (two altitude bands) and lights each view sample from its column; it is
+//! held to the same bound at the same scale. Controls: each path's picture against the volume
+//! with the sun 6° lower, and against the volume with its weather 2 km away, must fail the
+//! bound every genus meets wherever the picture has broken cloud to tell them apart.
 
 mod common;
 
@@ -16,6 +18,7 @@ use std::path::Path;
 
 use glam::Vec4;
 use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::blob2d::{BLOB_TEXELS, blob2d_fragment, blob2d_size};
 use nimbus_clouds::model::slices::{SLICE_TEXELS, slices_fragment, slices_size};
 use nimbus_clouds::{CloudLibrary, Path as DrawPath, Quality};
 use nimbus_runtime::density_export::generate_cpu_textures;
@@ -25,29 +28,25 @@ fn library() -> CloudLibrary {
     CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data")
 }
 
-/// Pixels of the comparison image per side of a block: at 160 × 90 and a 60° field of view a
-/// block of 4 subtends 1.5°, about a stack texel beside the camera's vertical.
-const BLOCK: u32 = 4;
-
 /// Mean absolute difference of the display-referred (exposure 1, ACES, sRGB) pictures, each
-/// box-filtered over [`BLOCK`]² pixels, in units of 1/255.
-fn block_difference(a: &Image, b: &Image) -> f64 {
+/// box-filtered over `block`² pixels, in units of 1/255.
+fn block_difference(a: &Image, b: &Image, block: u32) -> f64 {
     let (a8, b8) = (a.to_rgba8(1.0), b.to_rgba8(1.0));
-    let (w, h) = (a.width / BLOCK, a.height / BLOCK);
+    let (w, h) = (a.width / block, a.height / block);
+    let mean = |img: &image::RgbaImage, bx: u32, by: u32, c: usize| {
+        let mut s = 0.0f64;
+        for y in 0..block {
+            for x in 0..block {
+                s += f64::from(img.get_pixel(bx * block + x, by * block + y)[c]);
+            }
+        }
+        s / f64::from(block * block)
+    };
     let mut sum = 0.0f64;
     for by in 0..h {
         for bx in 0..w {
             for c in 0..3 {
-                let mean = |img: &image::RgbaImage| {
-                    let mut s = 0.0f64;
-                    for y in 0..BLOCK {
-                        for x in 0..BLOCK {
-                            s += f64::from(img.get_pixel(bx * BLOCK + x, by * BLOCK + y)[c]);
-                        }
-                    }
-                    s / f64::from(BLOCK * BLOCK)
-                };
-                sum += (mean(&a8) - mean(&b8)).abs();
+                sum += (mean(&a8, bx, by, c) - mean(&b8, bx, by, c)).abs();
             }
         }
     }
@@ -67,10 +66,18 @@ fn frame(genus: &nimbus_clouds::Genus, path: DrawPath) -> Frame {
     f
 }
 
-/// Bound on [`block_difference`] between the slices picture and the volume's, /255.
-const SLICES_BOUND: f64 = 3.0;
+/// The baked paths compared with the volume.
+const BAKED: [DrawPath; 2] = [DrawPath::Slices, DrawPath::Blob2d];
 
-/// Genera whose picture has structure at the block scale (broken cloud): in these a stack
+/// Pixels per side of a block of [`block_difference`]: at 160 × 90 and a 60° field of view a
+/// block of 4 subtends 1.5°, about a slice stack's texel beside the camera's vertical (the 2D
+/// map's texels are half as wide; its columns' one bell per band is what softens it).
+const BLOCK: u32 = 4;
+
+/// Bound on [`block_difference`] between a baked path's picture and the volume's, /255.
+const BOUND: f64 = 3.0;
+
+/// Genera whose picture has structure at the block scale (broken cloud): in these a bake
 /// misplaced by a few texels or lit by another sun must fail the bound. An overcast's picture
 /// (nimbostratus, stratus) is the same under both; that says nothing against the path.
 const STRUCTURED: [&str; 5] = [
@@ -82,7 +89,7 @@ const STRUCTURED: [&str; 5] = [
 ];
 
 #[test]
-fn slices_draw_every_genus_as_the_volume_does_at_the_stack_scale() {
+fn the_baked_paths_draw_every_genus_as_the_volume_does_at_their_scale() {
     let Some(gpu) = common::gpu() else { return };
     println!("adapter: {}", gpu.info());
     let lib = library();
@@ -92,43 +99,45 @@ fn slices_draw_every_genus_as_the_volume_does_at_the_stack_scale() {
         let volume = renderer
             .render(&frame(genus, DrawPath::Volume))
             .expect("volume");
-        let slices = renderer
-            .render(&frame(genus, DrawPath::Slices))
-            .expect("slices");
-        assert!(
-            renderer
-                .stats()
-                .textures
-                .iter()
-                .any(|t| t.starts_with("cloud_slices")),
-            "{name}: the slices frame drew no stack"
-        );
-        let d = block_difference(&slices, &volume);
         // Controls, as a broken path would draw them: the volume lit by a sun 6° lower, and
-        // the volume with its weather 2 km away (a stack misplaced by a few texels).
+        // the volume with its weather 2 km away (a bake misplaced by a few texels).
         let mut lower = frame(genus, DrawPath::Volume);
         lower.sun_elevation_deg -= 6.0;
-        let lower = block_difference(&slices, &renderer.render(&lower).expect("lower sun"));
+        let lower = renderer.render(&lower).expect("lower sun");
         let mut moved = frame(genus, DrawPath::Volume);
         moved.weather_offset.x += 0.02;
-        let moved = block_difference(&slices, &renderer.render(&moved).expect("moved"));
-        println!(
-            "{name:<18} slices vs volume {d:.2}/255; controls: sun 6° lower {lower:.2}, \
-             weather 2 km away {moved:.2}"
-        );
-        if d > SLICES_BOUND {
-            failures.push(format!("{name}: {d:.2}/255 from the volume"));
-        }
-        if STRUCTURED.contains(&name.as_str()) && lower.max(moved) <= SLICES_BOUND {
-            failures.push(format!(
-                "{name}: the controls ({lower:.2}, {moved:.2}) pass the bound: it cannot tell \
-                 these clouds apart"
-            ));
+        let moved = renderer.render(&moved).expect("moved");
+        for path in BAKED {
+            let picture = renderer.render(&frame(genus, path)).expect("path");
+            assert!(
+                renderer
+                    .stats()
+                    .textures
+                    .iter()
+                    .any(|t| t.starts_with("cloud_bake")),
+                "{name}: the {path} frame drew no bake"
+            );
+            let d = block_difference(&picture, &volume, BLOCK);
+            let low = block_difference(&picture, &lower, BLOCK);
+            let away = block_difference(&picture, &moved, BLOCK);
+            println!(
+                "{name:<18} {path:<7} vs volume {d:.2}/255; controls: sun 6° lower {low:.2}, \
+                 weather 2 km away {away:.2}"
+            );
+            if d > BOUND {
+                failures.push(format!("{name}: {path} {d:.2}/255 from the volume"));
+            }
+            if STRUCTURED.contains(&name.as_str()) && low.max(away) <= BOUND {
+                failures.push(format!(
+                    "{name}: the controls ({low:.2}, {away:.2}) pass against {path}: the bound \
+                     cannot tell these clouds apart"
+                ));
+            }
         }
     }
     assert!(
         failures.is_empty(),
-        "bound {SLICES_BOUND}/255:\n{}",
+        "bound {BOUND}/255:\n{}",
         failures.join("\n")
     );
 }
@@ -151,7 +160,7 @@ fn the_slice_pass_draws_what_its_cpu_twin_computes() {
     f.frames = 1;
     renderer.render(&f).expect("render");
     let stack = renderer
-        .slice_stack()
+        .baked()
         .expect("read back")
         .expect("a slices frame keeps its stack");
     let (w, h) = slices_size();
@@ -190,20 +199,79 @@ fn the_slice_pass_draws_what_its_cpu_twin_computes() {
     );
 }
 
+#[test]
+fn the_map_pass_draws_what_its_cpu_twin_computes() {
+    let Some(gpu) = common::gpu() else { return };
+    println!("adapter: {}", gpu.info());
+    let lib = library();
+    let sizes = TextureSizes::default();
+    let mut renderer = Renderer::new(gpu, sizes);
+    // Two decks (the takram layers: low cumulus and a thin high layer), so both bands hold a
+    // column.
+    let genus = lib.genus("takram-default").expect("takram-default");
+    let mut f = frame(genus, DrawPath::Blob2d);
+    f.frames = 1;
+    renderer.render(&f).expect("render");
+    let map = renderer
+        .baked()
+        .expect("read back")
+        .expect("a blob2d frame keeps its map");
+    let (w, h) = blob2d_size();
+    assert_eq!((map.width, map.height), (w, h));
+    let key = nimbus_clouds::catalog::assign(genus, f.quality, f.features).clouds;
+    assert!(key.reads_blob2d());
+    let u: CloudUniforms = Renderer::uniforms(&f);
+    let textures = generate_cpu_textures(sizes);
+    let _bound = textures.bind(u);
+    let mut rng = common::Rng::new(34);
+    let (mut compared, mut cloudy, mut worst) = (0, [0; 2], 0.0f32);
+    for _ in 0..400 {
+        let x = (rng.range(0.0, w as f32) as u32).min(w - 1);
+        let y = (rng.range(0.0, h as f32) as u32).min(h - 1);
+        let cpu = blob2d_fragment(Vec4::new(x as f32 + 0.5, y as f32 + 0.5, 0.0, 1.0), key);
+        let gpu = Vec4::from(map.pixels[(y * w + x) as usize]);
+        let tile = x / BLOB_TEXELS;
+        // Column tiles: optical depth, mean altitude, spread (the last two only where there
+        // is cloud to have them); sun tiles: four optical depths.
+        let channels = if tile % 2 == 0 { 3 } else { 4 };
+        for c in 0..channels {
+            if tile % 2 == 0 && c > 0 && cpu.x < 1e-3 {
+                continue;
+            }
+            let scale = cpu[c].abs().max(0.05);
+            worst = worst.max((gpu[c] - cpu[c]).abs() / scale);
+        }
+        compared += 1;
+        if tile % 2 == 0 && cpu.x > 1e-3 {
+            cloudy[(tile / 2) as usize] += 1;
+        }
+    }
+    println!(
+        "{compared} texels of the map ({} and {} columns in cloud, lower and upper band): \
+         worst relative difference {worst:.4}",
+        cloudy[0], cloudy[1]
+    );
+    assert!(
+        cloudy.iter().all(|&n| n >= 10),
+        "too few columns in cloud to compare: {cloudy:?}"
+    );
+    assert!(worst < 0.02, "the map pass departs from its CPU twin by {worst}");
+}
+
 /// The stack is redrawn when what it is baked from moves (the sun, the camera's place and
 /// height, the weather) and kept when only the view does (turning the camera, another frame's
 /// jitter, the image's size): the members engine hosts are told to ignore
-/// (`cloud_slices.ignores`) are members of the block, and nothing the bake reads.
+/// (`cloud_bake.ignores`) are members of the block, and nothing the bake reads.
 #[test]
 fn the_stack_follows_the_sun_and_the_place_not_the_view() {
-    use nimbus_clouds::model::slices::{STACK_IGNORES, stack_inputs};
+    use nimbus_clouds::model::bake::{BAKE_IGNORES, bake_inputs};
     use nimbus_dsl::layout::{UniformBytes, read_members};
     let lib = library();
     let genus = lib.genus("cumulus").expect("cumulus");
     let u: CloudUniforms = Renderer::uniforms(&frame(genus, DrawPath::Slices));
     let bytes = u.to_uniform_bytes().expect("bytes");
     let members = read_members(CloudUniforms::shader_type(), &bytes);
-    for m in STACK_IGNORES {
+    for m in BAKE_IGNORES {
         assert!(
             members
                 .iter()
@@ -211,7 +279,7 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
             "`{m}` names no member of the cloud block"
         );
     }
-    let base = stack_inputs(&u).expect("inputs");
+    let base = bake_inputs(&u).expect("inputs");
     let mut view = u;
     view.inverse_view_projection = glam::Mat4::from_rotation_y(0.4) * u.inverse_view_projection;
     view.jitter = 0.73;
@@ -219,7 +287,7 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
     view.resolution = glam::Vec2::new(320.0, 180.0);
     view.shadow.lookup.u = glam::Mat4::IDENTITY;
     assert_eq!(
-        stack_inputs(&view).expect("inputs"),
+        bake_inputs(&view).expect("inputs"),
         base,
         "the view moved the stack"
     );
@@ -236,7 +304,7 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
         let mut v = u;
         change(&mut v);
         assert_ne!(
-            stack_inputs(&v).expect("inputs"),
+            bake_inputs(&v).expect("inputs"),
             base,
             "{what} left the stack as it was"
         );

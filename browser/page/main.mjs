@@ -53,8 +53,8 @@ async function run(result) {
       if (q.get('shadow') === 'every') {
         clouds.shadowDirty = true;
         clouds.airDirty = true;
-        // A slices pair's stack follows the sun too.
-        clouds.stackDrawn = null;
+        // A baked path's bake follows the sun too.
+        clouds.bakeDrawn = null;
       }
       clouds.render(renderer);
     };

@@ -27,7 +27,7 @@ use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::shadow::{
     CascadeLookup, anchored_tiles, atlas_columns, redrawn_tiles, shadow_anchor,
 };
-use nimbus_clouds::model::slices::{slices_size, stack_inputs};
+use nimbus_clouds::model::bake::{bake_inputs, bake_size};
 use nimbus_clouds::wind::Drift;
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -178,13 +178,13 @@ struct AirPass {
     inputs: Option<AirTableInputs>,
 }
 
-/// The slice pass (the `slices` path): its uniform buffer, bind group and stack, kept across
-/// frames and redrawn only when what the stack depends on changes (the key, the sun, the
-/// camera's place, the layers, the weather; not the view).
-struct SlicePass {
+/// The bake pass (the baked paths: the slice stack, the 2D map): its uniform buffer, bind group
+/// and target, kept across frames and redrawn only when what the bake depends on changes (the
+/// key, the sun, the camera's place, the layers, the weather; not the view).
+struct BakePass {
     uniform: wgpu::Buffer,
     group: Option<BoundGroup>,
-    stack: Target,
+    target: Target,
     inputs: Option<(ShaderKey, nimbus_dsl::layout::Members)>,
 }
 
@@ -241,7 +241,7 @@ pub struct Renderer<'g> {
     pipelines: PipelineCache,
     shadow: Option<ShadowPass>,
     air: Option<AirPass>,
-    slices: Option<SlicePass>,
+    bake: Option<BakePass>,
     clouds: Option<CloudPass>,
     resolve: Option<ResolvePass>,
     history: Option<History>,
@@ -368,7 +368,7 @@ impl<'g> Renderer<'g> {
             pipelines: PipelineCache::default(),
             shadow: None,
             air: None,
-            slices: None,
+            bake: None,
             clouds: None,
             resolve: None,
             history: None,
@@ -465,11 +465,11 @@ impl<'g> Renderer<'g> {
             }
         }
         self.epoch += 1;
-        // The atlas and the slice stack were baked from the old texture: redraw them.
+        // The atlas and the bake were baked from the old texture: redraw them.
         if let Some(p) = &mut self.shadow {
             p.inputs = None;
         }
-        if let Some(p) = &mut self.slices {
+        if let Some(p) = &mut self.bake {
             p.inputs = None;
         }
     }
@@ -489,10 +489,10 @@ impl<'g> Renderer<'g> {
         if let Some(a) = &self.air {
             textures.push(format!("air_table ({}x{})", a.table.width, a.table.height));
         }
-        if let Some(p) = &self.slices {
+        if let Some(p) = &self.bake {
             textures.push(format!(
-                "cloud_slices ({}x{})",
-                p.stack.width, p.stack.height
+                "cloud_bake ({}x{})",
+                p.target.width, p.target.height
             ));
         }
         if let Some(h) = &self.history {
@@ -608,10 +608,10 @@ impl<'g> Renderer<'g> {
                     .air
                     .as_ref()
                     .map(|a| wgpu::BindingResource::TextureView(&a.table.view)),
-                CloudBinding::Slices => self
-                    .slices
+                CloudBinding::Bake => self
+                    .bake
                     .as_ref()
-                    .map(|p| wgpu::BindingResource::TextureView(&p.stack.view)),
+                    .map(|p| wgpu::BindingResource::TextureView(&p.target.view)),
                 CloudBinding::Weather
                 | CloudBinding::Shape
                 | CloudBinding::Detail
@@ -724,23 +724,24 @@ impl<'g> Renderer<'g> {
         Ok(())
     }
 
-    /// The slice stack's pipeline and target, for a cloud key of the `slices` path (made with
-    /// the other targets, before any bind group of the frame); none for another key.
-    fn ensure_slices(&mut self, clouds: CloudKey, uniform_size: usize) -> Result<(), RuntimeError> {
-        if !clouds.reads_slices() {
-            if self.slices.take().is_some() {
+    /// The bake's pipeline and target, for a cloud key of a baked path (made with the other
+    /// targets, before any bind group of the frame); none for another key. The target is made
+    /// again when the path's bake has another size.
+    fn ensure_bake(&mut self, clouds: CloudKey, uniform_size: usize) -> Result<(), RuntimeError> {
+        let size = bake_size(clouds.features.path).filter(|_| clouds.bakes());
+        let Some((w, h)) = size else {
+            if self.bake.take().is_some() {
                 self.epoch += 1;
             }
             return Ok(());
-        }
-        self.prepare(ShaderKey::Slices(clouds))?;
-        if self.slices.is_none() {
-            let (w, h) = slices_size();
-            self.check_size("the slice stack (its slices in a grid)", w, h)?;
-            self.slices = Some(SlicePass {
-                uniform: uniform_buffer(self.gpu, "slice uniforms", uniform_size),
+        };
+        self.prepare(ShaderKey::Bake(clouds))?;
+        if self.bake.as_ref().map(|p| size_of(&p.target)) != Some((w, h)) {
+            self.check_size("the path's bake", w, h)?;
+            self.bake = Some(BakePass {
+                uniform: uniform_buffer(self.gpu, "bake uniforms", uniform_size),
                 group: None,
-                stack: target(self.gpu, "slice stack", w, h),
+                target: target(self.gpu, "bake", w, h),
                 inputs: None,
             });
             self.epoch += 1;
@@ -748,71 +749,71 @@ impl<'g> Renderer<'g> {
         Ok(())
     }
 
-    /// Redraws the slice stack of `clouds` when its key or what it depends on
-    /// ([`stack_inputs`]) changed since it was drawn.
-    fn draw_slices(
+    /// Redraws the bake of `clouds` when its key or what it depends on
+    /// ([`bake_inputs`]) changed since it was drawn.
+    fn draw_bake(
         &mut self,
         clouds: CloudKey,
         u: &CloudUniforms,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<PassTimer>,
     ) -> Result<(), RuntimeError> {
-        if self.slices.is_none() {
+        if self.bake.is_none() {
             return Ok(());
         }
-        let key = ShaderKey::Slices(clouds);
-        let inputs = (key, stack_inputs(u)?);
+        let key = ShaderKey::Bake(clouds);
+        let inputs = (key, bake_inputs(u)?);
         if self
-            .slices
+            .bake
             .as_ref()
             .is_some_and(|p| p.inputs.as_ref() == Some(&inputs))
         {
             return Ok(());
         }
         let epoch = self.epoch;
-        let rebuild = !matches!(&self.slices, Some(SlicePass { group: Some(g), .. })
+        let rebuild = !matches!(&self.bake, Some(BakePass { group: Some(g), .. })
             if g.key == key && g.epoch == epoch);
         if rebuild {
             let group = {
-                let p = self.slices.as_ref().ok_or_else(missing)?;
+                let p = self.bake.as_ref().ok_or_else(missing)?;
                 self.cloud_group(key, &p.uniform)?
             };
-            if let Some(p) = &mut self.slices {
+            if let Some(p) = &mut self.bake {
                 p.group = Some(BoundGroup { group, key, epoch });
             }
         }
         let pipeline = self.pipelines.get(&key)?;
-        let p = self.slices.as_ref().ok_or_else(missing)?;
+        let p = self.bake.as_ref().ok_or_else(missing)?;
         let group = p.group.as_ref().ok_or_else(missing)?;
         self.gpu
             .queue()
             .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
         draw(
             encoder,
-            "slices",
-            &p.stack.view,
+            "bake",
+            &p.target.view,
             &pipeline.pipeline,
             &group.group,
             PassTimer::next(timer),
             None,
         );
-        self.passes.push("slices");
-        if let Some(p) = &mut self.slices {
+        self.passes.push("bake");
+        if let Some(p) = &mut self.bake {
             p.inputs = Some(inputs);
         }
         Ok(())
     }
 
-    /// The slice stack as last drawn (density, optical depths to the sun, down and up per
-    /// texel), or `None` when the last frame's key does not read one.
-    pub fn slice_stack(&mut self) -> Result<Option<Image>, RuntimeError> {
-        let Some(p) = self.slices.as_ref() else {
+    /// The bake as last drawn (the slice stack or the 2D map), or `None` when the last frame's
+    /// key has none.
+    pub fn baked(&mut self) -> Result<Option<Image>, RuntimeError> {
+        let Some(p) = self.bake.as_ref() else {
             return Ok(None);
         };
-        let (w, h) = size_of(&p.stack);
+        let (w, h) = size_of(&p.target);
         self.ensure_readback(w, h);
-        let p = self.slices.as_ref().ok_or_else(missing)?;
-        self.read_back(&p.stack).map(Some)
+        let p = self.bake.as_ref().ok_or_else(missing)?;
+        self.read_back(&p.target).map(Some)
     }
 
     /// Cascades in rotation ([`Self::set_cascade_rotation`]): redraws the first out-of-date
@@ -942,7 +943,7 @@ impl<'g> Renderer<'g> {
         if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             return None;
         }
-        // Shadow, air and slices, then clouds and resolve per frame: two timestamps each.
+        // Shadow, air and bake, then clouds and resolve per frame: two timestamps each.
         let capacity = (2 * (3 + 2 * frames)).min(4096);
         if let Some(mut t) = self.timer.take()
             && t.capacity >= capacity
@@ -1183,7 +1184,7 @@ impl<'g> Renderer<'g> {
 
         self.ensure_air_table(clouds_key, uniform_size)?;
         if let ShaderKey::Clouds(k) = clouds_key {
-            self.ensure_slices(k, uniform_size)?;
+            self.ensure_bake(k, uniform_size)?;
         }
 
         // Shadow atlas: kept while its size holds, redrawn only when its inputs change.
@@ -1319,7 +1320,7 @@ impl<'g> Renderer<'g> {
         }
         self.draw_air_table(&u, &mut encoder, &mut timer)?;
         if let ShaderKey::Clouds(k) = clouds_key {
-            self.draw_slices(k, &u, &mut encoder, &mut timer)?;
+            self.draw_bake(k, &u, &mut encoder, &mut timer)?;
         }
         self.gpu.queue().submit([encoder.finish()]);
 

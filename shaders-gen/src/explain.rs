@@ -189,6 +189,21 @@ fn explain_state(
             nimbus_clouds::model::slices::SLICE_LEVELS,
         );
     }
+    if variant.key.reads_blob2d() {
+        use nimbus_clouds::model::blob2d::{
+            BLOB_BANDS as bands, BLOB_COLUMN_STEPS, BLOB_SAMPLES, blob2d_size,
+        };
+        let (w, h) = blob2d_size();
+        say!(
+            "  {:<24} {:<4} {w}×{h} map of the columns in {bands} altitude bands ({} samples up \
+             each, the sun from 4 depths), baked when the sun, the camera's place or the \
+             weather moves; at most {} reads a pixel",
+            "map-pass",
+            "in",
+            BLOB_COLUMN_STEPS,
+            3 * bands * BLOB_SAMPLES,
+        );
+    }
     // The genus' density functions: built-in defaults, or its own (each in the key).
     for (slot, name, path, about) in variant.key.functions.slots() {
         let own = variant

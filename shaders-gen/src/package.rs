@@ -20,7 +20,9 @@ use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::resource::Resource;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
 use nimbus_clouds::model::shadow::ShadowParams;
-use nimbus_clouds::model::slices::{STACK_IGNORES, slices_size};
+use nimbus_clouds::model::bake::{BAKE_IGNORES, bake_size};
+use nimbus_clouds::model::blob2d::blob2d_size;
+use nimbus_clouds::model::slices::slices_size;
 use nimbus_codegen::external::{ExternalCheck, check_files};
 use nimbus_codegen::{
     BindingInfo, EmitExtras, Generated, emit, flatten_uniform_blocks, generate, print_csharp,
@@ -41,7 +43,7 @@ use crate::package_description::{
     AtlasSize, BindGroupLayout, BindingDescription, BlockMember, CameraKind, DescriptorSetLayout,
     FORMAT_VERSION, GpuBufferLayout, GpuLayoutEntry, GpuSamplerLayout, GpuTextureLayout,
     NameInFile, Output, PACKAGE_FILE, PACKAGE_SCHEMA_FILE, PackageDescription, Pair, Pass,
-    PassDescription, ResourceEntry, SamplerDescriptor, ShaderFile, SliceStack, Target, Targets,
+    PassDescription, ResourceEntry, SamplerDescriptor, ShaderFile, Bake, Target, Targets,
     Temporal, UNIFORMS_SCHEMA_FILE, UniformBlockFile, VulkanBarrier, VulkanLayoutBinding,
     VulkanSampler, pretty, schema_files,
 };
@@ -256,11 +258,11 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     if table.is_empty() {
         return Err(CliError::NoPairs);
     }
-    // The slices path's renderer runs in Nimbus's runtime and the three.js host; the other
-    // engines' hosts do not draw its slice pass yet.
+    // The baked paths' renderers run in Nimbus's runtime and the three.js host; the other
+    // engines' hosts do not draw a bake pass yet.
     if let Some(a) = table.iter().find(|a| {
         a.clouds.features.path != nimbus_clouds::Path::Volume
-            && !(engine == Engine::Three && a.clouds.reads_slices())
+            && !(engine == Engine::Three && a.clouds.bakes())
     }) {
         return Err(CliError::PathWithoutPackage {
             engine: engine.name(),
@@ -363,10 +365,10 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         {
             passes.push(pass_description(Pass::Air, g, engine)?);
         }
-        if a.clouds.reads_slices()
-            && let Some(g) = shader(ShaderKey::Slices(a.clouds))
+        if a.clouds.bakes()
+            && let Some(g) = shader(ShaderKey::Bake(a.clouds))
         {
-            passes.push(pass_description(Pass::Slices, g, engine)?);
+            passes.push(pass_description(Pass::Bake, g, engine)?);
         }
         if let Some(g) = shader(ShaderKey::Clouds(a.clouds)) {
             passes.push(pass_description(Pass::Clouds, g, engine)?);
@@ -401,14 +403,13 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
                 let (width, height) = air_table_size();
                 AtlasSize { width, height }
             }),
-            cloud_slices: a.clouds.reads_slices().then(|| {
-                let (width, height) = slices_size();
-                SliceStack {
+            cloud_bake: bake_size(a.clouds.features.path)
+                .filter(|_| a.clouds.bakes())
+                .map(|(width, height)| Bake {
                     width,
                     height,
-                    ignores: STACK_IGNORES.iter().map(|m| m.to_string()).collect(),
-                }
-            }),
+                    ignores: BAKE_IGNORES.iter().map(|m| m.to_string()).collect(),
+                }),
             passes,
         });
     }
@@ -639,7 +640,7 @@ fn resource_at(pass: Pass, b: &BindingInfo) -> Option<Resource> {
     let (group, binding) = (b.group, b.binding);
     match pass {
         Pass::SunLight => SunLightBinding::at(group, binding).map(SunLightBinding::resource),
-        Pass::Shadow | Pass::SceneShadow | Pass::Air | Pass::Slices | Pass::Clouds => {
+        Pass::Shadow | Pass::SceneShadow | Pass::Air | Pass::Bake | Pass::Clouds => {
             CloudBinding::at(group, binding).map(CloudBinding::resource)
         }
         Pass::Resolve => ResolveBinding::at(group, binding).map(ResolveBinding::resource),
@@ -746,7 +747,7 @@ fn pass_description(
             Pass::Shadow => Output::ShadowAtlas,
             Pass::SceneShadow => Output::SceneShadow,
             Pass::Air => Output::AirTable,
-            Pass::Slices => Output::CloudSlices,
+            Pass::Bake => Output::CloudBake,
             Pass::Clouds => Output::CloudsHdr,
             Pass::Resolve => Output::History,
             Pass::Display => Output::Screen,
@@ -916,7 +917,7 @@ fn vulkan_barriers(passes: &mut [PassDescription]) {
                 Resource::Pair if written.contains(&Output::Pair) => Some("sun_light"),
                 Resource::ShadowAtlas if written.contains(&Output::ShadowAtlas) => Some("shadow"),
                 Resource::AirTable if written.contains(&Output::AirTable) => Some("air"),
-                Resource::CloudSlices if written.contains(&Output::CloudSlices) => Some("slices"),
+                Resource::CloudBake if written.contains(&Output::CloudBake) => Some("bake"),
                 Resource::CloudsHdr if written.contains(&Output::CloudsHdr) => Some("clouds"),
                 Resource::Shown => Some("clouds or resolve"),
                 Resource::HistoryRead => Some("the previous frame's resolve"),
@@ -1014,9 +1015,9 @@ fn frame_order(engine: Engine) -> Vec<&'static str> {
         "air (pairs with an air pass): draw into air_table when light.sun_direction, \
          camera_altitude or the sky block changed since it was last drawn (its whole size, \
          once; drawing it every frame is correct too)",
-        "slices (pairs drawn by the slices path): draw into cloud_slices when any member of \
-         the pair's block outside the pair's cloud_slices.ignores changed since it was last \
-         drawn (its whole size, once; drawing it every frame is correct too)",
+        "bake (pairs drawn by a baked path: slices, blob2d): draw into cloud_bake when any \
+         member of the pair's block outside the pair's cloud_bake.ignores changed since it was \
+         last drawn (its whole size, once; drawing it every frame is correct too)",
         "scene_shadow (pairs that read the engine's depth and have a shadow atlas): after the \
          engine's depth and the shadow atlas, draw into scene_shadow (the depth buffer's size): \
          per pixel, the sun's light through the clouds at the engine's surface (1 where it drew \
@@ -1058,16 +1059,18 @@ fn targets() -> Targets {
                 air_table_size().1
             ))
         },
-        cloud_slices: Target {
+        cloud_bake: Target {
             sampled_as: Some(
                 "with the clouds pass's linear, repeat sampler (the shader keeps its coordinates \
-                 inside each slice)"
+                 inside each tile)"
                     .into(),
             ),
             ..hdr(&format!(
-                "{} × {} (the same for every pair of the slices path)",
+                "the pair's cloud_bake size: {} × {} for the slices path, {} × {} for blob2d",
                 slices_size().0,
-                slices_size().1
+                slices_size().1,
+                blob2d_size().0,
+                blob2d_size().1
             ))
         },
         clouds_hdr: hdr("the output size, or ceil(width / 4) × ceil(height / 4) when upscaling"),

@@ -92,7 +92,7 @@ impl ResourceEntry {
 pub(crate) struct Targets {
     pub shadow_atlas: Target,
     pub air_table: Target,
-    pub cloud_slices: Target,
+    pub cloud_bake: Target,
     pub clouds_hdr: Target,
     pub scene_shadow: Target,
     pub history_a: Target,
@@ -162,16 +162,16 @@ pub(crate) struct AtlasSize {
     pub height: u32,
 }
 
-/// The slice stack of a pair drawn by the `slices` path: its size, and what does not make it
-/// out of date. The stack depends on the pair's block less these members (the view, the
+/// The bake of a pair drawn by a baked path (`slices`, `blob2d`): its size, and what does not
+/// make it out of date. The bake depends on the pair's block less these members (the view, the
 /// frame's jitter, the composite's switches, the haze and the shadow cascades); a host redraws
 /// it when any other member changed since it was drawn (drawing it every frame is correct too).
 #[derive(Serialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
-pub(crate) struct SliceStack {
+pub(crate) struct Bake {
     pub width: u32,
     pub height: u32,
-    /// Member paths of the block (a member and everything under it) the stack ignores.
+    /// Member paths of the block (a member and everything under it) the bake ignores.
     pub ignores: Vec<String>,
 }
 
@@ -194,8 +194,8 @@ pub(crate) struct Pair {
     pub shadow_atlas: Option<AtlasSize>,
     /// The air table's size, when the pair has an air pass.
     pub air_table: Option<AtlasSize>,
-    /// The slice stack, when the pair is drawn by the `slices` path.
-    pub cloud_slices: Option<SliceStack>,
+    /// The bake, when the pair is drawn by a baked path.
+    pub cloud_bake: Option<Bake>,
     /// Its passes, in the order of a frame.
     pub passes: Vec<PassDescription>,
 }
@@ -210,8 +210,8 @@ pub(crate) enum Pass {
     SceneShadow,
     /// The air table the clouds pass reads (`air_table`).
     Air,
-    /// The slice stack the clouds pass reads (`cloud_slices`; the `slices` path).
-    Slices,
+    /// The bake the clouds pass reads (`cloud_bake`; the baked paths).
+    Bake,
     Clouds,
     Resolve,
     Display,
@@ -258,7 +258,7 @@ pub(crate) enum Output {
     ShadowAtlas,
     SceneShadow,
     AirTable,
-    CloudSlices,
+    CloudBake,
     CloudsHdr,
     /// The history target not read this frame (`history_a` and `history_b` alternate).
     History,

@@ -12,7 +12,7 @@ use nimbus_dsl::{DslError, ShaderVariant, SpecValue};
 use crate::key::{CloudKey, ShadowKey};
 use crate::model::clouds::{
     CloudVariant, air_table_module, cloud_module, display_module, resolve_module, shadow_module,
-    slices_module,
+    bake_module,
 };
 use crate::model::preview::{PhaseModel, preview_module};
 use crate::{CloudLibrary, Features, Genus, Quality};
@@ -28,8 +28,9 @@ pub enum ShaderKey {
     Shadow(ShadowKey),
     /// The air table (one for every key that reads it).
     AirTable,
-    /// The slice stack of a key of the `slices` path (its density is the key's).
-    Slices(CloudKey),
+    /// The bake of a key of a baked path (the slice stack, the 2D map; its density is the
+    /// key's).
+    Bake(CloudKey),
     /// Temporal upscaling and accumulation (one for every key).
     Resolve,
     /// The display transform: HDR to display sRGB (one for every key).
@@ -50,7 +51,7 @@ impl ShaderKey {
             ShaderKey::Clouds(k) => k.name(),
             ShaderKey::Shadow(k) => k.name(),
             ShaderKey::AirTable => "table".into(),
-            ShaderKey::Slices(k) => k.name(),
+            ShaderKey::Bake(k) => k.name(),
             ShaderKey::Resolve => "temporal".into(),
             ShaderKey::Display => "aces-srgb".into(),
             ShaderKey::SunLight => "light".into(),
@@ -65,7 +66,7 @@ impl ShaderKey {
             ShaderKey::Clouds(_) => 1,
             ShaderKey::Shadow(_) => 2,
             ShaderKey::AirTable => 3,
-            ShaderKey::Slices(_) => 4,
+            ShaderKey::Bake(_) => 4,
             ShaderKey::Resolve => 5,
             ShaderKey::Display => 6,
             ShaderKey::SunLight => 7,
@@ -82,7 +83,10 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Clouds(_) => "clouds",
             ShaderKey::Shadow(_) => "shadow",
             ShaderKey::AirTable => "air",
-            ShaderKey::Slices(_) => "slices",
+            ShaderKey::Bake(k) => match k.features.path {
+                crate::Path::Blob2d => "blob2d",
+                _ => "slices",
+            },
             ShaderKey::Resolve => "resolve",
             ShaderKey::Display => "display",
             ShaderKey::SunLight => "sun",
@@ -100,7 +104,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Clouds(k) => cloud_module(k),
             ShaderKey::Shadow(k) => shadow_module(k),
             ShaderKey::AirTable => air_table_module(),
-            ShaderKey::Slices(k) => slices_module(k),
+            ShaderKey::Bake(k) => bake_module(k),
             ShaderKey::Resolve => resolve_module(),
             ShaderKey::Display => display_module(),
             ShaderKey::SunLight => crate::model::sun::sun_light_module(),
@@ -131,8 +135,8 @@ impl Assignment {
         if self.clouds.reads_air_table() {
             keys.push(ShaderKey::AirTable);
         }
-        if self.clouds.reads_slices() {
-            keys.push(ShaderKey::Slices(self.clouds));
+        if self.clouds.bakes() {
+            keys.push(ShaderKey::Bake(self.clouds));
         }
         keys
     }
@@ -169,7 +173,12 @@ fn describe(key: &ShaderKey) -> String {
         ShaderKey::AirTable => {
             "the air's light per direction and distance (sky view and aerial perspective)".into()
         }
-        ShaderKey::Slices(_) => {
+        ShaderKey::Bake(k) if k.reads_blob2d() => {
+            "the 2D map: the clouds' columns (optical depths, powder, altitude, sun) around the \
+             camera"
+                .into()
+        }
+        ShaderKey::Bake(_) => {
             "the slice stack: density and optical depths per altitude around the camera".into()
         }
         ShaderKey::Resolve => {

@@ -302,7 +302,19 @@ impl CloudKey {
 
     /// Whether the shader reads the slice stack (`model::slices`), which its own pass bakes.
     pub fn reads_slices(&self) -> bool {
-        !self.uber && self.features.path.reads_slices()
+        !self.uber && self.features.path == crate::Path::Slices
+    }
+
+    /// Whether the shader draws the sky from the 2D path's map (`model::blob2d`), which its own
+    /// pass bakes.
+    pub fn reads_blob2d(&self) -> bool {
+        !self.uber && self.features.path == crate::Path::Blob2d
+    }
+
+    /// Whether the shader reads a bake of its path (`model::bake`): the slice stack or the 2D
+    /// map.
+    pub fn bakes(&self) -> bool {
+        !self.uber && self.features.path.bakes()
     }
 
     /// The key of this shader's shadow pass, when it samples a shadow map.

@@ -27,7 +27,10 @@ pub enum Path {
     Impostor,
     /// Instanced mesh clusters shaded with the model's phase and lighting.
     Mesh,
-    /// A 2D atlas of blobs baked once, overlaid into larger clouds.
+    /// The sky as a 2D layer: the genus' columns (optical depth, powder, mean altitude, the
+    /// optical depth to the sun at four depths) baked into a map around the camera by a pass
+    /// of their own (`model::blob2d`); a view ray reads a few texels along its way through the
+    /// layer and lights the column as a slab, with no march.
     Blob2d,
 }
 
@@ -70,19 +73,23 @@ impl Path {
             }
             Path::Impostor => "billboards from a baked atlas of the genus' clouds",
             Path::Mesh => "instanced mesh clusters lit by the model",
-            Path::Blob2d => "a 2D blob atlas overlaid into larger clouds",
+            Path::Blob2d => {
+                "the sky as a 2D layer: the clouds' columns baked into a map around the camera, \
+                 read a few times per pixel and lit as a slab (no march)"
+            }
         }
     }
 
     /// Whether Nimbus can draw this path yet. The others are named so that scenes and flags
     /// asking for them get a clear refusal, not a parse error.
     pub fn is_built(self) -> bool {
-        matches!(self, Path::Volume | Path::Slices)
+        matches!(self, Path::Volume | Path::Slices | Path::Blob2d)
     }
 
-    /// Whether the cloud pass reads a baked slice stack ([`Path::Slices`]).
-    pub fn reads_slices(self) -> bool {
-        self == Path::Slices
+    /// Whether the path draws from a bake of its own pass (`model::bake`): the slice stack
+    /// ([`Path::Slices`]) or the 2D map ([`Path::Blob2d`]).
+    pub fn bakes(self) -> bool {
+        matches!(self, Path::Slices | Path::Blob2d)
     }
 
     /// The path named `s` (any case, `_` for `-`).

@@ -133,11 +133,11 @@ export declare class NimbusHost {
    */
   shadowTiles(): [number, number, number, number][];
   /**
-   * Whether the slice stack (a pair of the slices path) must be redrawn this frame: a member
-   * of the block outside the package's `cloud_slices.ignores` changed since it was drawn.
+   * Whether the bake (a pair of a baked path: slices, blob2d) must be redrawn this frame: a member
+   * of the block outside the package's `cloud_bake.ignores` changed since it was drawn.
    * Marks it drawn.
    */
-  stackOutOfDate(): boolean;
+  bakeOutOfDate(): boolean;
   setWind(speed: number, directionDeg: number, topSpeed?: number, topDirectionDeg?: number): void;
   setWeather(coverage: number, options?: { at?: number; over?: number }): void;
   clearWeather(): void;

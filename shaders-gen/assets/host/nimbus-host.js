@@ -188,9 +188,9 @@ const same = (a, b) => a.length === b.length && a.every((v, i) => Object.is(v, b
 
 /**
  * The word indices of `block` outside the members `ignores` names (each a dotted path, with
- * everything under it): what a slice stack depends on.
+ * everything under it): what a path's bake depends on.
  */
-function stackWords(block, ignores) {
+function wordsOutside(block, ignores) {
   const ignored = (path) =>
     ignores.some((m) => path === m || path.startsWith(`${m}.`) || path.startsWith(`${m}[`));
   return block.members
@@ -232,10 +232,11 @@ export class NimbusHost {
     };
     // The air table follows the sun and the camera's altitude.
     this.airDirty = true;
-    // The slice stack (pairs of the slices path) follows every member of the block but those
-    // the package says it ignores: the words it depends on, and those it was last drawn from.
-    this.stackWords = pair.cloud_slices ? stackWords(blocks.pair, pair.cloud_slices.ignores) : null;
-    this.stackDrawn = null;
+    // The bake (pairs of a baked path: slices, blob2d) follows every member of the block but
+    // those the package says it ignores: the words it depends on, and those it was last drawn
+    // from.
+    this.bakeWords = pair.cloud_bake ? wordsOutside(blocks.pair, pair.cloud_bake.ignores) : null;
+    this.bakeDrawn = null;
     // Seconds since the timeline's start, and its wind and weather states (none: still air,
     // the package's coverage).
     this.time = 0;
@@ -358,15 +359,15 @@ export class NimbusHost {
   }
 
   /**
-   * Whether the slice stack must be redrawn this frame (pairs of the slices path): a block
+   * Whether the bake must be redrawn this frame (pairs of a baked path): a block
    * member it depends on changed since it was drawn. Marks it drawn.
    */
-  stackOutOfDate() {
-    if (!this.stackWords) return false;
+  bakeOutOfDate() {
+    if (!this.bakeWords) return false;
     const words = this.blocks.pair.uints;
-    const now = this.stackWords.map((w) => words[w]);
-    if (this.stackDrawn && same(now, this.stackDrawn)) return false;
-    this.stackDrawn = now;
+    const now = this.bakeWords.map((w) => words[w]);
+    if (this.bakeDrawn && same(now, this.bakeDrawn)) return false;
+    this.bakeDrawn = now;
     return true;
   }
 

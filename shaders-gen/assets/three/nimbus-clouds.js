@@ -128,8 +128,8 @@ export class NimbusClouds extends NimbusHost {
     this.airTarget = pair.air_table
       ? hdrTarget(pair.air_table.width, pair.air_table.height, THREE.RepeatWrapping)
       : null;
-    this.slicesTarget = pair.cloud_slices
-      ? hdrTarget(pair.cloud_slices.width, pair.cloud_slices.height, THREE.RepeatWrapping)
+    this.bakeTarget = pair.cloud_bake
+      ? hdrTarget(pair.cloud_bake.width, pair.cloud_bake.height, THREE.RepeatWrapping)
       : null;
     this.cloudTarget = hdrTarget(1, 1, THREE.ClampToEdgeWrapping);
     // The clouds' shadow on the engine's objects, one texel per pixel of its depth buffer.
@@ -195,7 +195,7 @@ export class NimbusClouds extends NimbusHost {
     return {
       shadow_atlas: this.shadowTarget,
       air_table: this.airTarget,
-      cloud_slices: this.slicesTarget,
+      cloud_bake: this.bakeTarget,
       clouds_hdr: this.cloudTarget,
       shown: this.cloudTarget,
       history_read: this.history[0],
@@ -308,7 +308,7 @@ export class NimbusClouds extends NimbusHost {
     const previous = renderer.getRenderTarget();
     this.drawShadowAtlas(renderer);
     this.drawAirTable(renderer);
-    this.drawSlices(renderer);
+    this.drawBake(renderer);
     this.draw(renderer, this.passes.clouds, this.cloudTarget);
     let shown = this.cloudTarget;
     if (this.temporal) {
@@ -376,10 +376,10 @@ export class NimbusClouds extends NimbusHost {
     }
   }
 
-  /** Redraws the slice stack (pairs of the slices path) when what it depends on changed. */
-  drawSlices(renderer) {
-    if (this.passes.slices && this.stackOutOfDate()) {
-      this.draw(renderer, this.passes.slices, this.slicesTarget);
+  /** Redraws the bake (pairs of a baked path) when what it depends on changed. */
+  drawBake(renderer) {
+    if (this.passes.bake && this.bakeOutOfDate()) {
+      this.draw(renderer, this.passes.bake, this.bakeTarget);
     }
   }
 
@@ -473,7 +473,7 @@ export class NimbusClouds extends NimbusHost {
     for (const h of this.history) h.dispose();
     if (this.shadowTarget) this.shadowTarget.dispose();
     if (this.airTarget) this.airTarget.dispose();
-    if (this.slicesTarget) this.slicesTarget.dispose();
+    if (this.bakeTarget) this.bakeTarget.dispose();
     for (const p of Object.values(this.passes)) p.material.dispose();
     for (const t of Object.values(this.textures)) t.dispose();
   }

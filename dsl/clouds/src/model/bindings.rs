@@ -110,13 +110,13 @@ pub static AIR_TABLE: Binding<Texture2d> = Binding::texture(
     "The air's phase-free light and transmittance per direction and distance.",
 );
 
-/// The slice stack (`model::slices`): density and optical depths per altitude around the
-/// camera, baked by its own pass (keys of the `slices` path).
-pub static SLICES: Binding<Texture2d> = Binding::texture(
-    "cloud_slices",
+/// The bake of a baked path (`model::bake`), drawn by its own pass: the slice stack
+/// (`model::slices`) or the 2D map (`model::blob2d`).
+pub static BAKE: Binding<Texture2d> = Binding::texture(
+    "cloud_bake",
     0,
     11,
-    "The slice stack: density and optical depths to the sun, down and up, per altitude.",
+    "The path's bake: the slice stack or the 2D map of the clouds around the camera.",
 );
 
 /// Offsets, weights, reprojection.
@@ -236,8 +236,8 @@ pass_bindings! {
         Scene = SCENE.slot() => Scene,
         /// The air table pass's target ([`AIR_TABLE`]).
         AirTable = AIR_TABLE.slot() => AirTable,
-        /// The slice pass's target ([`SLICES`]).
-        Slices = SLICES.slot() => CloudSlices,
+        /// The bake pass's target ([`BAKE`]).
+        Bake = BAKE.slot() => CloudBake,
     }
 }
 

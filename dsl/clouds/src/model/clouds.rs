@@ -13,6 +13,7 @@ use super::march::{CloudUniforms, cloud_fragment};
 use super::preview::fullscreen_position;
 use super::resolve::resolve_fragment;
 use super::shadow::shadow_fragment;
+use super::blob2d::blob2d_fragment;
 use super::slices::slices_fragment;
 use crate::key::{CloudKey, ShadowKey};
 
@@ -272,6 +273,42 @@ pub fn air_table_module() -> Result<Module, DslError> {
                 "One texel of the air table.",
                 loc!(),
                 air_table_fragment::shader,
+            );
+        },
+    )
+}
+
+/// Records the bake module of `key` (a key of a baked path): the slice stack or the 2D map.
+pub fn bake_module(key: &CloudKey) -> Result<Module, DslError> {
+    if key.reads_blob2d() {
+        blob2d_module(key)
+    } else {
+        slices_module(key)
+    }
+}
+
+/// Records the 2D map module of `key` (a key of the `blob2d` path): one texel of the map per
+/// fragment, from the cloud block and the noise textures, with the density the key's erosion
+/// stages and genus functions make.
+pub fn blob2d_module(key: &CloudKey) -> Result<Module, DslError> {
+    let key = *key;
+    ModuleBuilder::build(
+        "blob2d",
+        &format!(
+            "The 2D map of key `{}`: the clouds' columns around the camera (optical depths, \
+             powder, mean altitude, optical depths to the sun).",
+            key.name()
+        ),
+        loc!(),
+        |m| {
+            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
+                fullscreen_position::shader(vertex_index)
+            });
+            m.fragment(
+                "fs_blob2d",
+                "One texel of the 2D map.",
+                loc!(),
+                |frag_coord| blob2d_fragment::shader(frag_coord, key),
             );
         },
     )

@@ -14,6 +14,7 @@ use nimbus_dsl::prelude::*;
 use super::air_shadow::air_sunlit;
 use super::air_table::air_along;
 use super::bindings::CLOUDS;
+use super::blob2d::{blob2d_clouds, blob2d_overhead};
 use super::choices::{
     APPROXIMATE_MIE, DIFFUSION, DUAL_LOBE, FLAT_HIGH_LAYER, GROUND_BOUNCE, GROUPS, HAZE,
     HENYEY_GREENSTEIN, ICE_CRYSTAL, LIGHT_SHAFTS, OCTAVES, ORTHOGRAPHIC, POWDER, SCENE_DEPTH,
@@ -724,6 +725,58 @@ pub fn ground_bounce_light(tau_ground: f32) -> Vec3 {
     ground_irradiance * bounce
 }
 
+/// The light a cloud sample of density `rho` at `altitude` scatters towards a view ray of
+/// up-cosine `view_up` per metre (its source term): the sun's through `tau_sun` (its phase
+/// and octaves for the view's angle `cos_theta` to the sun), the ground's through
+/// `tau_ground` below it, the sky's (by diffusion through `tau_up` above and `tau_ground`, or
+/// a crude gradient over the layer), darkened by the powder term where the key has it.
+#[shader_fn]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a shader function takes what a sample knows as plain arguments"
+)]
+pub fn sample_source(
+    rho: f32,
+    altitude: f32,
+    tau_sun: f32,
+    tau_up: f32,
+    tau_ground: f32,
+    cos_theta: f32,
+    phases: OctavePhases,
+    view_up: f32,
+    #[spec] key: CloudKey,
+) -> Vec3 {
+    let u = CLOUDS.get();
+    let m = u.march;
+    let l = u.light;
+    let mut sun = l.sun_irradiance;
+    if gate(key, SUN_SKY_LIGHT) {
+        sun *= sun_attenuation(altitude, u.camera_altitude, l.sun_direction.y);
+    }
+    let mut light = sun
+        * sun_scattering(
+            tau_sun, tau_up, tau_ground, cos_theta, phases, view_up, key,
+        );
+    if gate(key, GROUND_BOUNCE) {
+        light += ground_bounce_light(tau_ground);
+    }
+    if gate(key, DIFFUSION) {
+        light += l.sky_irradiance
+            * (sky_diffuse_scattering(tau_up, tau_ground, view_up, key) * l.sky_light_scale);
+    } else {
+        // Crude sky gradient: half the sky light at a layer's base, all of it at the top.
+        let height_fraction =
+            ((altitude - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
+        light += l.sky_irradiance * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
+    }
+    let sigma_t = rho * (l.scattering_coefficient + l.absorption_coefficient);
+    let mut source = light * (rho * l.scattering_coefficient);
+    if gate(key, POWDER) {
+        source *= 1.0 - l.powder_scale * (-sigma_t * l.powder_exponent).exp();
+    }
+    source
+}
+
 /// Marches one view ray (unit `direction`, local frame) through the clouds; `pixel_angle` is
 /// the angle (rad) its pixel subtends, so a sample at distance `t` stands for `t·pixel_angle`
 /// metres across (0: every sample a point).
@@ -833,7 +886,6 @@ pub fn march_clouds(
             }
         }
         samples += 1.0;
-        let sigma_s = rho * l.scattering_coefficient;
         let sigma_t = rho * sigma_ratio;
         if sigma_t > m.min_extinction {
             if !key.reads_slices() {
@@ -851,10 +903,6 @@ pub fn march_clouds(
             } else {
                 sun_optical_depth(p, h, offset, footprint, key)
             };
-            let mut sun = l.sun_irradiance;
-            if gate(key, SUN_SKY_LIGHT) {
-                sun *= sun_attenuation(h, u.camera_altitude, l.sun_direction.y);
-            }
             // The optical depth down to the base: the ground's light comes through it, and
             // the diffusion's slab ends there.
             let mut tau_ground = if key.reads_slices() { first.z } else { 0.0f32 };
@@ -874,35 +922,9 @@ pub fn march_clouds(
                     tau_up = vertical_optical_depth(p, h, 1.0, offset, footprint, key);
                 }
             }
-            let mut light = sun
-                * sun_scattering(
-                    tau_sun,
-                    tau_up,
-                    tau_ground,
-                    cos_theta,
-                    phases,
-                    direction.y,
-                    key,
-                );
-            if gate(key, GROUND_BOUNCE) {
-                light += ground_bounce_light(tau_ground);
-            }
-            if gate(key, DIFFUSION) {
-                light += l.sky_irradiance
-                    * (sky_diffuse_scattering(tau_up, tau_ground, direction.y, key)
-                        * l.sky_light_scale);
-            } else {
-                // Crude sky gradient: half the sky light at a layer's base, all of it at the
-                // top.
-                let height_fraction =
-                    ((h - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
-                light += l.sky_irradiance
-                    * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
-            }
-            let mut source = light * sigma_s;
-            if gate(key, POWDER) {
-                source *= 1.0 - l.powder_scale * (-sigma_t * l.powder_exponent).exp();
-            }
+            let source = sample_source(
+                rho, h, tau_sun, tau_up, tau_ground, cos_theta, phases, direction.y, key,
+            );
             // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
             // S·(1 − e^(−σt·Δ))/σt, written as S·Δ·f(σt·Δ) so thin media stay exact.
             let step_transmittance = (-sigma_t * step).exp();
@@ -972,7 +994,9 @@ pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: Clo
     // same whatever the sub-pixel offset.
     let jitter =
         (interleaved_gradient_noise(cell + Vec2::splat(0.5), u.frame) + u.jitter).fract_gl();
-    let clouds = if gate(key, FLAT_HIGH_LAYER) {
+    let clouds = if key.reads_blob2d() {
+        blob2d_clouds(direction, jitter, key)
+    } else if gate(key, FLAT_HIGH_LAYER) {
         flat_layer(direction, jitter, pixel_angle, key)
     } else {
         march_clouds(direction, jitter, pixel_angle, key)
@@ -1005,6 +1029,10 @@ pub const OVERHEAD_STEPS: u32 = 4;
 /// and no detail texture is read.
 #[shader_fn]
 pub fn overhead_optical_depth(ground: Vec3, jitter: f32, #[spec] key: CloudKey) -> f32 {
+    if key.reads_blob2d() {
+        // The 2D path's map holds the column: one read, no noise.
+        return blob2d_overhead(ground.x, ground.z);
+    }
     let u = CLOUDS.get();
     let m = u.march;
     let sigma_ratio = u.light.scattering_coefficient + u.light.absorption_coefficient;

@@ -3,7 +3,9 @@
 
 pub mod air_shadow;
 pub mod air_table;
+pub mod bake;
 pub mod bindings;
+pub mod blob2d;
 pub mod choices;
 pub mod clouds;
 pub mod density;

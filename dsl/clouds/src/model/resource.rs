@@ -28,8 +28,8 @@ pub enum Resource {
     ShadowAtlas,
     /// The air table pass's target.
     AirTable,
-    /// The slice pass's target (the `slices` path).
-    CloudSlices,
+    /// The bake pass's target (the baked paths).
+    CloudBake,
     /// Linear filtering, repeating.
     LinearRepeat,
     /// The uber-shader's key uniforms (never in a package: packages hold specialised keys).
@@ -84,7 +84,7 @@ impl Resource {
         Resource::Turbulence,
         Resource::ShadowAtlas,
         Resource::AirTable,
-        Resource::CloudSlices,
+        Resource::CloudBake,
         Resource::LinearRepeat,
         Resource::Key,
         Resource::SceneDepth,
@@ -109,7 +109,7 @@ impl Resource {
             Resource::Turbulence => "turbulence",
             Resource::ShadowAtlas => "shadow_atlas",
             Resource::AirTable => "air_table",
-            Resource::CloudSlices => "cloud_slices",
+            Resource::CloudBake => "cloud_bake",
             Resource::LinearRepeat => "linear_repeat",
             Resource::Key => "key",
             Resource::SceneDepth => "scene_depth",
@@ -136,7 +136,7 @@ impl Resource {
             }
             Resource::ShadowAtlas
             | Resource::AirTable
-            | Resource::CloudSlices
+            | Resource::CloudBake
             | Resource::CloudsHdr
             | Resource::HistoryRead
             | Resource::Shown => ResourceKind::Target,
@@ -163,7 +163,7 @@ impl Resource {
             Resource::Turbulence => "textures: turbulence",
             Resource::ShadowAtlas => "the shadow pass's target",
             Resource::AirTable => "the air pass's target",
-            Resource::CloudSlices => "the slice pass's target",
+            Resource::CloudBake => "the bake pass's target",
             Resource::LinearRepeat => "linear, repeat",
             Resource::Key => "the uber-shader's key uniforms",
             Resource::SceneDepth => {

@@ -28,9 +28,9 @@ use glam::{Vec2, Vec3, Vec4};
 
 use nimbus_dsl::prelude::*;
 
-use super::bindings::{CLOUDS, LINEAR_REPEAT, SLICES};
+use super::bindings::{BAKE, CLOUDS, LINEAR_REPEAT};
 use super::choices::{DIFFUSION, GROUND_BOUNCE, gate};
-use super::march::{CloudUniforms, secondary_optical_depth, total_density};
+use super::march::{secondary_optical_depth, total_density};
 use crate::key::CloudKey;
 
 /// Texels across a slice, in x and in z.
@@ -170,7 +170,7 @@ pub fn slice_texel(cell: Vec2, level: f32) -> Vec4 {
     let column = level - row * SLICE_TILES_ACROSS as f32;
     let corner = vec2(column, row) * SLICE_TEXELS as f32;
     let uv = (corner + cell) / vec2(width, height);
-    SLICES.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0)
+    BAKE.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0)
 }
 
 /// What the stack holds at the camera-relative point `p` at `altitude` (density, optical depth
@@ -195,45 +195,4 @@ pub fn slices_at(p: Vec3, altitude: f32) -> Vec4 {
     );
     let outside = c.x.abs() > 1.0 || c.y.abs() > 1.0;
     select(value, Vec4::ZERO, outside)
-}
-
-/// Members of the cloud block (dotted paths, each with everything under it) the slice stack
-/// does not depend on: what only the view decides (its projection, the image's size and pixel
-/// mapping, the frame's jitter), the composite's switches, the haze and the shadow map's
-/// cascades (the bake marches its whole way to the sun and reads no map). Engine packages list
-/// them (`cloud_slices.ignores`) for their hosts' redraw test.
-pub const STACK_IGNORES: [&str; 11] = [
-    "inverse_view_projection",
-    "resolution",
-    "pixel_offset",
-    "pixel_scale",
-    "subpixel",
-    "frame",
-    "jitter",
-    "composite",
-    "haze",
-    "shadow.lookup",
-    "shadow.inverse_matrix",
-];
-
-/// Whether the member at dotted path `path` is one of [`STACK_IGNORES`] or lies within one.
-pub fn stack_ignores(path: &str) -> bool {
-    STACK_IGNORES.iter().any(|m| {
-        path.strip_prefix(m)
-            .is_some_and(|rest| rest.is_empty() || rest.starts_with('.') || rest.starts_with('['))
-    })
-}
-
-/// What the slice stack of the block `u` depends on: every leaf member's path and value but
-/// those of [`STACK_IGNORES`]. Two blocks with equal inputs have the same stack: a host redraws
-/// it when they differ.
-pub fn stack_inputs(
-    u: &CloudUniforms,
-) -> Result<nimbus_dsl::layout::Members, nimbus_dsl::layout::LayoutError> {
-    use nimbus_dsl::layout::{UniformBytes, read_members};
-    let bytes = u.to_uniform_bytes()?;
-    Ok(read_members(CloudUniforms::shader_type(), &bytes)
-        .into_iter()
-        .filter(|(path, _)| !stack_ignores(path))
-        .collect())
 }
