@@ -302,6 +302,38 @@ fn the_slices_path_marches_through_its_stack() {
     );
 }
 
+/// The 2D path's cloud pass reads its map and no noise at all, and marches nothing (the
+/// ground's overhead occlusion reads the map too); its map pass reads the noise and marches
+/// to the sun. The volume's has no trace of the map.
+#[test]
+fn the_blob2d_path_draws_from_its_map_alone() {
+    let lib = library();
+    let mut features = Quality::Medium.features();
+    features.path = nimbus_clouds::Path::Blob2d;
+    let flat = build(&lib, "cumulus", Quality::Medium, features);
+    let volume = build(&lib, "cumulus", Quality::Medium, Quality::Medium.features());
+    assert!(flat.wgsl.contains("var cloud_bake"), "{}", flat.wgsl);
+    assert!(flat.wgsl.contains("fn blob2d_clouds("));
+    for marched in [
+        "fn march_clouds(",
+        "fn weather_density(",
+        "fn eroded_density(",
+        "fn secondary_optical_depth(",
+        "var weather_texture",
+        "var shape_texture",
+    ] {
+        assert!(!flat.wgsl.contains(marched), "{marched} in the 2D path");
+        assert!(volume.wgsl.contains(marched), "{marched} not in the volume");
+    }
+    assert!(!volume.wgsl.contains("cloud_bake"));
+    let genus = lib.genus("cumulus").expect("genus");
+    let key = CloudVariant::new(genus, Quality::Medium, features).key;
+    assert!(key.reads_blob2d() && key.bakes() && key.name().ends_with("-blob2d"));
+    let map = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("map pass");
+    assert!(map.wgsl.contains("fn blob2d_fragment("));
+    assert!(map.wgsl.contains("fn secondary_optical_depth("));
+}
+
 /// The uber-shader reads every generation-time choice from the key uniforms: it validates on
 /// every target, declares the `key` binding, loops to run-time bounds and keeps every effect's
 /// code; a specialised shader has none of that.
@@ -404,6 +436,12 @@ fn representative_cloud_keys_are_pinned_per_target() {
     let sliced = CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, sliced).key;
     keys.push(ShaderKey::Clouds(sliced));
     keys.push(ShaderKey::Bake(sliced));
+    // The 2D path of cumulus at low: its cloud pass and its map pass.
+    let mut flat2d = Quality::Low.features();
+    flat2d.path = nimbus_clouds::Path::Blob2d;
+    let flat2d = CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, flat2d).key;
+    keys.push(ShaderKey::Clouds(flat2d));
+    keys.push(ShaderKey::Bake(flat2d));
     for key in keys {
         let g = generate_variant(&key, &Target::ALL).expect("generate");
         insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);
