@@ -2,8 +2,9 @@
 //! SwiftShader) driven by playwright-core renders the package with three.js from npm, and each
 //! frame is compared with `nimbus render` of the same scene: two sun positions (a package per
 //! scene), one camera move, and the sun moved at run time by the package's own JavaScript
-//! (`setSun`, no Nimbus code); the shader logs must be empty. The `slices` path too: its slice
-//! pass baked in the browser, and baked again when `setSun` moves the sun. A third test drives the wind, a
+//! (`setSun`, no Nimbus code); the shader logs must be empty. The baked paths too (`slices`,
+//! `blob2d`): each path's bake drawn in the browser, and drawn again when `setSun` moves the
+//! sun. A third test drives the wind, a
 //! weather state and the clock through the package's `setWind`, `setWeather` and `setTime`
 //! against `nimbus render --time`. The screenshots stay in a folder the test prints.
 //!
@@ -46,7 +47,7 @@ struct View {
     path: &'static str,
 }
 
-const VIEWS: [View; 7] = [
+const VIEWS: [View; 9] = [
     View {
         name: "sun-high",
         quality: "low",
@@ -126,6 +127,28 @@ const VIEWS: [View; 7] = [
         yaw: 0.0,
         path: "slices",
     },
+    // The 2D path (its map pass baked in the browser, the cloud pass reading the map alone),
+    // and its scene with the sun low, for the host's rebake after setSun.
+    View {
+        name: "blob2d",
+        quality: "low",
+        coverage: 0.6,
+        sun_elevation: 35.0,
+        sun_azimuth: 150.0,
+        pitch: 10.0,
+        yaw: 0.0,
+        path: "blob2d",
+    },
+    View {
+        name: "blob2d-sun-low",
+        quality: "low",
+        coverage: 0.6,
+        sun_elevation: 8.0,
+        sun_azimuth: 230.0,
+        pitch: 10.0,
+        yaw: 0.0,
+        path: "blob2d",
+    },
 ];
 
 fn scene(dir: &Path, v: &View) -> PathBuf {
@@ -183,7 +206,7 @@ struct Case {
     upscale: bool,
 }
 
-const CASES: [Case; 10] = [
+const CASES: [Case; 12] = [
     Case {
         name: "sun-high",
         package: 0,
@@ -263,6 +286,23 @@ const CASES: [Case; 10] = [
         name: "slices-sun-moved",
         package: 5,
         view: 6,
+        move_sun: true,
+        frames: 1,
+        upscale: false,
+    },
+    // The 2D path, and its sun moved in the browser (the map rebaked by the host).
+    Case {
+        name: "blob2d",
+        package: 7,
+        view: 7,
+        move_sun: false,
+        frames: 1,
+        upscale: false,
+    },
+    Case {
+        name: "blob2d-sun-moved",
+        package: 7,
+        view: 8,
         move_sun: true,
         frames: 1,
         upscale: false,

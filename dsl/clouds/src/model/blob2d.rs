@@ -28,7 +28,7 @@ use glam::{Vec2, Vec3, Vec4};
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{BAKE, CLOUDS, LINEAR_REPEAT};
-use super::choices::{GROUPS, key_count};
+use super::choices::{DIFFUSION, GROUND_BOUNCE, GROUPS, gate, key_count};
 use super::march::{
     MarchResult, altitude_along, octave_phases, one_minus_exp_over, sample_source,
     secondary_optical_depth, total_density,
@@ -229,6 +229,11 @@ pub fn band_range(mu: f32, bounds: Vec2) -> Vec2 {
 /// sun's optical depth at its depth into the column (and the other band's column above or
 /// below it), and integrated as the march integrates a step.
 #[shader_fn]
+#[expect(
+    clippy::if_same_then_else,
+    reason = "the other band's column is read for either of two key gates: one `if` per gate is \
+              how a shader function branches on the key"
+)]
 pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> MarchResult {
     let u = CLOUDS.get();
     let m = u.march;
@@ -260,8 +265,14 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
             let sigma_t = column.x * INV_SQRT_TWO_PI / spread * (-0.5 * s * s).exp();
             if sigma_t > m.min_extinction && transmittance > 0.0 {
                 let above = fraction_above(h, column.y, spread);
-                // The other band's column lies wholly above (band 0) or below (band 1).
-                let beyond = blob2d_at(x, z, 2.0 * other).x;
+                // The other band's column lies wholly above (band 0) or below (band 1); only
+                // the ground's and the sky's light through the slab need it.
+                let mut beyond = 0.0f32;
+                if gate(key, GROUND_BOUNCE) {
+                    beyond = blob2d_at(x, z, 2.0 * other).x;
+                } else if gate(key, DIFFUSION) {
+                    beyond = blob2d_at(x, z, 2.0 * other).x;
+                }
                 let tau_up = above * column.x + select(0.0, beyond, band < 0.5);
                 let tau_ground = (1.0 - above) * column.x + select(beyond, 0.0, band < 0.5);
                 let sun_depths = blob2d_at(x, z, 2.0 * band + 1.0);
