@@ -20,6 +20,7 @@ use nimbus_clouds::Quality;
 use nimbus_clouds::catalog::ShaderKey;
 use nimbus_clouds::frame_sequence::{cloud_frame, resolve_frame};
 use nimbus_clouds::model::air_table::{AirTableInputs, air_table_size};
+use nimbus_clouds::model::bake::{bake_inputs, bake_size};
 use nimbus_clouds::model::choices::KeyUniforms;
 use nimbus_clouds::model::clouds::{CloudBinding, ResolveBinding};
 use nimbus_clouds::model::march::CloudUniforms;
@@ -27,7 +28,6 @@ use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::shadow::{
     CascadeLookup, anchored_tiles, atlas_columns, redrawn_tiles, shadow_anchor,
 };
-use nimbus_clouds::model::bake::{bake_inputs, bake_size};
 use nimbus_clouds::wind::Drift;
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -168,25 +168,33 @@ struct ShadowPass {
 /// 160×90 on llvmpipe (a whole tile was five).
 const REFRESH_BAND: u32 = 128;
 
-/// The air table pass: its uniform buffer, bind group and table, kept across frames and
-/// redrawn only when what the table depends on changes (the sun, the camera's altitude, the
-/// atmosphere).
-struct AirPass {
-    uniform: wgpu::Buffer,
-    group: Option<BoundGroup>,
-    table: Target,
-    inputs: Option<AirTableInputs>,
-}
-
-/// The bake pass (the baked paths: the slice stack, the 2D map): its uniform buffer, bind group
-/// and target, kept across frames and redrawn only when what the bake depends on changes (the
-/// key, the sun, the camera's place, the layers, the weather; not the view).
-struct BakePass {
+/// A full-screen pass into a target of its own, kept across frames and redrawn only when what
+/// it is drawn from (`I`) changes: its uniform buffer, bind group and target.
+struct CachedPass<I> {
     uniform: wgpu::Buffer,
     group: Option<BoundGroup>,
     target: Target,
-    inputs: Option<(ShaderKey, nimbus_dsl::layout::Members)>,
+    inputs: Option<I>,
 }
+
+impl<I> CachedPass<I> {
+    fn new(gpu: &Gpu, label: &str, uniform_size: usize, (w, h): (u32, u32)) -> Self {
+        CachedPass {
+            uniform: uniform_buffer(gpu, &format!("{label} uniforms"), uniform_size),
+            group: None,
+            target: target(gpu, label, w, h),
+            inputs: None,
+        }
+    }
+}
+
+/// The air table pass, redrawn when the sun, the camera's altitude or the atmosphere changes.
+type AirPass = CachedPass<AirTableInputs>;
+
+/// The bake pass (the baked paths: the slice stack, the 2D map), redrawn when its key or what
+/// the bake depends on changes (the sun, the camera's place, the layers, the weather; not the
+/// view).
+type BakePass = CachedPass<(ShaderKey, nimbus_dsl::layout::Members)>;
 
 /// The cloud pass: its uniform buffer, bind group and low-resolution target.
 struct CloudPass {
@@ -487,7 +495,10 @@ impl<'g> Renderer<'g> {
             textures.push(format!("shadow_map ({}x{})", s.atlas.width, s.atlas.height));
         }
         if let Some(a) = &self.air {
-            textures.push(format!("air_table ({}x{})", a.table.width, a.table.height));
+            textures.push(format!(
+                "air_table ({}x{})",
+                a.target.width, a.target.height
+            ));
         }
         if let Some(p) = &self.bake {
             textures.push(format!(
@@ -607,7 +618,7 @@ impl<'g> Renderer<'g> {
                 CloudBinding::AirTable => self
                     .air
                     .as_ref()
-                    .map(|a| wgpu::BindingResource::TextureView(&a.table.view)),
+                    .map(|a| wgpu::BindingResource::TextureView(&a.target.view)),
                 CloudBinding::Bake => self
                     .bake
                     .as_ref()
@@ -712,13 +723,12 @@ impl<'g> Renderer<'g> {
         }
         self.prepare(ShaderKey::AirTable)?;
         if self.air.is_none() {
-            let (w, h) = air_table_size();
-            self.air = Some(AirPass {
-                uniform: uniform_buffer(self.gpu, "air table uniforms", uniform_size),
-                group: None,
-                table: target(self.gpu, "air table", w, h),
-                inputs: None,
-            });
+            self.air = Some(AirPass::new(
+                self.gpu,
+                "air table",
+                uniform_size,
+                air_table_size(),
+            ));
             self.epoch += 1;
         }
         Ok(())
@@ -738,12 +748,7 @@ impl<'g> Renderer<'g> {
         self.prepare(ShaderKey::Bake(clouds))?;
         if self.bake.as_ref().map(|p| size_of(&p.target)) != Some((w, h)) {
             self.check_size("the path's bake", w, h)?;
-            self.bake = Some(BakePass {
-                uniform: uniform_buffer(self.gpu, "bake uniforms", uniform_size),
-                group: None,
-                target: target(self.gpu, "bake", w, h),
-                inputs: None,
-            });
+            self.bake = Some(BakePass::new(self.gpu, "bake", uniform_size, (w, h)));
             self.epoch += 1;
         }
         Ok(())
@@ -758,49 +763,60 @@ impl<'g> Renderer<'g> {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<PassTimer>,
     ) -> Result<(), RuntimeError> {
-        if self.bake.is_none() {
+        let Some(mut pass) = self.bake.take() else {
             return Ok(());
-        }
+        };
         let key = ShaderKey::Bake(clouds);
-        let inputs = (key, bake_inputs(u)?);
-        if self
-            .bake
-            .as_ref()
-            .is_some_and(|p| p.inputs.as_ref() == Some(&inputs))
-        {
+        let drawn = bake_inputs(u)
+            .map_err(RuntimeError::from)
+            .and_then(|inputs| {
+                self.draw_cached(&mut pass, key, (key, inputs), u, encoder, timer, "bake")
+            });
+        self.bake = Some(pass);
+        drawn
+    }
+
+    /// Draws `pass` (its pipeline `key`) from the block `u` unless it was last drawn from the
+    /// same `inputs`; its bind group is made again when the resources' epoch moved on. The pass
+    /// is out of the renderer while it draws (its own module never reads its own target).
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a pass, its key and inputs, the block, and the frame's encoder and timer"
+    )]
+    fn draw_cached<I: PartialEq>(
+        &mut self,
+        pass: &mut CachedPass<I>,
+        key: ShaderKey,
+        inputs: I,
+        u: &CloudUniforms,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<PassTimer>,
+        label: &'static str,
+    ) -> Result<(), RuntimeError> {
+        if pass.inputs.as_ref() == Some(&inputs) {
             return Ok(());
         }
         let epoch = self.epoch;
-        let rebuild = !matches!(&self.bake, Some(BakePass { group: Some(g), .. })
-            if g.key == key && g.epoch == epoch);
-        if rebuild {
-            let group = {
-                let p = self.bake.as_ref().ok_or_else(missing)?;
-                self.cloud_group(key, &p.uniform)?
-            };
-            if let Some(p) = &mut self.bake {
-                p.group = Some(BoundGroup { group, key, epoch });
-            }
+        if !matches!(&pass.group, Some(g) if g.key == key && g.epoch == epoch) {
+            let group = self.cloud_group(key, &pass.uniform)?;
+            pass.group = Some(BoundGroup { group, key, epoch });
         }
         let pipeline = self.pipelines.get(&key)?;
-        let p = self.bake.as_ref().ok_or_else(missing)?;
-        let group = p.group.as_ref().ok_or_else(missing)?;
+        let group = pass.group.as_ref().ok_or_else(missing)?;
         self.gpu
             .queue()
-            .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
+            .write_buffer(&pass.uniform, 0, &u.to_uniform_bytes()?);
         draw(
             encoder,
-            "bake",
-            &p.target.view,
+            label,
+            &pass.target.view,
             &pipeline.pipeline,
             &group.group,
             PassTimer::next(timer),
             None,
         );
-        self.passes.push("bake");
-        if let Some(p) = &mut self.bake {
-            p.inputs = Some(inputs);
-        }
+        self.passes.push(label);
+        pass.inputs = Some(inputs);
         Ok(())
     }
 
@@ -890,46 +906,21 @@ impl<'g> Renderer<'g> {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<PassTimer>,
     ) -> Result<(), RuntimeError> {
-        if self.air.is_none() {
+        let Some(mut pass) = self.air.take() else {
             return Ok(());
-        }
-        let key = ShaderKey::AirTable;
+        };
         let inputs = AirTableInputs::of(u);
-        if self.air.as_ref().is_some_and(|a| a.inputs == Some(inputs)) {
-            return Ok(());
-        }
-        let epoch = self.epoch;
-        let rebuild =
-            !matches!(&self.air, Some(AirPass { group: Some(g), .. }) if g.epoch == epoch);
-        if rebuild {
-            let group = {
-                let a = self.air.as_ref().ok_or_else(missing)?;
-                self.cloud_group(key, &a.uniform)?
-            };
-            if let Some(a) = &mut self.air {
-                a.group = Some(BoundGroup { group, key, epoch });
-            }
-        }
-        let pipeline = self.pipelines.get(&key)?;
-        let a = self.air.as_ref().ok_or_else(missing)?;
-        let group = a.group.as_ref().ok_or_else(missing)?;
-        self.gpu
-            .queue()
-            .write_buffer(&a.uniform, 0, &u.to_uniform_bytes()?);
-        draw(
+        let drawn = self.draw_cached(
+            &mut pass,
+            ShaderKey::AirTable,
+            inputs,
+            u,
             encoder,
-            "air table",
-            &a.table.view,
-            &pipeline.pipeline,
-            &group.group,
-            PassTimer::next(timer),
-            None,
+            timer,
+            "air",
         );
-        self.passes.push("air");
-        if let Some(a) = &mut self.air {
-            a.inputs = Some(inputs);
-        }
-        Ok(())
+        self.air = Some(pass);
+        drawn
     }
 
     /// The uniforms of `frame` at frame index 0 ([`Frame::uniforms`], the model's).

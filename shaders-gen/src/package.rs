@@ -11,17 +11,17 @@ use std::path::Path;
 
 use nimbus_clouds::catalog::{Assignment, ShaderKey};
 use nimbus_clouds::model::air_table::air_table_size;
+use nimbus_clouds::model::bake::{BAKE_IGNORES, bake_size};
 use nimbus_clouds::model::bindings::{
     CloudBinding, DisplayBinding, ResolveBinding, SunLightBinding,
 };
+use nimbus_clouds::model::blob2d::blob2d_size;
 use nimbus_clouds::model::display::DisplayParams;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::resource::Resource;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
 use nimbus_clouds::model::shadow::ShadowParams;
-use nimbus_clouds::model::bake::{BAKE_IGNORES, bake_size};
-use nimbus_clouds::model::blob2d::blob2d_size;
 use nimbus_clouds::model::slices::slices_size;
 use nimbus_codegen::external::{ExternalCheck, check_files};
 use nimbus_codegen::{
@@ -40,10 +40,10 @@ use crate::data::{Resolved, Selection, load, resolve, table_text};
 use crate::engine::Engine;
 use crate::error::CliError;
 use crate::package_description::{
-    AtlasSize, BindGroupLayout, BindingDescription, BlockMember, CameraKind, DescriptorSetLayout,
-    FORMAT_VERSION, GpuBufferLayout, GpuLayoutEntry, GpuSamplerLayout, GpuTextureLayout,
-    NameInFile, Output, PACKAGE_FILE, PACKAGE_SCHEMA_FILE, PackageDescription, Pair, Pass,
-    PassDescription, ResourceEntry, SamplerDescriptor, ShaderFile, Bake, Target, Targets,
+    AtlasSize, Bake, BindGroupLayout, BindingDescription, BlockMember, CameraKind,
+    DescriptorSetLayout, FORMAT_VERSION, GpuBufferLayout, GpuLayoutEntry, GpuSamplerLayout,
+    GpuTextureLayout, NameInFile, Output, PACKAGE_FILE, PACKAGE_SCHEMA_FILE, PackageDescription,
+    Pair, Pass, PassDescription, ResourceEntry, SamplerDescriptor, ShaderFile, Target, Targets,
     Temporal, UNIFORMS_SCHEMA_FILE, UniformBlockFile, VulkanBarrier, VulkanLayoutBinding,
     VulkanSampler, pretty, schema_files,
 };

@@ -11,8 +11,8 @@ use nimbus_dsl::{DslError, ShaderVariant, SpecValue};
 
 use crate::key::{CloudKey, ShadowKey};
 use crate::model::clouds::{
-    CloudVariant, air_table_module, cloud_module, display_module, resolve_module, shadow_module,
-    bake_module,
+    CloudVariant, air_table_module, bake_module, cloud_module, display_module, resolve_module,
+    shadow_module,
 };
 use crate::model::preview::{PhaseModel, preview_module};
 use crate::{CloudLibrary, Features, Genus, Quality};

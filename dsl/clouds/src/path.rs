@@ -27,10 +27,11 @@ pub enum Path {
     Impostor,
     /// Instanced mesh clusters shaded with the model's phase and lighting.
     Mesh,
-    /// The sky as a 2D layer: the genus' columns (optical depth, powder, mean altitude, the
-    /// optical depth to the sun at four depths) baked into a map around the camera by a pass
-    /// of their own (`model::blob2d`); a view ray reads a few texels along its way through the
-    /// layer and lights the column as a slab, with no march.
+    /// The sky from a 2D map: the genus' columns in two altitude bands (optical depth, the mean
+    /// and spread of the density's altitude, the optical depth to the sun at four depths) baked
+    /// around the camera by a pass of their own (`model::blob2d`); a view ray's few samples per
+    /// band each read their column and are lit by the march's own source term, with no noise
+    /// and no secondary march.
     Blob2d,
 }
 
@@ -74,8 +75,9 @@ impl Path {
             Path::Impostor => "billboards from a baked atlas of the genus' clouds",
             Path::Mesh => "instanced mesh clusters lit by the model",
             Path::Blob2d => {
-                "the sky as a 2D layer: the clouds' columns baked into a map around the camera, \
-                 read a few times per pixel and lit as a slab (no march)"
+                "a 2D map of the clouds' columns (two altitude bands) baked around the camera; a \
+                 view ray's few samples each read their column, lit as the march lights a sample \
+                 (no noise, no secondary march)"
             }
         }
     }

@@ -153,7 +153,14 @@ pub fn blob2d_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
 /// Optical depth to the sun from the column at (`x`, `z`) (`d` from the camera's vertical) at
 /// altitude `h`, the whole way out of the slab.
 #[shader_fn]
-pub fn sun_depth_from(x: f32, z: f32, d: f32, h: f32, footprint: f32, #[spec] key: CloudKey) -> f32 {
+pub fn sun_depth_from(
+    x: f32,
+    z: f32,
+    d: f32,
+    h: f32,
+    footprint: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
     let sun = CLOUDS.get().light.sun_direction;
     let p = vec3(x, curved_height(h, d), z);
     secondary_optical_depth(p, h, sun, BLOB_SUN_STEPS, 0.5, true, footprint, key)
@@ -224,7 +231,7 @@ pub fn band_range(mu: f32, bounds: Vec2) -> Vec2 {
 
 /// The clouds along `direction` drawn from the map (the march's result, for
 /// [`super::march::composite`]): [`BLOB_SAMPLES`] samples, stratified by `jitter`, along the
-/// ray's way through each band, nearer band first; each reads its column and takes the
+/// ray's way through each band, the nearer band first; each reads its column and takes the
 /// density of the column's bell at its altitude, lit by the march's source term with the
 /// sun's optical depth at its depth into the column (and the other band's column above or
 /// below it), and integrated as the march integrates a step.
@@ -242,8 +249,13 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
     let sigma_ratio = l.scattering_coefficient + l.absorption_coefficient;
     let cos_theta = direction.dot(l.sun_direction);
     let phases = octave_phases(cos_theta, key);
-    // A ray going up meets the lower band first.
-    let first_band = select(1.0, 0.0, mu > 0.0);
+    // Nearer band first (a ray going up meets the lower one first; a grazing ray going down
+    // from inside the lower band may still leave through the upper one, far away).
+    let lower = band_range(mu, band_bounds(0.0, key));
+    let upper = band_range(mu, band_bounds(1.0, key));
+    let lower_near = select(1e30, lower.x, lower.y > lower.x);
+    let upper_near = select(1e30, upper.x, upper.y > upper.x);
+    let first_band = select(1.0, 0.0, lower_near <= upper_near);
     let mut radiance = Vec3::ZERO;
     let mut transmittance = 1.0f32;
     let mut depth_sum = 0.0f32;
@@ -251,7 +263,7 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
     for b in 0u32..BLOB_BANDS {
         let band = (first_band - b as f32).abs();
         let other = 1.0 - band;
-        let range = band_range(mu, band_bounds(band, key));
+        let range = select(upper, lower, band < 0.5);
         let step = (range.y - range.x).max(0.0) / BLOB_SAMPLES as f32;
         for i in 0u32..BLOB_SAMPLES {
             let t = range.x + (i as f32 + jitter) * step;

@@ -8,12 +8,12 @@ use nimbus_dsl::{DslError, ModuleBuilder, loc};
 pub use super::bindings::{CloudBinding, ResolveBinding};
 
 use super::air_table::air_table_fragment;
+use super::blob2d::blob2d_fragment;
 use super::display::display_fragment;
 use super::march::{CloudUniforms, cloud_fragment};
 use super::preview::fullscreen_position;
 use super::resolve::resolve_fragment;
 use super::shadow::shadow_fragment;
-use super::blob2d::blob2d_fragment;
 use super::slices::slices_fragment;
 use crate::key::{CloudKey, ShadowKey};
 

@@ -753,10 +753,8 @@ pub fn sample_source(
     if gate(key, SUN_SKY_LIGHT) {
         sun *= sun_attenuation(altitude, u.camera_altitude, l.sun_direction.y);
     }
-    let mut light = sun
-        * sun_scattering(
-            tau_sun, tau_up, tau_ground, cos_theta, phases, view_up, key,
-        );
+    let mut light =
+        sun * sun_scattering(tau_sun, tau_up, tau_ground, cos_theta, phases, view_up, key);
     if gate(key, GROUND_BOUNCE) {
         light += ground_bounce_light(tau_ground);
     }
@@ -767,7 +765,8 @@ pub fn sample_source(
         // Crude sky gradient: half the sky light at a layer's base, all of it at the top.
         let height_fraction =
             ((altitude - m.min_height) / (m.max_height - m.min_height).max(1.0)).saturate();
-        light += l.sky_irradiance * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
+        light +=
+            l.sky_irradiance * (INV_FOUR_PI * (0.5 + 0.5 * height_fraction) * l.sky_light_scale);
     }
     let sigma_t = rho * (l.scattering_coefficient + l.absorption_coefficient);
     let mut source = light * (rho * l.scattering_coefficient);
@@ -923,7 +922,15 @@ pub fn march_clouds(
                 }
             }
             let source = sample_source(
-                rho, h, tau_sun, tau_up, tau_ground, cos_theta, phases, direction.y, key,
+                rho,
+                h,
+                tau_sun,
+                tau_up,
+                tau_ground,
+                cos_theta,
+                phases,
+                direction.y,
+                key,
             );
             // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
             // S·(1 − e^(−σt·Δ))/σt, written as S·Δ·f(σt·Δ) so thin media stay exact.
