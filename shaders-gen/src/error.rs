@@ -42,9 +42,9 @@ pub(crate) enum CliError {
     NoPairs,
 
     #[error(
-        "--engine {engine}: `{pair}` is drawn by the `{path}` path, which has no engine package \
-         yet (its renderer runs in Nimbus's own runtime: `nimbus render --path {path}`); emit \
-         the volume (no --path) for this engine"
+        "--engine {engine}: `{pair}` is drawn by the `{path}` path, whose pass this engine's \
+         host does not draw yet (the three and webgpu packages do, and `nimbus render --path \
+         {path}`); emit the volume (no --path) for this engine"
     )]
     PathWithoutPackage {
         engine: &'static str,

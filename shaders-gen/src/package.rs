@@ -258,11 +258,11 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
     if table.is_empty() {
         return Err(CliError::NoPairs);
     }
-    // The baked paths' renderers run in Nimbus's runtime and the three.js host; the other
-    // engines' hosts do not draw a bake pass yet.
+    // The baked paths' renderers run in Nimbus's runtime and the JavaScript hosts (three.js,
+    // WebGPU); the other engines' hosts do not draw a bake pass yet.
     if let Some(a) = table.iter().find(|a| {
         a.clouds.features.path != nimbus_clouds::Path::Volume
-            && !(engine == Engine::Three && a.clouds.bakes())
+            && !(matches!(engine, Engine::Three | Engine::Webgpu) && a.clouds.bakes())
     }) {
         return Err(CliError::PathWithoutPackage {
             engine: engine.name(),

@@ -682,20 +682,30 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
     let (w, h) = (160u32, 90u32);
     let v = &VIEWS[0];
     let scene_file = scene(&out, v);
-    let scene_arg = scene_file.to_str().expect("utf8");
+    // A baked path (the 2D map) from the same camera, for the same host.
+    let baked = &VIEWS[7];
+    assert_eq!(
+        (baked.pitch, baked.yaw, baked.path),
+        (v.pitch, v.yaw, "blob2d")
+    );
+    let baked_scene = scene(&out, baked);
     let mut packages = Vec::new();
-    for engine in ["webgpu", "three"] {
-        let package = out.join(format!("package-{engine}"));
+    for (engine, scene, name) in [
+        ("webgpu", &scene_file, "webgpu"),
+        ("three", &scene_file, "three"),
+        ("webgpu", &baked_scene, "webgpu-blob2d"),
+    ] {
+        let package = out.join(format!("package-{name}"));
         let o = nimbus(&[
             "emit",
             "--engine",
             engine,
             "--scene",
-            scene_arg,
+            scene.to_str().expect("utf8"),
             "-o",
             package.to_str().expect("utf8"),
         ]);
-        assert!(o.status.success(), "emit {engine}: {}", text(&o.stderr));
+        assert!(o.status.success(), "emit {name}: {}", text(&o.stderr));
         packages.push(package);
     }
     let render = |name: &str, scene: &Path, extra: &[&str]| -> image::RgbImage {
@@ -780,4 +790,23 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
     let mean = mean_difference(&low, &one);
     println!("control (sun-low render vs this frame): mean {mean:.2}/255");
     assert!(mean > MAX_MEAN, "the comparison cannot fail");
+    // The baked path by the same host: its bake pass drawn because the block it depends on is
+    // new, then the clouds read it.
+    let got = browse("webgpu-blob2d", &packages[2], &["page=webgpu", "frames=1"]);
+    let want = render("blob2d", &baked_scene, &["-f", "1"]);
+    let score = rgb_hybrid_compare(&want, &got).expect("same size").score;
+    let mean = mean_difference(&want, &got);
+    let (row, row_mean) = worst_row(&want, &got);
+    println!(
+        "WebGPU blob2d: similarity {score:.4}, mean difference {mean:.2}/255, worst row {row} \
+         {row_mean:.2}/255"
+    );
+    assert!(
+        score >= MIN_SCORE && mean <= MAX_MEAN && row_mean <= MAX_ROW_MEAN,
+        "WebGPU blob2d: differs from nimbus render; see {}",
+        out.display()
+    );
+    let volume = mean_difference(&one, &got);
+    println!("control (the volume's frame vs the blob2d frame): mean {volume:.2}/255");
+    assert!(volume > MAX_MEAN, "the blob2d frame is the volume's");
 }

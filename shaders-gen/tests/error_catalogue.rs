@@ -142,6 +142,25 @@ fn cases() -> Vec<Case> {
             &[flag, shown],
         ));
     }
+    // A baked path for an engine whose host does not draw its pass: the error names the
+    // engine, the pair and the path, and writes nothing.
+    all.push(case(
+        "emit --engine vulkan --path blob2d",
+        &[
+            "emit",
+            "--engine",
+            "vulkan",
+            "--genus",
+            "cumulus",
+            "--quality",
+            "low",
+            "--path",
+            "blob2d",
+            "-o",
+            "pkg",
+        ],
+        &["--engine vulkan", "cumulus.low", "blob2d"],
+    ));
     // The same limits hold for the benches and the study.
     all.push(case(
         "bench-frames --fov 185",

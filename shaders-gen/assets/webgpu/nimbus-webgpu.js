@@ -132,6 +132,10 @@ export class NimbusWebGPU extends NimbusHost {
     this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height) : null;
     const air = this.pair.air_table;
     this.airTarget = air ? this.target('air table', air.width, air.height) : null;
+    // The bake of a baked path (slices, blob2d), redrawn when the block members it depends on
+    // change (NimbusHost.bakeOutOfDate).
+    const bake = this.pair.cloud_bake;
+    this.bakeTarget = bake ? this.target('cloud bake', bake.width, bake.height) : null;
     // The clouds' shadow on the engine's objects (pairs with a scene_shadow pass), sized to
     // the engine's depth when it is first drawn.
     this.sceneShadowTarget = null;
@@ -239,6 +243,13 @@ export class NimbusWebGPU extends NimbusHost {
     }
   }
 
+  /** Redraws the bake (pairs of a baked path) when what it depends on changed. */
+  drawBake(encoder) {
+    if (this.passes.bake && this.bakeOutOfDate()) {
+      this.draw(encoder, 'bake', this.bakeTarget.createView());
+    }
+  }
+
   /**
    * Redraws the tiles of the shadow atlas `tiles` names (`shadowTiles`, called before the
    * blocks were written: it writes the tiles' lookup).
@@ -263,6 +274,7 @@ export class NimbusWebGPU extends NimbusHost {
     const targets = {
       shadow_atlas: this.shadowTarget,
       air_table: this.airTarget,
+      cloud_bake: this.bakeTarget,
       clouds_hdr: this.cloudTarget,
       history_read: historyRead,
       shown,
@@ -319,6 +331,7 @@ export class NimbusWebGPU extends NimbusHost {
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
     this.drawShadowAtlas(encoder, tiles);
     this.drawAirTable(encoder);
+    this.drawBake(encoder);
     this.draw(encoder, 'clouds', this.cloudTarget.createView());
     if (this.temporal) {
       this.draw(encoder, 'resolve', shown.createView(), null, read);
@@ -330,7 +343,7 @@ export class NimbusWebGPU extends NimbusHost {
   }
 
   dispose() {
-    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.airTarget, this.sceneShadowTarget]) t?.destroy();
+    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.airTarget, this.bakeTarget, this.sceneShadowTarget]) t?.destroy();
     for (const t of Object.values(this.textures)) t.destroy();
     for (const b of Object.values(this.buffers)) b.destroy();
   }

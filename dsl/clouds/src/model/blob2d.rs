@@ -260,11 +260,14 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
     let mut transmittance = 1.0f32;
     let mut depth_sum = 0.0f32;
     let mut weight_sum = 0.0f32;
+    // Samples taken (each a column read standing for a density sample, as the march counts).
+    let mut samples = 0.0f32;
     for b in 0u32..BLOB_BANDS {
         let band = (first_band - b as f32).abs();
         let other = 1.0 - band;
         let range = select(upper, lower, band < 0.5);
         let step = (range.y - range.x).max(0.0) / BLOB_SAMPLES as f32;
+        samples += select(0.0, BLOB_SAMPLES as f32, step > 0.0);
         for i in 0u32..BLOB_SAMPLES {
             let t = range.x + (i as f32 + jitter) * step;
             let h = altitude_along(u.camera_altitude, mu, t, m.radius);
@@ -315,7 +318,7 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
         radiance,
         transmittance,
         front_depth: select(-1.0, depth_sum / weight_sum.max(1e-20), weight_sum > 0.0),
-        samples: (3u32 * BLOB_BANDS * BLOB_SAMPLES) as f32,
+        samples,
     }
 }
 
