@@ -89,7 +89,7 @@ export const expected = (line) => line.startsWith('debug:') || line.includes('GP
  * `outPng.log.json`, prints the renderer (and the timing, if any), and returns the process
  * status: 1 when the page failed or logged anything unexpected.
  */
-export async function report(page, logs, outPng, timeout = 120000) {
+export async function report(page, logs, outPng, timeout = Number(process.env.NIMBUS_PAGE_TIMEOUT_MS ?? 120000)) {
   await page.waitForFunction(() => window.nimbus && window.nimbus.done, null, { timeout, polling: 250 });
   const result = await page.evaluate(() => window.nimbus);
   const problems = [...result.messages, ...logs.filter((l) => !expected(l))];

@@ -334,6 +334,50 @@ fn the_blob2d_path_draws_from_its_map_alone() {
     assert!(map.wgsl.contains("fn secondary_optical_depth("));
 }
 
+/// The impostor path's cloud pass reads its map and marches nothing (no view march, no march
+/// to the sun; the ground's overhead occlusion keeps its four density samples, as the
+/// volume's); its bake is the volume's own march per direction (the same `march_clouds`, its
+/// marches to the sun), without the engine's depth, which the cloud pass applies.
+#[test]
+fn the_impostor_path_draws_from_its_map_alone() {
+    let lib = library();
+    let mut features = Quality::Medium.features();
+    features.path = nimbus_clouds::Path::Impostor;
+    features.scene_depth = true;
+    let drawn = build(&lib, "cumulus", Quality::Medium, features);
+    assert!(drawn.wgsl.contains("var cloud_bake"), "{}", drawn.wgsl);
+    assert!(drawn.wgsl.contains("fn impostor_clouds("));
+    assert!(drawn.wgsl.contains("fn composite_over_scene("));
+    for marched in [
+        "fn march_clouds(",
+        "fn sun_optical_depth(",
+        "fn secondary_optical_depth(",
+    ] {
+        assert!(
+            !drawn.wgsl.contains(marched),
+            "{marched} in the impostor path"
+        );
+    }
+    let genus = lib.genus("cumulus").expect("genus");
+    let key = CloudVariant::new(genus, Quality::Medium, features).key;
+    assert!(key.reads_impostor() && key.bakes() && key.name().ends_with("-impostor"));
+    let bake = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("impostor pass");
+    assert!(bake.wgsl.contains("fn impostor_fragment("));
+    assert!(bake.wgsl.contains("fn march_clouds("));
+    assert!(bake.wgsl.contains("fn secondary_optical_depth("));
+    assert!(
+        !bake.wgsl.contains("scene_depth"),
+        "the bake's rays are directions, not the engine's pixels"
+    );
+    // The bake's marches to the sun read the shadow map, as the volume's; the cloud pass
+    // reads it for the ground's shadows.
+    assert!(bake.wgsl.contains("fn shadow_texel("));
+    assert!(
+        drawn.wgsl.contains("var shadow_map"),
+        "the ground's shadows went"
+    );
+}
+
 /// The uber-shader reads every generation-time choice from the key uniforms: it validates on
 /// every target, declares the `key` binding, loops to run-time bounds and keeps every effect's
 /// code; a specialised shader has none of that.
@@ -442,6 +486,13 @@ fn representative_cloud_keys_are_pinned_per_target() {
     let flat2d = CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, flat2d).key;
     keys.push(ShaderKey::Clouds(flat2d));
     keys.push(ShaderKey::Bake(flat2d));
+    // The impostor path of cumulus at low: its cloud pass and its bake.
+    let mut impostor = Quality::Low.features();
+    impostor.path = nimbus_clouds::Path::Impostor;
+    let impostor =
+        CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, impostor).key;
+    keys.push(ShaderKey::Clouds(impostor));
+    keys.push(ShaderKey::Bake(impostor));
     for key in keys {
         let g = generate_variant(&key, &Target::ALL).expect("generate");
         insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);

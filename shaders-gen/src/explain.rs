@@ -204,6 +204,19 @@ fn explain_state(
             3 * bands * BLOB_SAMPLES,
         );
     }
+    if variant.key.reads_impostor() {
+        use nimbus_clouds::model::impostor::{IMPOSTOR_MARCHES, impostor_size};
+        let (w, h) = impostor_size();
+        say!(
+            "  {:<24} {:<4} {w}×{h} octahedral map of every direction ({} light tiles, each the \
+             volume's march a texel, and the front's depth), baked when the sun, the camera's \
+             place or the weather moves; {} reads a pixel",
+            "impostor-pass",
+            "in",
+            IMPOSTOR_MARCHES,
+            IMPOSTOR_MARCHES + 1,
+        );
+    }
     // The genus' density functions: built-in defaults, or its own (each in the key).
     for (slot, name, path, about) in variant.key.functions.slots() {
         let own = variant

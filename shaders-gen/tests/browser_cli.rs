@@ -47,7 +47,7 @@ struct View {
     path: &'static str,
 }
 
-const VIEWS: [View; 9] = [
+const VIEWS: [View; 10] = [
     View {
         name: "sun-high",
         quality: "low",
@@ -149,6 +149,18 @@ const VIEWS: [View; 9] = [
         yaw: 0.0,
         path: "blob2d",
     },
+    // The impostor path (its octahedral map baked in the browser by the volume's own march
+    // per direction, the cloud pass reading its ray's texel).
+    View {
+        name: "impostor",
+        quality: "low",
+        coverage: 0.6,
+        sun_elevation: 35.0,
+        sun_azimuth: 150.0,
+        pitch: 10.0,
+        yaw: 0.0,
+        path: "impostor",
+    },
 ];
 
 fn scene(dir: &Path, v: &View) -> PathBuf {
@@ -206,7 +218,7 @@ struct Case {
     upscale: bool,
 }
 
-const CASES: [Case; 12] = [
+const CASES: [Case; 13] = [
     Case {
         name: "sun-high",
         package: 0,
@@ -304,6 +316,14 @@ const CASES: [Case; 12] = [
         package: 7,
         view: 8,
         move_sun: true,
+        frames: 1,
+        upscale: false,
+    },
+    Case {
+        name: "impostor",
+        package: 9,
+        view: 9,
+        move_sun: false,
         frames: 1,
         upscale: false,
     },

@@ -85,6 +85,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::AirTable => "air",
             ShaderKey::Bake(k) => match k.features.path {
                 crate::Path::Blob2d => "blob2d",
+                crate::Path::Impostor => "impostor",
                 _ => "slices",
             },
             ShaderKey::Resolve => "resolve",
@@ -176,6 +177,11 @@ fn describe(key: &ShaderKey) -> String {
         ShaderKey::Bake(k) if k.reads_blob2d() => {
             "the 2D map: the clouds' columns (optical depths, powder, altitude, sun) around the \
              camera"
+                .into()
+        }
+        ShaderKey::Bake(k) if k.reads_impostor() => {
+            "the impostor: the volume's march from the camera in every direction (light, \
+             transmittance, front depth)"
                 .into()
         }
         ShaderKey::Bake(_) => {

@@ -311,8 +311,26 @@ impl CloudKey {
         !self.uber && self.features.path == crate::Path::Blob2d
     }
 
-    /// Whether the shader reads a bake of its path (`model::bake`): the slice stack or the 2D
-    /// map.
+    /// Whether the shader draws the clouds from the impostor path's octahedral map
+    /// (`model::impostor`), which its own pass bakes.
+    pub fn reads_impostor(&self) -> bool {
+        !self.uber && self.features.path == crate::Path::Impostor
+    }
+
+    /// The key the impostor's bake marches each direction with: this key drawn by the volume,
+    /// less the engine's depth (the bake's rays are directions, not the engine's pixels: the
+    /// cloud pass ends the clouds at the scene where it composites them). Its marches to the
+    /// sun read the shadow map as the volume's do: the map's cascades are placed by the sun and
+    /// the camera's place, not by where the camera looks, so one map serves every direction.
+    pub fn impostor_march(&self) -> CloudKey {
+        let mut k = *self;
+        k.features.path = crate::Path::Volume;
+        k.features.scene_depth = false;
+        k
+    }
+
+    /// Whether the shader reads a bake of its path (`model::bake`): the slice stack, the 2D
+    /// map or the impostor.
     pub fn bakes(&self) -> bool {
         !self.uber && self.features.path.bakes()
     }

@@ -23,7 +23,10 @@ pub enum Path {
     /// walks the slices, each sample two texture reads in place of the noise and the
     /// secondary marches, lit by the same phase and scattering functions.
     Slices,
-    /// Billboards from an atlas of the genus' clouds baked from several directions.
+    /// The clouds around the camera baked from every direction into one octahedral map by a
+    /// pass of its own (`model::impostor`: the volume's own march per texel, with its light,
+    /// transmittance and front depth); the cloud pass reads its ray's texel and composites it
+    /// as the volume's march result: three texture reads a pixel.
     Impostor,
     /// Instanced mesh clusters shaded with the model's phase and lighting.
     Mesh,
@@ -72,7 +75,10 @@ impl Path {
                 "altitude slices baked around the camera (density and optical depths), walked \
                  by the view ray: two texture reads a sample"
             }
-            Path::Impostor => "billboards from a baked atlas of the genus' clouds",
+            Path::Impostor => {
+                "the clouds around the camera baked from every direction into one octahedral \
+                 impostor (the volume's own march per texel): three texture reads a pixel"
+            }
             Path::Mesh => "instanced mesh clusters lit by the model",
             Path::Blob2d => {
                 "a 2D map of the clouds' columns (two altitude bands) baked around the camera; a \
@@ -85,13 +91,17 @@ impl Path {
     /// Whether Nimbus can draw this path yet. The others are named so that scenes and flags
     /// asking for them get a clear refusal, not a parse error.
     pub fn is_built(self) -> bool {
-        matches!(self, Path::Volume | Path::Slices | Path::Blob2d)
+        matches!(
+            self,
+            Path::Volume | Path::Slices | Path::Impostor | Path::Blob2d
+        )
     }
 
     /// Whether the path draws from a bake of its own pass (`model::bake`): the slice stack
-    /// ([`Path::Slices`]) or the 2D map ([`Path::Blob2d`]).
+    /// ([`Path::Slices`]), the octahedral impostor ([`Path::Impostor`]) or the 2D map
+    /// ([`Path::Blob2d`]).
     pub fn bakes(self) -> bool {
-        matches!(self, Path::Slices | Path::Blob2d)
+        matches!(self, Path::Slices | Path::Impostor | Path::Blob2d)
     }
 
     /// The path named `s` (any case, `_` for `-`).

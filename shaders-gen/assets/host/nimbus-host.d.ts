@@ -133,7 +133,7 @@ export declare class NimbusHost {
    */
   shadowTiles(): [number, number, number, number][];
   /**
-   * Whether the bake (a pair of a baked path: slices, blob2d) must be redrawn this frame: a member
+   * Whether the bake (a pair of a baked path: slices, impostor, blob2d) must be redrawn this frame: a member
    * of the block outside the package's `cloud_bake.ignores` changed since it was drawn.
    * Marks it drawn.
    */

@@ -1,20 +1,24 @@
 //! The bake of a baked path ([`crate::Path::bakes`]): a texture its own pass draws from the
 //! cloud block and the noise, which the cloud pass reads in place of the procedural density.
 //! Which texture, and its size, is the path's (`slices`: a stack of altitude slices; `blob2d`:
-//! a map of column integrals); what makes it out of date is the same for both: everything the
-//! block holds but the view.
+//! a map of column integrals; `impostor`: the volume's march result per direction); what makes
+//! it out of date is the same for all: everything the block holds but the view.
 
 use crate::Path;
 use crate::model::march::CloudUniforms;
 
 use super::blob2d::blob2d_size;
+use super::impostor::impostor_size;
 use super::slices::slices_size;
 
 /// Members of the cloud block (dotted paths, each with everything under it) no bake depends
 /// on: what only the view decides (its projection, the image's size and pixel mapping, the
-/// frame's jitter), the composite's switches, the haze and the shadow map's cascades (the
-/// bakes march their whole way to the sun and read no map). Engine packages list them
-/// (`cloud_bake.ignores`) for their hosts' redraw test.
+/// frame's jitter), the composite's switches, the haze and the shadow map's cascade
+/// transforms (the slices and the 2D map march their whole way to the sun and read no map;
+/// the impostor's march reads it as the volume's does, and what it holds follows the sun, the
+/// camera's place and the clouds, which the bake does depend on: the transforms only move as
+/// its tiles are redrawn). Engine packages list them (`cloud_bake.ignores`) for their hosts'
+/// redraw test.
 pub const BAKE_IGNORES: [&str; 11] = [
     "inverse_view_projection",
     "resolution",
@@ -56,6 +60,7 @@ pub fn bake_size(path: Path) -> Option<(u32, u32)> {
     match path {
         Path::Slices => Some(slices_size()),
         Path::Blob2d => Some(blob2d_size()),
-        Path::Volume | Path::Impostor | Path::Mesh => None,
+        Path::Impostor => Some(impostor_size()),
+        Path::Volume | Path::Mesh => None,
     }
 }

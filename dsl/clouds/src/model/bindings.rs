@@ -111,12 +111,14 @@ pub static AIR_TABLE: Binding<Texture2d> = Binding::texture(
 );
 
 /// The bake of a baked path (`model::bake`), drawn by its own pass: the slice stack
-/// (`model::slices`) or the 2D map (`model::blob2d`).
+/// (`model::slices`), the octahedral impostor (`model::impostor`) or the 2D map
+/// (`model::blob2d`).
 pub static BAKE: Binding<Texture2d> = Binding::texture(
     "cloud_bake",
     0,
     11,
-    "The path's bake: the slice stack or the 2D map of the clouds around the camera.",
+    "The path's bake: the slice stack, the impostor or the 2D map of the clouds around the \
+     camera.",
 );
 
 /// Offsets, weights, reprojection.

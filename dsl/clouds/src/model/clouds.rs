@@ -1,7 +1,7 @@
 //! The cloud module: one variant per genus, quality preset and set of toggles, each recorded
 //! with exactly the code, bindings and textures its features use.
 
-use crate::{Features, Genus, Quality};
+use crate::{Features, Genus, Path, Quality};
 use nimbus_dsl::ir::Module;
 use nimbus_dsl::{DslError, ModuleBuilder, loc};
 
@@ -10,6 +10,7 @@ pub use super::bindings::{CloudBinding, ResolveBinding};
 use super::air_table::air_table_fragment;
 use super::blob2d::blob2d_fragment;
 use super::display::display_fragment;
+use super::impostor::impostor_fragment;
 use super::march::{CloudUniforms, cloud_fragment};
 use super::preview::fullscreen_position;
 use super::resolve::resolve_fragment;
@@ -278,65 +279,52 @@ pub fn air_table_module() -> Result<Module, DslError> {
     )
 }
 
-/// Records the bake module of `key` (a key of a baked path): the slice stack or the 2D map.
+/// Records the bake module of `key` (a key of a baked path): one texel of the path's bake per
+/// fragment (the slice stack, the 2D map or the impostor), from the cloud block and the noise
+/// textures, with the density the key's erosion stages and genus functions make.
 pub fn bake_module(key: &CloudKey) -> Result<Module, DslError> {
-    if key.reads_blob2d() {
-        blob2d_module(key)
-    } else {
-        slices_module(key)
-    }
-}
-
-/// Records the 2D map module of `key` (a key of the `blob2d` path): one texel of the map per
-/// fragment, from the cloud block and the noise textures, with the density the key's erosion
-/// stages and genus functions make.
-pub fn blob2d_module(key: &CloudKey) -> Result<Module, DslError> {
     let key = *key;
-    ModuleBuilder::build(
-        "blob2d",
-        &format!(
-            "The 2D map of key `{}`: the clouds' columns around the camera (optical depths, \
-             powder, mean altitude, optical depths to the sun).",
-            key.name()
+    let path = key.features.path;
+    let (module, entry, noun, what, texel) = match path {
+        Path::Blob2d => (
+            "blob2d",
+            "fs_blob2d",
+            "The 2D map",
+            "the clouds' columns around the camera (optical depths, powder, mean altitude, \
+             optical depths to the sun)",
+            "One texel of the 2D map.",
         ),
+        Path::Impostor => (
+            "impostor",
+            "fs_impostor",
+            "The impostor",
+            "the volume's march from the camera in every direction (light, transmittance, front \
+             depth)",
+            "One texel of the impostor.",
+        ),
+        Path::Slices | Path::Volume | Path::Mesh => (
+            "slices",
+            "fs_slices",
+            "The slice stack",
+            "density and optical depths to the sun, down and up, per altitude around the camera",
+            "One texel of the slice stack.",
+        ),
+    };
+    ModuleBuilder::build(
+        module,
+        &format!("{noun} of key `{}`: {what}.", key.name()),
         loc!(),
         |m| {
             m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
                 fullscreen_position::shader(vertex_index)
             });
-            m.fragment(
-                "fs_blob2d",
-                "One texel of the 2D map.",
-                loc!(),
-                |frag_coord| blob2d_fragment::shader(frag_coord, key),
-            );
-        },
-    )
-}
-
-/// Records the slice stack module of `key` (a key of the `slices` path): one texel of the
-/// stack per fragment, from the cloud block and the noise textures, with the density the
-/// key's erosion stages and genus functions make.
-pub fn slices_module(key: &CloudKey) -> Result<Module, DslError> {
-    let key = *key;
-    ModuleBuilder::build(
-        "slices",
-        &format!(
-            "The slice stack of key `{}`: density and optical depths to the sun, down and up, \
-             per altitude around the camera.",
-            key.name()
-        ),
-        loc!(),
-        |m| {
-            m.vertex("vs_main", "Full-screen triangle.", loc!(), |vertex_index| {
-                fullscreen_position::shader(vertex_index)
+            m.fragment(entry, texel, loc!(), |frag_coord| match path {
+                Path::Blob2d => blob2d_fragment::shader(frag_coord, key),
+                Path::Impostor => impostor_fragment::shader(frag_coord, key),
+                Path::Slices | Path::Volume | Path::Mesh => {
+                    slices_fragment::shader(frag_coord, key)
+                }
             });
-            m.fragment(
-                "fs_slices",
-                "One texel of the slice stack.",
-                loc!(),
-                |frag_coord| slices_fragment::shader(frag_coord, key),
-            );
         },
     )
 }

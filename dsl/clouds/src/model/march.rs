@@ -23,6 +23,7 @@ use super::choices::{
 use super::density::{MediaParams, eroded_density, weather_density};
 use super::diffusion::{diffuse_scattering, phase_asymmetry, sky_diffuse_scattering};
 use super::flat_layer::flat_layer;
+use super::impostor::impostor_clouds;
 use super::layers::LayerGroup;
 use super::noise::interleaved_gradient_noise;
 use super::orthographic::orthographic_fragment;
@@ -1003,6 +1004,8 @@ pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: Clo
         (interleaved_gradient_noise(cell + Vec2::splat(0.5), u.frame) + u.jitter).fract_gl();
     let clouds = if key.reads_blob2d() {
         blob2d_clouds(direction, jitter, key)
+    } else if key.reads_impostor() {
+        impostor_clouds(direction)
     } else if gate(key, FLAT_HIGH_LAYER) {
         flat_layer(direction, jitter, pixel_angle, key)
     } else {

@@ -14,6 +14,7 @@ pub mod display;
 pub mod flat_layer;
 pub mod formation;
 pub mod genus_fns;
+pub mod impostor;
 pub mod layers;
 pub mod march;
 pub mod noise;
