@@ -111,6 +111,7 @@ fn scene() -> impl Strategy<Value = ScenePreset> {
                 wind: None,
                 weather: Vec::new(),
                 formation: None,
+                budget: None,
             },
         )
 }

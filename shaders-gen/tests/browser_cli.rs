@@ -206,6 +206,26 @@ fn worst_row(a: &image::RgbImage, b: &image::RgbImage) -> (u32, f64) {
         .fold((0, 0.0), |w, r| if r.1 > w.1 { r } else { w })
 }
 
+/// Compares a browser's frame `got` with `nimbus render`'s `want`: prints the similarity, the
+/// mean difference and the worst row's under `name`, and fails the test, pointing at the
+/// screenshots in `out`, unless all three are within the bounds.
+fn assert_same_frame(name: &str, want: &image::RgbImage, got: &image::RgbImage, out: &Path) {
+    let score = rgb_hybrid_compare(want, got).expect("same size").score;
+    let mean = mean_difference(want, got);
+    let (row, row_mean) = worst_row(want, got);
+    println!(
+        "{name}: similarity {score:.4}, mean difference {mean:.2}/255, worst row {row} \
+         {row_mean:.2}/255"
+    );
+    assert!(
+        score >= MIN_SCORE && mean <= MAX_MEAN && row_mean <= MAX_ROW_MEAN,
+        "{name}: the browser frame differs from nimbus render (similarity {score:.4} < \
+         {MIN_SCORE}, mean {mean:.2} > {MAX_MEAN} or row {row} {row_mean:.2} > \
+         {MAX_ROW_MEAN}); see {}",
+        out.display()
+    );
+}
+
 /// One browser frame: the package of scene `package`, seen as scene `view` is (its camera,
 /// and its sun through `setSun` when `move_sun`), against `nimbus render` of scene `view`.
 struct Case {
@@ -418,20 +438,7 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
     }
     println!("screenshots: {}", out.display());
     for (name, want, got) in &frames {
-        let score = rgb_hybrid_compare(want, got).expect("same size").score;
-        let mean = mean_difference(want, got);
-        let (row, row_mean) = worst_row(want, got);
-        println!(
-            "{name}: similarity {score:.4}, mean difference {mean:.2}/255, worst row {row} \
-             {row_mean:.2}/255"
-        );
-        assert!(
-            score >= MIN_SCORE && mean <= MAX_MEAN && row_mean <= MAX_ROW_MEAN,
-            "{name}: the browser frame differs from nimbus render (similarity {score:.4} < \
-             {MIN_SCORE}, mean {mean:.2} > {MAX_MEAN} or row {row} {row_mean:.2} > \
-             {MAX_ROW_MEAN}); see {}",
-            out.display()
-        );
+        assert_same_frame(name, want, got, &out);
     }
     // Control: the metric tells the two sun positions apart, so a package that ignored its
     // uniforms, or drew the wrong scene, would fail.
@@ -786,18 +793,7 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
         ("one frame", &want_one, &one),
         ("16 upscaled frames", &want_upscaled, &upscaled),
     ] {
-        let score = rgb_hybrid_compare(want, got).expect("same size").score;
-        let mean = mean_difference(want, got);
-        let (row, row_mean) = worst_row(want, got);
-        println!(
-            "WebGPU {name}: similarity {score:.4}, mean difference {mean:.2}/255, worst row \
-             {row} {row_mean:.2}/255"
-        );
-        assert!(
-            score >= MIN_SCORE && mean <= MAX_MEAN && row_mean <= MAX_ROW_MEAN,
-            "WebGPU {name}: differs from nimbus render; see {}",
-            out.display()
-        );
+        assert_same_frame(&format!("WebGPU {name}"), want, got, &out);
     }
     let same = mean_difference(&one, &three);
     println!("WebGPU against three.js in the same browser: mean difference {same:.3}/255");
@@ -814,18 +810,7 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
     // new, then the clouds read it.
     let got = browse("webgpu-blob2d", &packages[2], &["page=webgpu", "frames=1"]);
     let want = render("blob2d", &baked_scene, &["-f", "1"]);
-    let score = rgb_hybrid_compare(&want, &got).expect("same size").score;
-    let mean = mean_difference(&want, &got);
-    let (row, row_mean) = worst_row(&want, &got);
-    println!(
-        "WebGPU blob2d: similarity {score:.4}, mean difference {mean:.2}/255, worst row {row} \
-         {row_mean:.2}/255"
-    );
-    assert!(
-        score >= MIN_SCORE && mean <= MAX_MEAN && row_mean <= MAX_ROW_MEAN,
-        "WebGPU blob2d: differs from nimbus render; see {}",
-        out.display()
-    );
+    assert_same_frame("WebGPU blob2d", &want, &got, &out);
     let volume = mean_difference(&one, &got);
     println!("control (the volume's frame vs the blob2d frame): mean {volume:.2}/255");
     assert!(volume > MAX_MEAN, "the blob2d frame is the volume's");

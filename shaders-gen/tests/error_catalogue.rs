@@ -132,7 +132,7 @@ fn cases() -> Vec<Case> {
         ("--resolution", "640", "640"),
         ("--octaves", "0", "0"),
         ("--octaves", "13", "13"),
-        ("--path", "impostor", "impostor"),
+        ("--path", "mesh", "mesh"),
         ("--path", "hologram", "hologram"),
     ];
     for (flag, value, shown) in flags {
@@ -257,6 +257,16 @@ fn cases() -> Vec<Case> {
             "a wrong type",
             scene_with("fov_deg = \"wide\""),
             vec!["scene.toml", "fov_deg"],
+        ),
+        (
+            "a budget of no time",
+            scene_with("[budget]\nframe_ms = 0.0\nvolume_ms = 20.0"),
+            vec!["scene.toml", "budget.frame_ms", "0"],
+        ),
+        (
+            "a budget missing the volume's time",
+            scene_with("[budget]\nframe_ms = 4.0"),
+            vec!["scene.toml", "volume_ms"],
         ),
         (
             "an unknown genus",

@@ -424,30 +424,37 @@ pub fn analyse(scene: &ScenePreset, genus: &Genus) -> Analysis {
     }
 }
 
-/// The path a scene draws its clouds by, and why: the scene's `path`, unless its camera or its
-/// layers need the volume.
+/// The path a scene draws its clouds by, and why: the scene's `path`, else the one its
+/// `[budget]` fits ([`crate::budget::choose`]), unless its camera needs the volume.
 fn path_choice(scene: &ScenePreset, features: &Features) -> PathDecision {
-    let Some(wanted) = scene.features.path else {
-        return PathDecision {
-            path: Path::Volume,
-            reason: "the default: the scene names no path".into(),
-        };
+    let (wanted, reason) = match (scene.features.path, scene.budget) {
+        (Some(wanted), _) => (
+            wanted,
+            format!(
+                "chosen by the scene (`path = \"{wanted}\"`): {}",
+                wanted.doc()
+            ),
+        ),
+        (None, Some(budget)) => {
+            crate::budget::choose(budget, scene.quality, crate::budget::animated_by(scene))
+        }
+        (None, None) => (
+            Path::Volume,
+            "the default: the scene names no path and no budget".into(),
+        ),
     };
     if wanted != Path::Volume && features.orthographic {
         return PathDecision {
             path: Path::Volume,
             reason: format!(
-                "the scene asks for `{wanted}`, but an orthographic camera shades each pixel from \
-                 its own origin, which a stack baked around one camera cannot serve"
+                "`{wanted}` ({reason}); but an orthographic camera shades each pixel from its \
+                 own origin, which a bake around one camera cannot serve"
             ),
         };
     }
     PathDecision {
         path: wanted,
-        reason: format!(
-            "chosen by the scene (`path = \"{wanted}\"`): {}",
-            wanted.doc()
-        ),
+        reason,
     }
 }
 

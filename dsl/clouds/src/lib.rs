@@ -6,6 +6,7 @@
 //! show, and [`catalog`] turns genus × quality pairs into the distinct shader keys they need.
 
 pub mod analysis;
+pub mod budget;
 pub mod catalog;
 pub mod clock;
 pub mod engine_depth;

@@ -277,6 +277,23 @@ pub const UTC_OFFSET: Limit = Limit {
     hint: "local time minus UTC; time zones span −12 to +14 hours",
 };
 
+/// The clouds' share of a frame (`[budget]`).
+pub const BUDGET_FRAME_MS: Limit = Limit {
+    field: "budget.frame_ms",
+    flag: "(scene files only)",
+    min: 0.01,
+    max: 1e5,
+    unit: " ms",
+    hint: "milliseconds of a frame the clouds may take on the target device",
+};
+
+/// The volume's frame on the target device (`[budget]`).
+pub const BUDGET_VOLUME_MS: Limit = Limit {
+    field: "budget.volume_ms",
+    flag: "(scene files only)",
+    ..BUDGET_FRAME_MS
+};
+
 pub const WIND_SPEED: Limit = Limit {
     field: "wind.speed",
     flag: "--wind-speed",

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::DataError;
 use crate::limits::{self, Limit, Origin};
 
+use super::budget::Budget;
 use super::clock::Clock;
 use super::features::FeatureOverrides;
 use super::formation::Formation;
@@ -71,6 +72,10 @@ pub struct ScenePreset {
     /// has cloud, the weather lets the genus' clouds through.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub formation: Option<Formation>,
+    /// The clouds' share of a frame on the target device (`[budget]`): with no path named, the
+    /// analysis picks the most accurate one that fits ([`crate::budget::choose`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget: Option<Budget>,
 }
 
 /// A pair of numbers, refusing a list of any other length (serde's fixed arrays accept and drop
@@ -185,6 +190,10 @@ impl ScenePreset {
             if let Some(v) = w.top_direction_deg {
                 check(&limits::WIND_TOP_DIRECTION, v)?;
             }
+        }
+        if let Some(b) = &self.budget {
+            check(&limits::BUDGET_FRAME_MS, b.frame_ms)?;
+            check(&limits::BUDGET_VOLUME_MS, b.volume_ms)?;
         }
         if let Some(f) = &self.formation {
             let p = &limits::FORMATION_PROBABILITY;

@@ -202,3 +202,61 @@ fn the_example_scenes_derive_what_their_descriptions_say() {
     // A full scene keeps everything its preset has.
     assert_eq!(derive("partly-cloudy"), Quality::High.features());
 }
+
+/// A scene naming no path but a `[budget]` is drawn by the most accurate path that fits it,
+/// and `explain`'s reason says so; a scene that moves keeps the volume (a baked path would
+/// rebake every frame), and so does an orthographic camera; a path the scene names wins.
+#[test]
+fn a_budget_picks_the_path_that_fits() {
+    use nimbus_clouds::Path as DrawPath;
+    use nimbus_clouds::budget::{Budget, cost_ratio};
+    let g = genus("cumulus");
+    let mut s = scene("cumulus");
+    s.quality = Quality::Low;
+    s.clock = None;
+    s.wind = None;
+    s.weather.clear();
+    s.formation = None;
+    assert_eq!(analyse(&s, &g).path.path, DrawPath::Volume);
+    let impostor = cost_ratio(DrawPath::Impostor, Quality::Low).expect("built");
+    s.budget = Some(Budget {
+        frame_ms: 40.0 * impostor * 1.05,
+        volume_ms: 40.0,
+    });
+    let a = analyse(&s, &g);
+    assert_eq!(a.path.path, DrawPath::Impostor, "{}", a.path.reason);
+    assert!(a.path.reason.contains("budget"), "{}", a.path.reason);
+    assert_eq!(a.features.path, DrawPath::Impostor);
+    // The same budget with the volume within it.
+    s.budget = Some(Budget {
+        frame_ms: 40.0,
+        volume_ms: 30.0,
+    });
+    assert_eq!(analyse(&s, &g).path.path, DrawPath::Volume);
+    // Moving clouds: every frame a bake.
+    s.budget = Some(Budget {
+        frame_ms: 4.0,
+        volume_ms: 40.0,
+    });
+    let mut windy = s.clone();
+    windy.wind = lib_wind();
+    let a = analyse(&windy, &g);
+    assert_eq!(a.path.path, DrawPath::Volume, "{}", a.path.reason);
+    assert!(a.path.reason.contains("wind"), "{}", a.path.reason);
+    // An orthographic camera.
+    let mut ortho = s.clone();
+    ortho.features.orthographic = Some(true);
+    assert_eq!(analyse(&ortho, &g).path.path, DrawPath::Volume);
+    // The scene's own path wins over its budget.
+    let mut named = s.clone();
+    named.features.path = Some(DrawPath::Blob2d);
+    assert_eq!(analyse(&named, &g).path.path, DrawPath::Blob2d);
+}
+
+/// The wind of the example scene that has one.
+fn lib_wind() -> Option<nimbus_clouds::wind::Wind> {
+    let lib = library();
+    let wind = lib.scenes["day-with-wind"].1.wind;
+    assert!(wind.is_some(), "day-with-wind has no wind");
+    wind
+}

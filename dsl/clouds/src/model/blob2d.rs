@@ -31,7 +31,7 @@ use super::bindings::{BAKE, CLOUDS, LINEAR_REPEAT};
 use super::choices::{DIFFUSION, GROUND_BOUNCE, GROUPS, gate, key_count};
 use super::march::{
     MarchResult, altitude_along, octave_phases, one_minus_exp_over, sample_source,
-    secondary_optical_depth, total_density,
+    secondary_optical_depth, shell_range, total_density,
 };
 use super::shell::{ground_hit, ray_shell};
 use super::slices::{curved_height, slice_coordinate, slice_offset};
@@ -207,26 +207,12 @@ pub fn fraction_above(altitude: f32, mean: f32, spread: f32) -> f32 {
 pub fn band_range(mu: f32, bounds: Vec2) -> Vec2 {
     let u = CLOUDS.get();
     let m = u.march;
-    let camera = u.camera_altitude;
-    let below = ray_shell(camera, mu, bounds.x, m.radius);
-    let above = ray_shell(camera, mu, bounds.y, m.radius);
-    let hits_ground = ground_hit(camera, mu, m.radius) >= 0.0;
+    let below = ray_shell(u.camera_altitude, mu, bounds.x, m.radius);
+    let above = ray_shell(u.camera_altitude, mu, bounds.y, m.radius);
+    let hits_ground = ground_hit(u.camera_altitude, mu, m.radius) >= 0.0;
     // Leaving through the bottom where the ray reaches it, else through the top.
     let exit = select(above.y, below.x, below.x > 0.0);
-    let mut near = 0.0f32;
-    let mut far = -1.0f32;
-    if camera < bounds.x {
-        if !hits_ground {
-            near = below.y;
-            far = above.y;
-        }
-    } else if camera <= bounds.y {
-        far = exit;
-    } else if above.x > 0.0 {
-        near = above.x;
-        far = exit;
-    }
-    vec2(near, far.min(near + m.max_ray_distance))
+    shell_range(bounds, below, above, exit, hits_ground)
 }
 
 /// The clouds along `direction` drawn from the map (the march's result, for

@@ -531,20 +531,37 @@ pub fn cloud_range(mu: f32) -> Vec2 {
     let ground = ground_hit(camera_altitude, mu, march.radius);
     let hits_ground = ground >= 0.0;
     let exit = select(top.y, ground, hits_ground);
+    shell_range(
+        vec2(march.min_height, march.max_height),
+        bottom,
+        top,
+        exit,
+        hits_ground,
+    )
+}
+
+/// Distances along a view ray to where it enters the shell between the altitudes `heights`
+/// (bottom, top) and to `exit`, where it leaves (`far < near`: it never enters), capped at the
+/// march's reach: from below it enters through the bottom (`bottom`: the ray's crossings of
+/// the bottom shell) unless it `hits_ground` first; from inside it is in already; from above
+/// it enters through the top (`top`) if it reaches it.
+#[shader_fn]
+pub fn shell_range(heights: Vec2, bottom: Vec2, top: Vec2, exit: f32, hits_ground: bool) -> Vec2 {
+    let camera_altitude = CLOUDS.get().camera_altitude;
     let mut near = 0.0f32;
     let mut far = -1.0f32;
-    if camera_altitude < march.min_height {
+    if camera_altitude < heights.x {
         if !hits_ground {
             near = bottom.y;
             far = exit;
         }
-    } else if camera_altitude <= march.max_height {
+    } else if camera_altitude <= heights.y {
         far = exit;
     } else if top.x > 0.0 {
         near = top.x;
         far = exit;
     }
-    vec2(near, far.min(near + march.max_ray_distance))
+    vec2(near, far.min(near + CLOUDS.get().march.max_ray_distance))
 }
 
 /// How far along its ray a real-time secondary march of `steps` steps reaches: the first step
