@@ -319,7 +319,7 @@ fn the_impostor_pass_draws_what_its_cpu_twin_computes() {
 /// (`cloud_bake.ignores`) are members of the block, and nothing the bake reads.
 #[test]
 fn the_stack_follows_the_sun_and_the_place_not_the_view() {
-    use nimbus_clouds::model::bake::{BAKE_IGNORES, bake_inputs};
+    use nimbus_clouds::model::bake::{BAKE_IGNORES, IMPOSTOR_READS, bake_inputs};
     use nimbus_dsl::layout::{UniformBytes, read_members};
     let lib = library();
     let genus = lib.genus("cumulus").expect("cumulus");
@@ -334,7 +334,7 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
             "`{m}` names no member of the cloud block"
         );
     }
-    let base = bake_inputs(&u).expect("inputs");
+    let base = bake_inputs(&u, DrawPath::Slices).expect("inputs");
     let mut view = u;
     view.inverse_view_projection = glam::Mat4::from_rotation_y(0.4) * u.inverse_view_projection;
     view.jitter = 0.73;
@@ -342,9 +342,25 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
     view.resolution = glam::Vec2::new(320.0, 180.0);
     view.shadow.lookup.u = glam::Mat4::IDENTITY;
     assert_eq!(
-        bake_inputs(&view).expect("inputs"),
+        bake_inputs(&view, DrawPath::Slices).expect("inputs"),
         base,
         "the view moved the stack"
+    );
+    // The impostor's bake reads the shadow map: a redrawn cascade tile (its transform moved)
+    // redraws it, and the view alone does not.
+    let impostor = bake_inputs(&u, DrawPath::Impostor).expect("inputs");
+    let mut turned = u;
+    turned.inverse_view_projection = view.inverse_view_projection;
+    assert_eq!(
+        bake_inputs(&turned, DrawPath::Impostor).expect("inputs"),
+        impostor,
+        "the view moved the impostor"
+    );
+    assert!(IMPOSTOR_READS.starts_with("shadow.lookup"));
+    assert_ne!(
+        bake_inputs(&view, DrawPath::Impostor).expect("inputs"),
+        impostor,
+        "a redrawn cascade tile left the impostor as it was"
     );
     type Change = fn(&mut CloudUniforms);
     let moved: [(&str, Change); 4] = [
@@ -359,7 +375,7 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
         let mut v = u;
         change(&mut v);
         assert_ne!(
-            bake_inputs(&v).expect("inputs"),
+            bake_inputs(&v, DrawPath::Slices).expect("inputs"),
             base,
             "{what} left the stack as it was"
         );

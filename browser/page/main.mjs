@@ -22,15 +22,16 @@ async function run(result) {
   const camera = new THREE.PerspectiveCamera(number('fov', 60), width / height, 1, 1e6);
   placeCamera(camera, 12);
   clouds.setCamera(camera);
-  if (q.has('sun')) {
-    const [elevation, azimuth] = q.get('sun').split(',').map(Number);
-    clouds.setSun(elevation, azimuth);
-  }
-  // With `first=1`, a frame is drawn before the clock moves (its shadow atlas then stale), and
-  // the frame sequence restarts (setSize) so the frame after matches a one-frame render.
+  // With `first=1`, a frame is drawn before the sun or the clock moves (its shadow atlas, and a
+  // baked path's bake, then stale), and the frame sequence restarts (setSize) so the frame
+  // after matches a one-frame render.
   if (q.get('first') === '1') {
     clouds.render(renderer);
     clouds.setSize(width, height);
+  }
+  if (q.has('sun')) {
+    const [elevation, azimuth] = q.get('sun').split(',').map(Number);
+    clouds.setSun(elevation, azimuth);
   }
   // A scene's [wind] and [[weather]] (`speed,from[,top,topFrom]`; `coverage,at[,over];...`),
   // then its clock: the package's own setWind, setWeather and setTime.

@@ -767,7 +767,7 @@ impl<'g> Renderer<'g> {
             return Ok(());
         };
         let key = ShaderKey::Bake(clouds);
-        let drawn = bake_inputs(u)
+        let drawn = bake_inputs(u, clouds.features.path)
             .map_err(RuntimeError::from)
             .and_then(|inputs| {
                 self.draw_cached(&mut pass, key, (key, inputs), u, encoder, timer, "bake")

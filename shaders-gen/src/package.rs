@@ -11,7 +11,7 @@ use std::path::Path;
 
 use nimbus_clouds::catalog::{Assignment, ShaderKey};
 use nimbus_clouds::model::air_table::air_table_size;
-use nimbus_clouds::model::bake::{BAKE_IGNORES, bake_size};
+use nimbus_clouds::model::bake::{bake_ignores, bake_size};
 use nimbus_clouds::model::bindings::{
     CloudBinding, DisplayBinding, ResolveBinding, SunLightBinding,
 };
@@ -409,7 +409,10 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
                 .map(|(width, height)| Bake {
                     width,
                     height,
-                    ignores: BAKE_IGNORES.iter().map(|m| m.to_string()).collect(),
+                    ignores: bake_ignores(a.clouds.features.path)
+                        .iter()
+                        .map(|m| m.to_string())
+                        .collect(),
                 }),
             passes,
         });

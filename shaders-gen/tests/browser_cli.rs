@@ -47,7 +47,7 @@ struct View {
     path: &'static str,
 }
 
-const VIEWS: [View; 10] = [
+const VIEWS: [View; 11] = [
     View {
         name: "sun-high",
         quality: "low",
@@ -150,13 +150,24 @@ const VIEWS: [View; 10] = [
         path: "blob2d",
     },
     // The impostor path (its octahedral map baked in the browser by the volume's own march
-    // per direction, the cloud pass reading its ray's texel).
+    // per direction, the cloud pass reading its ray's texel), and its scene with the sun low
+    // (`the_impostor_follows_a_moved_sun_through_rotating_cascades`).
     View {
         name: "impostor",
         quality: "low",
         coverage: 0.6,
         sun_elevation: 35.0,
         sun_azimuth: 150.0,
+        pitch: 10.0,
+        yaw: 0.0,
+        path: "impostor",
+    },
+    View {
+        name: "impostor-sun-low",
+        quality: "low",
+        coverage: 0.6,
+        sun_elevation: 8.0,
+        sun_azimuth: 230.0,
         pitch: 10.0,
         yaw: 0.0,
         path: "impostor",
@@ -814,4 +825,82 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
     let volume = mean_difference(&one, &got);
     println!("control (the volume's frame vs the blob2d frame): mean {volume:.2}/255");
     assert!(volume > MAX_MEAN, "the blob2d frame is the volume's");
+}
+
+/// The impostor's bake reads the shadow cascades, which the three.js host redraws one a frame
+/// after the sun moves: each redraw must bake the impostor again, so that once every tile is
+/// the new sun's the frame is the one a whole redraw gives. A frame at the package's sun
+/// first, then `setSun` to the low sun; compared after three more frames (a tile each) with
+/// the frame of a host that redraws every tile at once. Control: the frame right after the
+/// move, its coarser tiles still the old sun's.
+#[test]
+fn the_impostor_follows_a_moved_sun_through_rotating_cascades() {
+    if !browser_tools_present("the impostor's rotation test", missing()) {
+        return;
+    }
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-impostor-rotation");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).expect("screenshot folder");
+    let (pv, v) = (&VIEWS[9], &VIEWS[10]);
+    assert_eq!((pv.path, v.path), ("impostor", "impostor"));
+    let package = out.join("package");
+    let o = nimbus(&[
+        "emit",
+        "--engine",
+        "three",
+        "--scene",
+        scene(&out, pv).to_str().expect("utf8"),
+        "-o",
+        package.to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "emit: {}", text(&o.stderr));
+    let page = |png: &str, extra: &[&str]| {
+        let png = out.join(png);
+        let o = Command::new("node")
+            .current_dir(browser_dir())
+            .arg("render.mjs")
+            .arg(&package)
+            .arg(&png)
+            .args([
+                "width=160".to_string(),
+                "height=90".to_string(),
+                format!("pitch={}", v.pitch),
+                format!("yaw={}", v.yaw),
+                "fov=60".to_string(),
+                format!("sun={},{}", v.sun_elevation, v.sun_azimuth),
+                "first=1".to_string(),
+            ])
+            .args(extra)
+            .output()
+            .expect("run node");
+        let log =
+            std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
+        assert!(
+            o.status.success(),
+            "the page failed or logged: {}{}\n{log}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
+        rgb(&png)
+    };
+    let settled = page("settled-chromium.png", &["settle=3"]);
+    let whole = page("whole-chromium.png", &["rotation=0"]);
+    let first = page("first-frame-chromium.png", &[]);
+    let (after, before) = (
+        mean_difference(&whole, &settled),
+        mean_difference(&whole, &first),
+    );
+    println!(
+        "impostor, cascades in rotation against a whole redraw: {after:.3}/255 once every tile \
+         is redrawn, {before:.3}/255 the frame after the sun moved; screenshots: {}",
+        out.display()
+    );
+    assert!(
+        after <= 0.1,
+        "the impostor kept a bake of the half-redrawn cascades: {after}"
+    );
+    assert!(
+        before > 0.3,
+        "the control: one tile redrawn already looked whole ({before})"
+    );
 }

@@ -13,12 +13,9 @@ use super::slices::slices_size;
 
 /// Members of the cloud block (dotted paths, each with everything under it) no bake depends
 /// on: what only the view decides (its projection, the image's size and pixel mapping, the
-/// frame's jitter), the composite's switches, the haze and the shadow map's cascade
-/// transforms (the slices and the 2D map march their whole way to the sun and read no map;
-/// the impostor's march reads it as the volume's does, and what it holds follows the sun, the
-/// camera's place and the clouds, which the bake does depend on: the transforms only move as
-/// its tiles are redrawn). Engine packages list them (`cloud_bake.ignores`) for their hosts'
-/// redraw test.
+/// frame's jitter), the composite's switches, the haze, and the shadow map's cascade
+/// transforms ([`IMPOSTOR_READS`] aside). Engine packages list a pair's own
+/// ([`bake_ignores`]: `cloud_bake.ignores`) for their hosts' redraw test.
 pub const BAKE_IGNORES: [&str; 11] = [
     "inverse_view_projection",
     "resolution",
@@ -33,25 +30,45 @@ pub const BAKE_IGNORES: [&str; 11] = [
     "shadow.inverse_matrix",
 ];
 
-/// Whether the member at dotted path `path` is one of [`BAKE_IGNORES`] or lies within one.
-pub fn bake_ignores(path: &str) -> bool {
-    BAKE_IGNORES.iter().any(|m| {
-        path.strip_prefix(m)
+/// The member of [`BAKE_IGNORES`] the impostor's bake does depend on. The slices and the 2D
+/// map march their whole way to the sun and read no shadow map; the impostor's bake is the
+/// volume's march, which reads it through the cascades' transforms. With cascades in rotation
+/// (the JavaScript hosts' default) a moved sun redraws one tile a frame, each redraw moves its
+/// transform, and the impostor is baked again until every tile is the new sun's: a bake made
+/// with the first tile alone would keep the old sun's shadows for good.
+pub const IMPOSTOR_READS: &str = "shadow.lookup";
+
+/// The members of the cloud block the bake of `path` does not depend on.
+pub fn bake_ignores(path: Path) -> Vec<&'static str> {
+    BAKE_IGNORES
+        .iter()
+        .copied()
+        .filter(|m| path != Path::Impostor || *m != IMPOSTOR_READS)
+        .collect()
+}
+
+/// Whether the member at dotted path `member` is one of `ignores` or lies within one.
+fn ignored(ignores: &[&str], member: &str) -> bool {
+    ignores.iter().any(|m| {
+        member
+            .strip_prefix(m)
             .is_some_and(|rest| rest.is_empty() || rest.starts_with('.') || rest.starts_with('['))
     })
 }
 
-/// What the bake of the block `u` depends on: every leaf member's path and value but those of
-/// [`BAKE_IGNORES`]. Two blocks with equal inputs have the same bake: a host redraws it when
-/// they differ.
+/// What the bake of `path` from the block `u` depends on: every leaf member's path and value
+/// but those of [`bake_ignores`]. Two blocks with equal inputs have the same bake: a host
+/// redraws it when they differ.
 pub fn bake_inputs(
     u: &CloudUniforms,
+    path: Path,
 ) -> Result<nimbus_dsl::layout::Members, nimbus_dsl::layout::LayoutError> {
     use nimbus_dsl::layout::{UniformBytes, read_members};
     let bytes = u.to_uniform_bytes()?;
+    let ignores = bake_ignores(path);
     Ok(read_members(CloudUniforms::shader_type(), &bytes)
         .into_iter()
-        .filter(|(path, _)| !bake_ignores(path))
+        .filter(|(member, _)| !ignored(&ignores, member))
         .collect())
 }
 

@@ -14,8 +14,9 @@
 //! clouds that are there, is. What it costs: the map's resolution ([`IMPOSTOR_TEXELS`] across
 //! the whole sphere, a texel about 0.55°, three tiles 1,920 texels wide within WebGL2's
 //! guaranteed 2,048), and a new bake when what the clouds
-//! are made of or lit by changes (the sun, the weather, the camera's place: the same
-//! [`super::bake::BAKE_IGNORES`] as the other baked paths). Its use: a background sky, a
+//! are made of or lit by changes (the sun, the weather, the camera's place, and a redrawn
+//! shadow cascade, which its marches read: [`super::bake::bake_ignores`]). Its use: a
+//! background sky, a
 //! device that cannot march, a view whose camera turns but does not travel.
 //!
 //! The map is three tiles side by side, each the octahedral projection of the sphere of
