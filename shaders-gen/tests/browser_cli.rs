@@ -217,6 +217,44 @@ fn worst_row(a: &image::RgbImage, b: &image::RgbImage) -> (u32, f64) {
         .fold((0, 0.0), |w, r| if r.1 > w.1 { r } else { w })
 }
 
+/// The page's query for a `w` × `h` frame seen as view `v` is (its camera, a 60° field).
+fn view_args(w: u32, h: u32, v: &View) -> Vec<String> {
+    vec![
+        format!("width={w}"),
+        format!("height={h}"),
+        format!("pitch={}", v.pitch),
+        format!("yaw={}", v.yaw),
+        "fov=60".to_string(),
+    ]
+}
+
+/// Renders `package` in Chromium (`render.mjs`, its query `args`) into `png` and returns the
+/// frame; the test fails, with the page's log, when the page fails or logs anything.
+fn browser_frame(package: &Path, png: &Path, args: &[String]) -> image::RgbImage {
+    let o = Command::new("node")
+        .current_dir(browser_dir())
+        .arg("render.mjs")
+        .arg(package)
+        .arg(png)
+        .args(args)
+        .output()
+        .expect("run node");
+    let log = std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
+    assert!(
+        o.status.success(),
+        "{}: the page failed or logged: {}{}\n{log}",
+        png.display(),
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    println!(
+        "{}: {}",
+        png.file_stem().and_then(|f| f.to_str()).unwrap_or("frame"),
+        text(&o.stdout).trim()
+    );
+    rgb(png)
+}
+
 /// Compares a browser's frame `got` with `nimbus render`'s `want`: prints the similarity, the
 /// mean difference and the worst row's under `name`, and fails the test, pointing at the
 /// screenshots in `out`, unless all three are within the bounds.
@@ -413,13 +451,7 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
             assert!(o.status.success(), "render: {}", text(&o.stderr));
         }
         let browser_png = out.join(format!("{}-chromium.png", case.name));
-        let mut args = vec![
-            format!("width={w}"),
-            format!("height={h}"),
-            format!("pitch={}", v.pitch),
-            format!("yaw={}", v.yaw),
-            "fov=60".to_string(),
-        ];
+        let mut args = view_args(w, h, v);
         if case.move_sun {
             args.push(format!("sun={},{}", v.sun_elevation, v.sun_azimuth));
         }
@@ -427,25 +459,8 @@ fn the_three_package_renders_in_chromium_what_nimbus_renders() {
         if case.upscale {
             args.push("upscale=1".to_string());
         }
-        let o = Command::new("node")
-            .current_dir(browser_dir())
-            .arg("render.mjs")
-            .arg(&package)
-            .arg(&browser_png)
-            .args(&args)
-            .output()
-            .expect("run node");
-        let log = std::fs::read_to_string(format!("{}.log.json", browser_png.display()))
-            .unwrap_or_default();
-        assert!(
-            o.status.success(),
-            "{}: the page failed or logged: {}{}\n{log}",
-            case.name,
-            text(&o.stdout),
-            text(&o.stderr)
-        );
-        println!("{}: {}", case.name, text(&o.stdout).trim());
-        frames.push((case.name, rgb(&nimbus_png), rgb(&browser_png)));
+        let got = browser_frame(&package, &browser_png, &args);
+        frames.push((case.name, rgb(&nimbus_png), got));
     }
     println!("screenshots: {}", out.display());
     for (name, want, got) in &frames {
@@ -552,35 +567,15 @@ fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
     // The page: a frame at second 0 first (the clock's move must redraw the shadow atlas),
     // then the clock moved, `extra` frames drawn, and the next one published.
     let page = |png: &str, extra: &[&str]| {
-        let png = out.join(png);
-        let o = Command::new("node")
-            .current_dir(browser_dir())
-            .arg("render.mjs")
-            .arg(&package)
-            .arg(&png)
-            .args([
-                format!("width={w}"),
-                format!("height={h}"),
-                format!("pitch={}", v.pitch),
-                format!("yaw={}", v.yaw),
-                "fov=60".to_string(),
-                format!("wind={},{},{},{}", WIND[0], WIND[1], WIND[2], WIND[3]),
-                format!("weather={},{}", THINNING.0, THINNING.1),
-                format!("time={TIME}"),
-                "first=1".to_string(),
-            ])
-            .args(extra)
-            .output()
-            .expect("run node");
-        let log =
-            std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
-        assert!(
-            o.status.success(),
-            "the page failed or logged: {}{}\n{log}",
-            text(&o.stdout),
-            text(&o.stderr)
-        );
-        rgb(&png)
+        let mut args = view_args(w, h, v);
+        args.extend([
+            format!("wind={},{},{},{}", WIND[0], WIND[1], WIND[2], WIND[3]),
+            format!("weather={},{}", THINNING.0, THINNING.1),
+            format!("time={TIME}"),
+            "first=1".to_string(),
+        ]);
+        args.extend(extra.iter().map(|s| s.to_string()));
+        browser_frame(&package, &out.join(png), &args)
     };
     // The cascades redraw a tile per frame: three frames before the one compared cover four.
     let browser_png = out.join("at-time-chromium.png");
@@ -763,33 +758,9 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
         rgb(&png)
     };
     let browse = |name: &str, package: &Path, extra: &[&str]| -> image::RgbImage {
-        let png = out.join(format!("{name}.png"));
-        let mut args = vec![
-            format!("width={w}"),
-            format!("height={h}"),
-            format!("pitch={}", v.pitch),
-            format!("yaw={}", v.yaw),
-            "fov=60".to_string(),
-        ];
+        let mut args = view_args(w, h, v);
         args.extend(extra.iter().map(|s| s.to_string()));
-        let o = Command::new("node")
-            .current_dir(browser_dir())
-            .arg("render.mjs")
-            .arg(package)
-            .arg(&png)
-            .args(&args)
-            .output()
-            .expect("run node");
-        let log =
-            std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
-        assert!(
-            o.status.success(),
-            "{name}: the page failed or logged: {}{}\n{log}",
-            text(&o.stdout),
-            text(&o.stderr)
-        );
-        println!("{name}: {}", text(&o.stdout).trim());
-        rgb(&png)
+        browser_frame(package, &out.join(format!("{name}.png")), &args)
     };
     let one = browse("webgpu-f1", &packages[0], &["page=webgpu", "frames=1"]);
     let upscaled = browse(
@@ -855,33 +826,13 @@ fn the_impostor_follows_a_moved_sun_through_rotating_cascades() {
     ]);
     assert!(o.status.success(), "emit: {}", text(&o.stderr));
     let page = |png: &str, extra: &[&str]| {
-        let png = out.join(png);
-        let o = Command::new("node")
-            .current_dir(browser_dir())
-            .arg("render.mjs")
-            .arg(&package)
-            .arg(&png)
-            .args([
-                "width=160".to_string(),
-                "height=90".to_string(),
-                format!("pitch={}", v.pitch),
-                format!("yaw={}", v.yaw),
-                "fov=60".to_string(),
-                format!("sun={},{}", v.sun_elevation, v.sun_azimuth),
-                "first=1".to_string(),
-            ])
-            .args(extra)
-            .output()
-            .expect("run node");
-        let log =
-            std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
-        assert!(
-            o.status.success(),
-            "the page failed or logged: {}{}\n{log}",
-            text(&o.stdout),
-            text(&o.stderr)
-        );
-        rgb(&png)
+        let mut args = view_args(160, 90, v);
+        args.extend([
+            format!("sun={},{}", v.sun_elevation, v.sun_azimuth),
+            "first=1".to_string(),
+        ]);
+        args.extend(extra.iter().map(|s| s.to_string()));
+        browser_frame(&package, &out.join(png), &args)
     };
     let settled = page("settled-chromium.png", &["settle=3"]);
     let whole = page("whole-chromium.png", &["rotation=0"]);
