@@ -172,7 +172,7 @@ for (const quality of presets) {
 // volume's `low` timed above: the same scene, drawn by another path (BENCH_PATHS=slices,...;
 // BENCH_PATHS= for none). `every` rebakes the path's own tables each frame as for a sun that
 // moves every frame; `cached` bakes them once.
-const paths = (process.env.BENCH_PATHS ?? 'slices,impostor,blob2d').split(',').filter((p) => p);
+const paths = (process.env.BENCH_PATHS ?? 'slices,impostor,mesh,blob2d').split(',').filter((p) => p);
 const pathRows = [];
 for (const path of paths) {
   const scene = join(work, `path-${path}.toml`);

@@ -334,6 +334,40 @@ fn the_blob2d_path_draws_from_its_map_alone() {
     assert!(map.wgsl.contains("fn secondary_optical_depth("));
 }
 
+/// The mesh path's cloud pass reads its cluster table and no noise at all, and marches
+/// nothing (the ground's overhead occlusion sums the puffs' columns); its bake fits the puffs
+/// to the density and marches to the sun from each. The volume's has no trace of the table.
+#[test]
+fn the_mesh_path_draws_from_its_table_alone() {
+    let lib = library();
+    let mut features = Quality::Medium.features();
+    features.path = nimbus_clouds::Path::Mesh;
+    let mesh = build(&lib, "cumulus", Quality::Medium, features);
+    let volume = build(&lib, "cumulus", Quality::Medium, Quality::Medium.features());
+    assert!(mesh.wgsl.contains("var cloud_bake"), "{}", mesh.wgsl);
+    assert!(mesh.wgsl.contains("fn mesh_clouds("));
+    assert!(mesh.wgsl.contains("fn mesh_overhead("));
+    for marched in [
+        "fn march_clouds(",
+        "fn weather_density(",
+        "fn eroded_density(",
+        "fn secondary_optical_depth(",
+        "var weather_texture",
+        "var shape_texture",
+    ] {
+        assert!(!mesh.wgsl.contains(marched), "{marched} in the mesh path");
+        assert!(volume.wgsl.contains(marched), "{marched} not in the volume");
+    }
+    assert!(!volume.wgsl.contains("fn mesh_clouds("));
+    let genus = lib.genus("cumulus").expect("genus");
+    let key = CloudVariant::new(genus, Quality::Medium, features).key;
+    assert!(key.reads_mesh() && key.bakes() && key.name().ends_with("-mesh"));
+    let table = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("mesh pass");
+    assert!(table.wgsl.contains("fn mesh_fragment("));
+    assert!(table.wgsl.contains("fn puff_fit("));
+    assert!(table.wgsl.contains("fn secondary_optical_depth("));
+}
+
 /// The impostor path's cloud pass reads its map and marches nothing (no view march, no march
 /// to the sun; the ground's overhead occlusion keeps its four density samples, as the
 /// volume's); its bake is the volume's own march per direction (the same `march_clouds`, its
@@ -493,6 +527,12 @@ fn representative_cloud_keys_are_pinned_per_target() {
         CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, impostor).key;
     keys.push(ShaderKey::Clouds(impostor));
     keys.push(ShaderKey::Bake(impostor));
+    // The mesh path of cumulus at low: its cloud pass and its cluster table.
+    let mut mesh = Quality::Low.features();
+    mesh.path = nimbus_clouds::Path::Mesh;
+    let mesh = CloudVariant::new(lib.genus("cumulus").expect("genus"), Quality::Low, mesh).key;
+    keys.push(ShaderKey::Clouds(mesh));
+    keys.push(ShaderKey::Bake(mesh));
     for key in keys {
         let g = generate_variant(&key, &Target::ALL).expect("generate");
         insta::assert_snapshot!(format!("{}.wgsl", g.id()), g.wgsl);

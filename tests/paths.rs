@@ -10,7 +10,10 @@
 //! clouds' columns (two altitude bands) and lights each view sample from its column; it is
 //! held to the same bound at the same scale. The `impostor` path
 //! ([`nimbus_clouds::Path::Impostor`]) bakes the volume's own march per direction into an
-//! octahedral map; resampled at the map's resolution it is held to half that bound. Controls: each path's picture against the volume
+//! octahedral map; resampled at the map's resolution it is held to half that bound. The `mesh`
+//! path ([`nimbus_clouds::Path::Mesh`]) fits instanced clusters of soft puffs to the density
+//! and draws them in closed form; it is held to the slices' bound at the same scale. Controls:
+//! each path's picture against the volume
 //! with the sun 6° lower, and against the volume with its weather 2 km away, must fail the
 //! bound every genus meets wherever the picture has broken cloud to tell them apart.
 
@@ -23,6 +26,7 @@ use nimbus_clouds::model::bake::bake_size;
 use nimbus_clouds::model::blob2d::{BLOB_TEXELS, blob2d_fragment};
 use nimbus_clouds::model::impostor::{IMPOSTOR_MARCHES, IMPOSTOR_TEXELS, impostor_fragment};
 use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::mesh::{CLUSTER_TEXELS, mesh_fragment};
 use nimbus_clouds::model::slices::{SLICE_TEXELS, slices_fragment};
 use nimbus_clouds::{CloudKey, CloudLibrary, Path as DrawPath, Quality};
 use nimbus_runtime::density_export::generate_cpu_textures;
@@ -71,16 +75,22 @@ fn frame(genus: &nimbus_clouds::Genus, path: DrawPath) -> Frame {
 }
 
 /// The baked paths compared with the volume.
-const BAKED: [DrawPath; 3] = [DrawPath::Slices, DrawPath::Impostor, DrawPath::Blob2d];
+const BAKED: [DrawPath; 4] = [
+    DrawPath::Slices,
+    DrawPath::Impostor,
+    DrawPath::Blob2d,
+    DrawPath::Mesh,
+];
 
 /// Pixels per side of a block of [`block_difference`]: at 160 × 90 and a 60° field of view a
 /// block of 4 subtends 1.5°, about a slice stack's texel beside the camera's vertical (the 2D
-/// map's texels are half as wide; its columns' one bell per band is what softens it).
+/// map's texels are half as wide; its columns' one bell per band is what softens it; the mesh's
+/// puffs are 2.8° across, 128 around the camera, and softened by their kernels).
 const BLOCK: u32 = 4;
 
 /// Bound on [`block_difference`] between a baked path's picture and the volume's, /255: the
-/// slices and the 2D map approximate the volume's light (3/255); the impostor is the volume's
-/// own march, resampled at its map's resolution, and is held to 1.5/255.
+/// slices, the 2D map and the mesh approximate the volume's light (3/255); the impostor is the
+/// volume's own march, resampled at its map's resolution, and is held to 1.5/255.
 fn bound(path: DrawPath) -> f64 {
     if path == DrawPath::Impostor { 1.5 } else { 3.0 }
 }
@@ -310,6 +320,50 @@ fn the_impostor_pass_draws_what_its_cpu_twin_computes() {
     assert!(
         worst < 0.02,
         "the impostor pass departs from its CPU twin by {worst}"
+    );
+}
+
+/// The cluster table's texels are the puffs `mesh_fragment` fits on the CPU from the same
+/// block and noise: each cluster's flag (the heights and azimuths its puffs reach), and each
+/// puff's centre and reach, spreads and peak, and optical depths to the sun, the ground and up
+/// beyond its kernel. Two decks (the takram
+/// layers), so both bands hold puffs; compared where the CPU's cluster holds cloud.
+#[test]
+fn the_mesh_pass_draws_what_its_cpu_twin_computes() {
+    let lib = library();
+    let genus = lib.genus("takram-default").expect("takram-default");
+    let mut f = frame(genus, DrawPath::Mesh);
+    f.frames = 1;
+    let (mut compared, mut cloudy, mut worst) = (0, 0, 0.0f32);
+    let ran = compare_bake(&f, 36, 3000, mesh_fragment, |x, _, cpu, gpu| {
+        let part = x % CLUSTER_TEXELS;
+        let centre_texel = part != 0 && (part - 1).is_multiple_of(3);
+        // The flag's four channels; a puff's centre texel only where it holds cloud (an empty
+        // puff's centre is its cell's, and its reach 0).
+        if centre_texel && cpu.w == 0.0 {
+            return;
+        }
+        for c in 0..4 {
+            // Half floats: 1/1024 relative; positions in km near the camera are small.
+            let scale = cpu[c].abs().max(0.05);
+            worst = worst.max((gpu[c] - cpu[c]).abs() / scale);
+        }
+        compared += 1;
+        if centre_texel {
+            cloudy += 1;
+        }
+    });
+    if ran.is_none() {
+        return;
+    }
+    println!(
+        "{compared} texels of the cluster table ({cloudy} puffs in cloud): worst relative \
+         difference {worst:.4}"
+    );
+    assert!(cloudy >= 20, "too few puffs in cloud to compare: {cloudy}");
+    assert!(
+        worst < 0.02,
+        "the mesh pass departs from its CPU twin by {worst}"
     );
 }
 

@@ -104,27 +104,6 @@ pub(crate) fn keys_json(r: &Resolved) -> Result<String, LayoutError> {
     Ok(s)
 }
 
-/// `path` when Nimbus can draw it; otherwise an error naming where it was asked for (`from`:
-/// the flag, or the scene file and field) and the paths that are built.
-pub(crate) fn built_path(
-    path: nimbus_clouds::Path,
-    from: &str,
-) -> Result<nimbus_clouds::Path, CliError> {
-    if path.is_built() {
-        return Ok(path);
-    }
-    Err(CliError::Unknown {
-        kind: "path (not built yet)",
-        given: format!("{path} (from {from})"),
-        known: nimbus_clouds::Path::ALL
-            .iter()
-            .filter(|p| p.is_built())
-            .map(|p| p.name())
-            .collect::<Vec<_>>()
-            .join(", "),
-    })
-}
-
 pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolved, CliError> {
     let quality = sel.quality;
     let (enable, disable) = (sel.enable, sel.disable);
@@ -136,9 +115,6 @@ pub(crate) fn resolve(sel: &Selection<'_>, lib: &CloudLibrary) -> Result<Resolve
             given: o.to_string(),
             known: "1..=12".into(),
         });
-    }
-    if let Some(path) = sel.path {
-        built_path(path, "--path")?;
     }
     if let Some(genus) = sel.genus {
         let g = match (lib.genus(genus), lib.problem_of(genus)) {

@@ -69,7 +69,7 @@ pub(crate) fn resolved_from(
             t.set(&mut features, false);
         }
         if let Some(p) = sel.path {
-            features.path = crate::data::built_path(p, "--path")?;
+            features.path = p;
         }
         table.push(assign(&state.genus, state.scene.quality, features));
         // The scene's own sun, camera, weather offset and haze at that time, as `render` sets
@@ -215,6 +215,21 @@ fn explain_state(
             "in",
             IMPOSTOR_MARCHES,
             IMPOSTOR_MARCHES + 1,
+        );
+    }
+    if variant.key.reads_mesh() {
+        use nimbus_clouds::model::mesh::{
+            MESH_LAYERS, MESH_PUFFS, MESH_RINGS, MESH_SECTORS, MESH_SUB, mesh_size,
+        };
+        let (w, h) = mesh_size();
+        say!(
+            "  {:<24} {:<4} {w}×{h} table of {} clusters a band ({MESH_RINGS} rings × \
+             {MESH_SECTORS} sectors) of {MESH_PUFFS} puffs ({MESH_SUB}×{MESH_SUB}×{MESH_LAYERS}) \
+             fitted to the density, baked when the sun, the camera's place or the weather \
+             moves; a ray visits two clusters a ring it passes",
+            "mesh-pass",
+            "in",
+            MESH_RINGS * MESH_SECTORS,
         );
     }
     // The genus' density functions: built-in defaults, or its own (each in the key).

@@ -102,7 +102,7 @@ pub(crate) fn run(data: Option<&Path>, a: &GalleryArgs) -> Result<(), Box<dyn st
         let mut frame = state.frame(width, height);
         frame.frames = a.frames;
         if let Some(p) = a.path {
-            frame.features.path = crate::data::built_path(p, "--path")?;
+            frame.features.path = p;
         }
         frame.validate()?;
         let base = state

@@ -68,11 +68,10 @@ pub(crate) fn run(data: Option<&Path>) -> Result<(), CliError> {
     say!("paths (--path, or `path` in a scene's [features]; tag in shader keys):");
     for p in nimbus_clouds::Path::ALL {
         say!(
-            "  {:<26} {:<8} {}{}",
+            "  {:<26} {:<8} {}",
             p.name(),
             p.tag().unwrap_or("-"),
             p.doc(),
-            if p.is_built() { "" } else { " (not built yet)" }
         );
     }
     let mut entries = catalog();

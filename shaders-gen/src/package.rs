@@ -19,6 +19,7 @@ use nimbus_clouds::model::blob2d::blob2d_size;
 use nimbus_clouds::model::display::DisplayParams;
 use nimbus_clouds::model::impostor::impostor_size;
 use nimbus_clouds::model::march::CloudUniforms;
+use nimbus_clouds::model::mesh::mesh_size;
 use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::resource::Resource;
 use nimbus_clouds::model::scene_depth::SceneDepthParams;
@@ -1019,8 +1020,8 @@ fn frame_order(engine: Engine) -> Vec<&'static str> {
         "air (pairs with an air pass): draw into air_table when light.sun_direction, \
          camera_altitude or the sky block changed since it was last drawn (its whole size, \
          once; drawing it every frame is correct too)",
-        "bake (pairs drawn by a baked path: slices, impostor, blob2d): draw into cloud_bake when any \
-         member of the pair's block outside the pair's cloud_bake.ignores changed since it was \
+        "bake (pairs drawn by a baked path: slices, impostor, mesh, blob2d): draw into cloud_bake \
+         when any member of the pair's block outside the pair's cloud_bake.ignores changed since it was \
          last drawn (its whole size, once; drawing it every frame is correct too)",
         "scene_shadow (pairs that read the engine's depth and have a shadow atlas): after the \
          engine's depth and the shadow atlas, draw into scene_shadow (the depth buffer's size): \
@@ -1071,11 +1072,13 @@ fn targets() -> Targets {
             ),
             ..hdr(&format!(
                 "the pair's cloud_bake size: {} × {} for the slices path, {} × {} for the \
-                 impostor, {} × {} for blob2d",
+                 impostor, {} × {} for the mesh, {} × {} for blob2d",
                 slices_size().0,
                 slices_size().1,
                 impostor_size().0,
                 impostor_size().1,
+                mesh_size().0,
+                mesh_size().1,
                 blob2d_size().0,
                 blob2d_size().1
             ))

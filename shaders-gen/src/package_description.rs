@@ -162,7 +162,7 @@ pub(crate) struct AtlasSize {
     pub height: u32,
 }
 
-/// The bake of a pair drawn by a baked path (`slices`, `blob2d`): its size, and what does not
+/// The bake of a pair drawn by a baked path (`slices`, `impostor`, `mesh`, `blob2d`): its size, and what does not
 /// make it out of date. The bake depends on the pair's block less these members (the view, the
 /// frame's jitter, the composite's switches, the haze and the shadow cascades); a host redraws
 /// it when any other member changed since it was drawn (drawing it every frame is correct too).

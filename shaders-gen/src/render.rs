@@ -255,7 +255,7 @@ fn derive_features(
     }
     // A scene file's path was checked when it was loaded.
     if let Some(p) = toggles.path {
-        features.path = crate::data::built_path(p, "--path")?;
+        features.path = p;
     }
     Ok(features)
 }

@@ -76,7 +76,7 @@ fn cases() -> Vec<Case> {
         ("haze_density", "1.0", "1"),
         ("turbulence_displacement", "6000.0", "6000"),
         ("weather_offset", "[nan, 0.0]", "NaN"),
-        ("features.path", "\"mesh\"", "mesh"),
+        ("features.path", "\"hologram\"", "hologram"),
     ];
     for (field, value, shown) in scene_values {
         let file = scene_with(&format!("{field} = {value}"));
@@ -132,7 +132,6 @@ fn cases() -> Vec<Case> {
         ("--resolution", "640", "640"),
         ("--octaves", "0", "0"),
         ("--octaves", "13", "13"),
-        ("--path", "mesh", "mesh"),
         ("--path", "hologram", "hologram"),
     ];
     for (flag, value, shown) in flags {

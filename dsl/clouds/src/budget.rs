@@ -187,12 +187,11 @@ mod tests {
     }
 
     #[test]
-    fn every_built_baked_path_has_a_cost() {
+    fn every_baked_path_has_a_cost() {
         for p in Path::ALL {
-            assert_eq!(
+            assert!(
                 cost_ratio(p, Quality::Low).is_some(),
-                p.is_built(),
-                "{p}: a cost without a path, or a path without a cost"
+                "{p}: a path without a cost"
             );
             if p.bakes() {
                 assert!(BY_ACCURACY.contains(&p), "{p} is not in the accuracy order");

@@ -86,6 +86,7 @@ impl ShaderVariant for ShaderKey {
             ShaderKey::Bake(k) => match k.features.path {
                 crate::Path::Blob2d => "blob2d",
                 crate::Path::Impostor => "impostor",
+                crate::Path::Mesh => "mesh",
                 _ => "slices",
             },
             ShaderKey::Resolve => "resolve",
@@ -177,6 +178,11 @@ fn describe(key: &ShaderKey) -> String {
         ShaderKey::Bake(k) if k.reads_blob2d() => {
             "the 2D map: the clouds' columns (optical depths, powder, altitude, sun) around the \
              camera"
+                .into()
+        }
+        ShaderKey::Bake(k) if k.reads_mesh() => {
+            "the cluster table: Gaussian puffs fitted to the clouds around the camera (mass, \
+             mean, spread, optical depths to the sun)"
                 .into()
         }
         ShaderKey::Bake(k) if k.reads_impostor() => {

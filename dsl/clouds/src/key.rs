@@ -317,6 +317,12 @@ impl CloudKey {
         !self.uber && self.features.path == crate::Path::Impostor
     }
 
+    /// Whether the shader draws the clouds from the mesh path's cluster table
+    /// (`model::mesh`), which its own pass fits.
+    pub fn reads_mesh(&self) -> bool {
+        !self.uber && self.features.path == crate::Path::Mesh
+    }
+
     /// The key the impostor's bake marches each direction with: this key drawn by the volume,
     /// less the engine's depth (the bake's rays are directions, not the engine's pixels: the
     /// cloud pass ends the clouds at the scene where it composites them). Its marches to the

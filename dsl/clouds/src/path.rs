@@ -28,7 +28,11 @@ pub enum Path {
     /// transmittance and front depth); the cloud pass reads its ray's texel and composites it
     /// as the volume's march result: three texture reads a pixel.
     Impostor,
-    /// Instanced mesh clusters shaded with the model's phase and lighting.
+    /// The clouds around the camera as a few hundred instanced clusters of soft (Gaussian)
+    /// puffs, each puff fitted by a pass of its own to the genus' density in its cell (its mass,
+    /// mean and spread) with the optical depth to the sun through it (`model::mesh`); the cloud
+    /// pass draws the puffs a ray passes in closed form, lit by the march's source term: no
+    /// noise, no march.
     Mesh,
     /// The sky from a 2D map: the genus' columns in two altitude bands (optical depth, the mean
     /// and spread of the density's altitude, the optical depth to the sun at four depths) baked
@@ -79,7 +83,10 @@ impl Path {
                 "the clouds around the camera baked from every direction into one octahedral \
                  impostor (the volume's own march per texel): three texture reads a pixel"
             }
-            Path::Mesh => "instanced mesh clusters lit by the model",
+            Path::Mesh => {
+                "instanced clusters of soft puffs fitted to the genus' density around the camera, \
+                 drawn in closed form and lit by the model: no march"
+            }
             Path::Blob2d => {
                 "a 2D map of the clouds' columns (two altitude bands) baked around the camera; a \
                  view ray's few samples each read their column, lit as the march lights a sample \
@@ -88,20 +95,11 @@ impl Path {
         }
     }
 
-    /// Whether Nimbus can draw this path yet. The others are named so that scenes and flags
-    /// asking for them get a clear refusal, not a parse error.
-    pub fn is_built(self) -> bool {
-        matches!(
-            self,
-            Path::Volume | Path::Slices | Path::Impostor | Path::Blob2d
-        )
-    }
-
     /// Whether the path draws from a bake of its own pass (`model::bake`): the slice stack
     /// ([`Path::Slices`]), the octahedral impostor ([`Path::Impostor`]) or the 2D map
-    /// ([`Path::Blob2d`]).
+    /// ([`Path::Blob2d`]) or the cluster table ([`Path::Mesh`]).
     pub fn bakes(self) -> bool {
-        matches!(self, Path::Slices | Path::Impostor | Path::Blob2d)
+        !matches!(self, Path::Volume)
     }
 
     /// The path named `s` (any case, `_` for `-`).

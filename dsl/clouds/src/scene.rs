@@ -131,23 +131,6 @@ impl ScenePreset {
             file: file.to_path_buf(),
             field: limit.field.to_string(),
         })?;
-        if let Some(path) = self.features.path
-            && !path.is_built()
-        {
-            return Err(DataError::Invalid {
-                file: file.to_path_buf(),
-                field: "features.path".into(),
-                reason: format!(
-                    "the `{path}` path is not built yet; built: {}",
-                    crate::Path::ALL
-                        .iter()
-                        .filter(|p| p.is_built())
-                        .map(|p| p.name())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            });
-        }
         Ok(())
     }
 

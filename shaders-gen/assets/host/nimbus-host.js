@@ -232,7 +232,7 @@ export class NimbusHost {
     };
     // The air table follows the sun and the camera's altitude.
     this.airDirty = true;
-    // The bake (pairs of a baked path: slices, impostor, blob2d) follows every member of the block but
+    // The bake (pairs of a baked path: slices, impostor, mesh, blob2d) follows every member of the block but
     // those the package says it ignores: the words it depends on, and those it was last drawn
     // from.
     this.bakeWords = pair.cloud_bake ? wordsOutside(blocks.pair, pair.cloud_bake.ignores) : null;

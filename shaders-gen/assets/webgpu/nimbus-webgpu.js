@@ -132,7 +132,7 @@ export class NimbusWebGPU extends NimbusHost {
     this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height) : null;
     const air = this.pair.air_table;
     this.airTarget = air ? this.target('air table', air.width, air.height) : null;
-    // The bake of a baked path (slices, impostor, blob2d), redrawn when the block members it depends on
+    // The bake of a baked path (slices, impostor, mesh, blob2d), redrawn when the block members it depends on
     // change (NimbusHost.bakeOutOfDate).
     const bake = this.pair.cloud_bake;
     this.bakeTarget = bake ? this.target('cloud bake', bake.width, bake.height) : null;

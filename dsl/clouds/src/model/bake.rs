@@ -1,7 +1,8 @@
 //! The bake of a baked path ([`crate::Path::bakes`]): a texture its own pass draws from the
 //! cloud block and the noise, which the cloud pass reads in place of the procedural density.
 //! Which texture, and its size, is the path's (`slices`: a stack of altitude slices; `blob2d`:
-//! a map of column integrals; `impostor`: the volume's march result per direction); what makes
+//! a map of column integrals; `impostor`: the volume's march result per direction; `mesh`: the
+//! cluster table of fitted puffs); what makes
 //! it out of date is the same for all: everything the block holds but the view.
 
 use crate::Path;
@@ -9,6 +10,7 @@ use crate::model::march::CloudUniforms;
 
 use super::blob2d::blob2d_size;
 use super::impostor::impostor_size;
+use super::mesh::mesh_size;
 use super::slices::slices_size;
 
 /// Members of the cloud block (dotted paths, each with everything under it) no bake depends
@@ -78,6 +80,7 @@ pub fn bake_size(path: Path) -> Option<(u32, u32)> {
         Path::Slices => Some(slices_size()),
         Path::Blob2d => Some(blob2d_size()),
         Path::Impostor => Some(impostor_size()),
-        Path::Volume | Path::Mesh => None,
+        Path::Mesh => Some(mesh_size()),
+        Path::Volume => None,
     }
 }

@@ -12,6 +12,7 @@ use super::blob2d::blob2d_fragment;
 use super::display::display_fragment;
 use super::impostor::impostor_fragment;
 use super::march::{CloudUniforms, cloud_fragment};
+use super::mesh::mesh_fragment;
 use super::preview::fullscreen_position;
 use super::resolve::resolve_fragment;
 use super::shadow::shadow_fragment;
@@ -302,7 +303,15 @@ pub fn bake_module(key: &CloudKey) -> Result<Module, DslError> {
              depth)",
             "One texel of the impostor.",
         ),
-        Path::Slices | Path::Volume | Path::Mesh => (
+        Path::Mesh => (
+            "mesh",
+            "fs_mesh",
+            "The cluster table",
+            "Gaussian puffs fitted to the clouds around the camera (mass, mean, spread, optical \
+             depths to the sun)",
+            "One texel of the cluster table.",
+        ),
+        Path::Slices | Path::Volume => (
             "slices",
             "fs_slices",
             "The slice stack",
@@ -321,9 +330,8 @@ pub fn bake_module(key: &CloudKey) -> Result<Module, DslError> {
             m.fragment(entry, texel, loc!(), |frag_coord| match path {
                 Path::Blob2d => blob2d_fragment::shader(frag_coord, key),
                 Path::Impostor => impostor_fragment::shader(frag_coord, key),
-                Path::Slices | Path::Volume | Path::Mesh => {
-                    slices_fragment::shader(frag_coord, key)
-                }
+                Path::Mesh => mesh_fragment::shader(frag_coord, key),
+                Path::Slices | Path::Volume => slices_fragment::shader(frag_coord, key),
             });
         },
     )

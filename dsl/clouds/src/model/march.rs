@@ -25,6 +25,7 @@ use super::diffusion::{diffuse_scattering, phase_asymmetry, sky_diffuse_scatteri
 use super::flat_layer::flat_layer;
 use super::impostor::impostor_clouds;
 use super::layers::LayerGroup;
+use super::mesh::{mesh_clouds, mesh_overhead};
 use super::noise::interleaved_gradient_noise;
 use super::orthographic::orthographic_fragment;
 use super::phase::{
@@ -1023,6 +1024,8 @@ pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: Clo
         blob2d_clouds(direction, jitter, key)
     } else if key.reads_impostor() {
         impostor_clouds(direction)
+    } else if key.reads_mesh() {
+        mesh_clouds(direction, key)
     } else if gate(key, FLAT_HIGH_LAYER) {
         flat_layer(direction, jitter, pixel_angle, key)
     } else {
@@ -1059,6 +1062,10 @@ pub fn overhead_optical_depth(ground: Vec3, jitter: f32, #[spec] key: CloudKey) 
     if key.reads_blob2d() {
         // The 2D path's map holds the column: one read, no noise.
         return blob2d_overhead(ground.x, ground.z);
+    }
+    if key.reads_mesh() {
+        // The cluster table's puffs: their columns, in closed form.
+        return mesh_overhead(ground.x, ground.z);
     }
     let u = CLOUDS.get();
     let m = u.march;

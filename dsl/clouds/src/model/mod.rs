@@ -17,6 +17,7 @@ pub mod genus_fns;
 pub mod impostor;
 pub mod layers;
 pub mod march;
+pub mod mesh;
 pub mod noise;
 pub mod orthographic;
 pub mod phase;
