@@ -3,8 +3,8 @@
 //! frame is compared with `nimbus render` of the same scene: two sun positions (a package per
 //! scene), one camera move, and the sun moved at run time by the package's own JavaScript
 //! (`setSun`, no Nimbus code); the shader logs must be empty. The baked paths too (`slices`,
-//! `blob2d`): each path's bake drawn in the browser, and drawn again when `setSun` moves the
-//! sun. A third test drives the wind, a
+//! `blob2d`, `impostor`, `mesh`): each path's bake drawn in the browser, and for the slices and
+//! the 2D map drawn again when `setSun` moves the sun. A third test drives the wind, a
 //! weather state and the clock through the package's `setWind`, `setWeather` and `setTime`
 //! against `nimbus render --time`. The screenshots stay in a folder the test prints.
 //!
@@ -47,7 +47,7 @@ struct View {
     path: &'static str,
 }
 
-const VIEWS: [View; 11] = [
+const VIEWS: [View; 12] = [
     View {
         name: "sun-high",
         quality: "low",
@@ -172,6 +172,18 @@ const VIEWS: [View; 11] = [
         yaw: 0.0,
         path: "impostor",
     },
+    // The mesh path (its cluster table fitted in the browser, the cloud pass drawing the
+    // puffs in closed form).
+    View {
+        name: "mesh",
+        quality: "low",
+        coverage: 0.6,
+        sun_elevation: 35.0,
+        sun_azimuth: 150.0,
+        pitch: 10.0,
+        yaw: 0.0,
+        path: "mesh",
+    },
 ];
 
 fn scene(dir: &Path, v: &View) -> PathBuf {
@@ -287,7 +299,7 @@ struct Case {
     upscale: bool,
 }
 
-const CASES: [Case; 13] = [
+const CASES: [Case; 14] = [
     Case {
         name: "sun-high",
         package: 0,
@@ -392,6 +404,14 @@ const CASES: [Case; 13] = [
         name: "impostor",
         package: 9,
         view: 9,
+        move_sun: false,
+        frames: 1,
+        upscale: false,
+    },
+    Case {
+        name: "mesh",
+        package: 11,
+        view: 11,
         move_sun: false,
         frames: 1,
         upscale: false,

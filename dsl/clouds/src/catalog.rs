@@ -181,7 +181,7 @@ fn describe(key: &ShaderKey) -> String {
                 .into()
         }
         ShaderKey::Bake(k) if k.reads_mesh() => {
-            "the cluster table: Gaussian puffs fitted to the clouds around the camera (mass, \
+            "the cluster table: soft puffs fitted to the clouds around the camera (mass, \
              mean, spread, optical depths to the sun)"
                 .into()
         }

@@ -28,11 +28,11 @@ pub enum Path {
     /// transmittance and front depth); the cloud pass reads its ray's texel and composites it
     /// as the volume's march result: three texture reads a pixel.
     Impostor,
-    /// The clouds around the camera as a few hundred instanced clusters of soft (Gaussian)
-    /// puffs, each puff fitted by a pass of its own to the genus' density in its cell (its mass,
-    /// mean and spread) with the optical depth to the sun through it (`model::mesh`); the cloud
-    /// pass draws the puffs a ray passes in closed form, lit by the march's source term: no
-    /// noise, no march.
+    /// The clouds around the camera as a few thousand instanced clusters of soft puffs, each
+    /// puff fitted by a pass of its own to the genus' density in its cell (its mass, mean and
+    /// spread) with the optical depth to the sun beyond it (`model::mesh`); the cloud pass draws
+    /// the puffs a ray passes in closed form, lit by the march's source term: no noise, no
+    /// march.
     Mesh,
     /// The sky from a 2D map: the genus' columns in two altitude bands (optical depth, the mean
     /// and spread of the density's altitude, the optical depth to the sun at four depths) baked

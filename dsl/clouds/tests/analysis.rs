@@ -218,7 +218,7 @@ fn a_budget_picks_the_path_that_fits() {
     s.weather.clear();
     s.formation = None;
     assert_eq!(analyse(&s, &g).path.path, DrawPath::Volume);
-    let impostor = cost_ratio(DrawPath::Impostor, Quality::Low).expect("built");
+    let impostor = cost_ratio(DrawPath::Impostor, Quality::Low);
     s.budget = Some(Budget {
         frame_ms: 40.0 * impostor * 1.05,
         volume_ms: 40.0,

@@ -307,7 +307,7 @@ pub fn bake_module(key: &CloudKey) -> Result<Module, DslError> {
             "mesh",
             "fs_mesh",
             "The cluster table",
-            "Gaussian puffs fitted to the clouds around the camera (mass, mean, spread, optical \
+            "soft puffs fitted to the clouds around the camera (mass, mean, spread, optical \
              depths to the sun)",
             "One texel of the cluster table.",
         ),

@@ -4,34 +4,43 @@
 //!
 //! The seeds' mesh clouds instance one hand-made cluster of spheres, 20–40 times, wherever an
 //! artist puts them: a picture that cannot be the genus' weather. Here each cluster is a cell of
-//! the sky around the camera, and each of its [`MESH_SUB`] × [`MESH_SUB`] puffs is fitted to what
-//! its part of the volume holds: a Gaussian puff with the same extinction integrated over its
-//! volume (its "mass"), the same mean position and the same spread along each axis as the
-//! density the genus' `#[shader_fn]`s give there ([`puff_fit`], from [`MESH_FIT`]² columns of
-//! [`MESH_FIT_STEPS`] samples). A small cumulus in a puff's cell becomes a small dense puff where
-//! the cumulus is; an even deck becomes puffs that tile it.
+//! the sky around the camera, and each of its [`MESH_SUB`] × [`MESH_SUB`] × [`MESH_LAYERS`]
+//! puffs is fitted to what its part of the volume holds: a soft puff (the kernel `(1 − r²)²`
+//! inside an ellipsoid) with the same extinction integrated over its volume (its "mass"), the
+//! same mean position and the same spread along each axis as the density the genus'
+//! `#[shader_fn]`s give there ([`puff_fit`], from [`MESH_FIT`]² columns of [`MESH_FIT_STEPS`]
+//! samples). A small cumulus in a puff's cell becomes a small dense puff where the cumulus is;
+//! an evenly full cell's puff is widened to 1.5 of its spacing, where the kernels tile a deck
+//! evenly within 2.3 %.
 //!
 //! The cells are polar around the camera's vertical, per altitude band (the 2D map's two
 //! halves of the slab): [`MESH_SECTORS`] sectors of azimuth, and [`MESH_RINGS`] rings of
 //! distance on the slice stack's scale ([`slice_offset`]: even near the camera, growing in
 //! proportion to distance beyond [`super::slices::SLICE_NEAR`]), so a cell is about as wide as
 //! it is deep and subtends about the same angle wherever it lies; the innermost ring is one
-//! cluster. A puff's spreads are along its cell's radial and tangential directions and up.
+//! cluster. A puff's spreads are along its cell's radial and tangential directions and up. (A
+//! grid of x and z rows was tried first: its cells along the view's axis are long and thin,
+//! and their puffs drew streaks converging on the horizon.)
 //!
-//! A Gaussian puff has no facets and a closed form along any ray (its optical depth is a
-//! Gaussian in the ray's distance), so the cloud pass draws the instances analytically, per
-//! pixel, in place of rasterising spheres. A ray from the camera keeps its azimuth: in each band
-//! it visits, ring by ring outwards, the clusters of its sector and of the neighbour on the side
-//! it passes nearer (the fit keeps every puff within half a cell of its own, [`MESH_MARGIN`]):
-//! a flag read per cluster, two reads per puff, a third where it sees one. Each puff seen is lit
-//! by the march's own source term ([`sample_source`]: phase, octaves, sky, ground, powder) at
-//! the point its light comes from, with the optical depth to the sun the bake marched through
-//! the volume at three depths along the sun through the puff, and the puffs are composited in
-//! distance bins ([`distance_bin`]). No noise, no march, no secondary ray in the cloud pass.
+//! The kernel has compact support and a closed form along any ray (its integral along a chord
+//! is a polynomial, [`chord_integral`]), so the cloud pass draws the instances analytically,
+//! per pixel, in place of rasterising spheres (which would need a geometry pass in the runtime
+//! and in every engine package). A ray from the camera keeps its azimuth: in each band it
+//! visits, ring by ring outwards over the rings its way through the band passes, the clusters
+//! of its sector and of the neighbour on the side it passes nearer (the fit keeps every puff
+//! within half a cell of its own, [`MESH_MARGIN`]); a cluster whose flag says its puffs lie
+//! above, below or beside the ray is skipped, and a puff whose bounding sphere the ray misses
+//! costs one read. Each puff seen is lit by the march's own source term ([`sample_source`]:
+//! phase, octaves, sky, ground, powder) at the point its light comes from, with the optical
+//! depth to the sun through its own kernel in closed form ([`puff_depth`]) and beyond it as the
+//! bake marched it through the volume; the puffs are composited in distance bins
+//! ([`distance_bin`]), and the visit ends once what was seen lets less through than the march's
+//! least transmittance. No noise, no march, no secondary ray in the cloud pass.
 //!
 //! What it drops: every structure finer than a puff (about 3° across seen from the camera, a
-//! few hundred metres overhead), and two clouds in one puff's cell merge into one puff; its use
-//! is a sky seen from afar on a device that cannot march.
+//! few hundred metres overhead), two clouds in one puff's cell merge into one puff, and the
+//! light inside a puff varies only through its own kernel; its use is a sky seen from afar, its
+//! look the soft blobs of mesh clouds.
 //!
 //! Layout: a row per band and ring (lower band first, the innermost ring first), a cluster of
 //! [`CLUSTER_TEXELS`] per sector along it. A cluster's first texel is its flag: how far its
@@ -114,7 +123,7 @@ pub fn mesh_size() -> (u32, u32) {
     (WIDTH, HEIGHT)
 }
 
-/// What a puff's fit finds in its cell: a Gaussian of the density there.
+/// What a puff's fit finds in its cell: the mass, mean and spread of the density there.
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
 pub struct PuffFit {
     /// Extinction integrated over the cell's volume (m²): what the puff holds.
