@@ -302,18 +302,26 @@ fn the_slices_path_marches_through_its_stack() {
     );
 }
 
-/// The 2D path's cloud pass reads its map and no noise at all, and marches nothing (the
-/// ground's overhead occlusion reads the map too); its map pass reads the noise and marches
-/// to the sun. The volume's has no trace of the map.
-#[test]
-fn the_blob2d_path_draws_from_its_map_alone() {
+/// Builds cumulus at `medium` drawn by `path` and by the volume, and checks what every path
+/// that bakes the density holds: its cloud pass reads its bake and `drawn` (its drawing
+/// functions), and no noise, no march, no march to the sun, all of which the volume's has and
+/// none of `drawn`; its bake pass has `baked` and marches to the sun. Returns the key.
+fn draws_from_its_bake_alone(
+    path: nimbus_clouds::Path,
+    drawn: &[&str],
+    baked: &[&str],
+) -> nimbus_clouds::CloudKey {
     let lib = library();
     let mut features = Quality::Medium.features();
-    features.path = nimbus_clouds::Path::Blob2d;
-    let flat = build(&lib, "cumulus", Quality::Medium, features);
+    features.path = path;
+    let pass = build(&lib, "cumulus", Quality::Medium, features);
     let volume = build(&lib, "cumulus", Quality::Medium, Quality::Medium.features());
-    assert!(flat.wgsl.contains("var cloud_bake"), "{}", flat.wgsl);
-    assert!(flat.wgsl.contains("fn blob2d_clouds("));
+    assert!(pass.wgsl.contains("var cloud_bake"), "{}", pass.wgsl);
+    assert!(!volume.wgsl.contains("cloud_bake"));
+    for f in drawn {
+        assert!(pass.wgsl.contains(f), "{f} not in the {path} path");
+        assert!(!volume.wgsl.contains(f), "{f} in the volume");
+    }
     for marched in [
         "fn march_clouds(",
         "fn weather_density(",
@@ -322,16 +330,30 @@ fn the_blob2d_path_draws_from_its_map_alone() {
         "var weather_texture",
         "var shape_texture",
     ] {
-        assert!(!flat.wgsl.contains(marched), "{marched} in the 2D path");
+        assert!(!pass.wgsl.contains(marched), "{marched} in the {path} path");
         assert!(volume.wgsl.contains(marched), "{marched} not in the volume");
     }
-    assert!(!volume.wgsl.contains("cloud_bake"));
     let genus = lib.genus("cumulus").expect("genus");
     let key = CloudVariant::new(genus, Quality::Medium, features).key;
-    assert!(key.reads_blob2d() && key.bakes() && key.name().ends_with("-blob2d"));
-    let map = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("map pass");
-    assert!(map.wgsl.contains("fn blob2d_fragment("));
-    assert!(map.wgsl.contains("fn secondary_optical_depth("));
+    assert!(key.bakes() && key.name().ends_with(&format!("-{path}")));
+    let bake = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("bake pass");
+    for f in baked.iter().chain(&["fn secondary_optical_depth("]) {
+        assert!(bake.wgsl.contains(f), "{f} not in the {path} bake");
+    }
+    key
+}
+
+/// The 2D path's cloud pass reads its map and no noise at all, and marches nothing (the
+/// ground's overhead occlusion reads the map too); its map pass reads the noise and marches
+/// to the sun. The volume's has no trace of the map.
+#[test]
+fn the_blob2d_path_draws_from_its_map_alone() {
+    let key = draws_from_its_bake_alone(
+        nimbus_clouds::Path::Blob2d,
+        &["fn blob2d_clouds(", "fn blob2d_overhead("],
+        &["fn blob2d_fragment("],
+    );
+    assert!(key.reads_blob2d());
 }
 
 /// The mesh path's cloud pass reads its cluster table and no noise at all, and marches
@@ -339,33 +361,12 @@ fn the_blob2d_path_draws_from_its_map_alone() {
 /// to the density and marches to the sun from each. The volume's has no trace of the table.
 #[test]
 fn the_mesh_path_draws_from_its_table_alone() {
-    let lib = library();
-    let mut features = Quality::Medium.features();
-    features.path = nimbus_clouds::Path::Mesh;
-    let mesh = build(&lib, "cumulus", Quality::Medium, features);
-    let volume = build(&lib, "cumulus", Quality::Medium, Quality::Medium.features());
-    assert!(mesh.wgsl.contains("var cloud_bake"), "{}", mesh.wgsl);
-    assert!(mesh.wgsl.contains("fn mesh_clouds("));
-    assert!(mesh.wgsl.contains("fn mesh_overhead("));
-    for marched in [
-        "fn march_clouds(",
-        "fn weather_density(",
-        "fn eroded_density(",
-        "fn secondary_optical_depth(",
-        "var weather_texture",
-        "var shape_texture",
-    ] {
-        assert!(!mesh.wgsl.contains(marched), "{marched} in the mesh path");
-        assert!(volume.wgsl.contains(marched), "{marched} not in the volume");
-    }
-    assert!(!volume.wgsl.contains("fn mesh_clouds("));
-    let genus = lib.genus("cumulus").expect("genus");
-    let key = CloudVariant::new(genus, Quality::Medium, features).key;
-    assert!(key.reads_mesh() && key.bakes() && key.name().ends_with("-mesh"));
-    let table = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("mesh pass");
-    assert!(table.wgsl.contains("fn mesh_fragment("));
-    assert!(table.wgsl.contains("fn puff_fit("));
-    assert!(table.wgsl.contains("fn secondary_optical_depth("));
+    let key = draws_from_its_bake_alone(
+        nimbus_clouds::Path::Mesh,
+        &["fn mesh_clouds(", "fn mesh_overhead("],
+        &["fn mesh_fragment(", "fn puff_fit("],
+    );
+    assert!(key.reads_mesh());
 }
 
 /// The impostor path's cloud pass reads its map and marches nothing (no view march, no march
