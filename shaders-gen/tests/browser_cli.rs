@@ -19,7 +19,9 @@ use nimbus_testkit::skip::browser_tools_present;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::{browser_dir, mean_difference, missing_browser as missing, nimbus, rgb, text};
+use common::{
+    browser_dir, mean_difference, missing_browser as missing, nimbus, render_page, rgb, text,
+};
 use image_compare::rgb_hybrid_compare;
 
 /// Perceptual similarity (SSIM on luma, RMS on chroma; 1 = identical) a browser frame must
@@ -243,27 +245,7 @@ fn view_args(w: u32, h: u32, v: &View) -> Vec<String> {
 /// Renders `package` in Chromium (`render.mjs`, its query `args`) into `png` and returns the
 /// frame; the test fails, with the page's log, when the page fails or logs anything.
 fn browser_frame(package: &Path, png: &Path, args: &[String]) -> image::RgbImage {
-    let o = Command::new("node")
-        .current_dir(browser_dir())
-        .arg("render.mjs")
-        .arg(package)
-        .arg(png)
-        .args(args)
-        .output()
-        .expect("run node");
-    let log = std::fs::read_to_string(format!("{}.log.json", png.display())).unwrap_or_default();
-    assert!(
-        o.status.success(),
-        "{}: the page failed or logged: {}{}\n{log}",
-        png.display(),
-        text(&o.stdout),
-        text(&o.stderr)
-    );
-    println!(
-        "{}: {}",
-        png.file_stem().and_then(|f| f.to_str()).unwrap_or("frame"),
-        text(&o.stdout).trim()
-    );
+    render_page(package, png, args);
     rgb(png)
 }
 
