@@ -146,6 +146,110 @@ fn shade_matches_cpu() {
     );
 }
 
+/// Taps of [`blurred`] either side of the centre.
+const TAPS: i32 = 2;
+
+/// A small weighted blur of a function of two integers, its loops unrolled.
+#[shader_fn]
+fn blurred(x: f32, y: f32) -> f32 {
+    let mut sum = 0.0f32;
+    for dy in unroll(-TAPS..TAPS + 1) {
+        for dx in unroll(0u32..3u32) {
+            let w = 1.0 / (1.0 + (dy * dy) as f32 + dx as f32);
+            sum += w * (x * dx as f32 + y * dy as f32).sin();
+        }
+    }
+    sum
+}
+
+/// Unrollable only in name: its bound is a run-time value.
+#[shader_fn]
+fn unroll_unknown_bound(x: f32, n: u32) -> f32 {
+    let mut sum = 0.0f32;
+    for i in unroll(0u32..n) {
+        sum += x * i as f32;
+    }
+    sum
+}
+
+/// Unrollable only in name: its body leaves early.
+#[shader_fn]
+fn unroll_with_break(x: f32) -> f32 {
+    let mut sum = 0.0f32;
+    for i in unroll(0u32..4u32) {
+        if sum > 1.0 {
+            break;
+        }
+        sum += x * i as f32;
+    }
+    sum
+}
+
+#[test]
+fn unrolled_loops_print_without_a_loop_and_match_cpu() {
+    let m = ModuleBuilder::build("unrolled", "", loc!(), |m| {
+        m.fragment("fs_main", "", loc!(), |frag| {
+            frag * blurred::shader(frag.x, frag.y)
+        });
+    })
+    .expect("records");
+    let g = generate(m, "default", &Target::ALL).expect("every target validates");
+    // Fifteen copies of the body, each with its counters folded in, and no loop left.
+    assert_eq!(g.stats.loops, 0, "a loop is left in:\n{}", g.wgsl);
+    assert!(!g.wgsl.contains("for ("), "a loop is left in:\n{}", g.wgsl);
+    assert_eq!(g.wgsl.matches("sin(").count(), 15, "{}", g.wgsl);
+    // The counters are literals in each copy: the last copy reads dy = 2, dx = 2.
+    assert!(
+        g.wgsl.contains("0.14285715 * sin(x * 2.0 + y * 2.0)"),
+        "{}",
+        g.wgsl
+    );
+    let mut rng = Rng::new(14);
+    let mut inputs = Vec::new();
+    while inputs.len() < MIN_INPUTS {
+        inputs.push((0..2).map(|_| rng.range(-3.0, 3.0).to_bits()).collect());
+    }
+    compare(
+        "blurred",
+        blurred::PARAMS.iter().map(|p| p.1).collect(),
+        blurred::RESULT,
+        &blurred::call_ids,
+        &inputs,
+        |w| vec![blurred(f32::from_bits(w[0]), f32::from_bits(w[1])).to_bits()],
+        Tolerance {
+            abs: 1e-5,
+            rel: 1e-5,
+        },
+    );
+}
+
+#[test]
+fn unroll_refuses_a_loop_it_cannot_copy() {
+    // On the CPU `unroll` is the range itself: both run as the loops they are.
+    assert_eq!(unroll_unknown_bound(1.0, 3), 3.0);
+    assert_eq!(unroll_with_break(1.0), 3.0);
+    let unknown = ModuleBuilder::build("unroll_unknown", "", loc!(), |m| {
+        m.fragment("fs_main", "", loc!(), |frag| {
+            frag * unroll_unknown_bound::shader(frag.x, 3u32)
+        });
+    });
+    let message = format!(
+        "{}",
+        unknown.expect_err("a run-time bound cannot be unrolled")
+    );
+    assert!(
+        message.contains("unroll") && message.contains("known when the shader is generated"),
+        "{message}"
+    );
+    let leaves = ModuleBuilder::build("unroll_break", "", loc!(), |m| {
+        m.fragment("fs_main", "", loc!(), |frag| {
+            frag * unroll_with_break::shader(frag.x)
+        });
+    });
+    let message = format!("{}", leaves.expect_err("an early exit cannot be unrolled"));
+    assert!(message.contains("cannot leave early"), "{message}");
+}
+
 /// Shader functions reached through a module path, as a crate organises them.
 mod helpers {
     use nimbus_dsl::prelude::*;

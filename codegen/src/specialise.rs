@@ -10,6 +10,7 @@ use std::collections::BTreeSet;
 
 use nimbus_dsl::ir::{
     BinaryOp, Block, ExprId, ExprKind, Function, Literal, LocalId, Module, Stmt, Type, UnaryOp,
+    leaves_loop,
 };
 
 /// Specialises a recorded module in place.
@@ -622,18 +623,6 @@ fn trip_count(f: &Function, start: ExprId, end: ExprId) -> Option<i64> {
         _ => None,
     };
     Some((value(lit(f, end)?)? - value(lit(f, start)?)?).max(0))
-}
-
-/// Whether a `break` or `continue` of the loop whose body is `block` occurs in it (those of
-/// nested loops do not count).
-fn leaves_loop(block: &Block) -> bool {
-    block.iter().any(|s| match s {
-        Stmt::Break { .. } | Stmt::Continue { .. } => true,
-        Stmt::If {
-            then, otherwise, ..
-        } => leaves_loop(then) || leaves_loop(otherwise),
-        _ => false,
-    })
 }
 
 /// Calls `visit` on every expression reachable from the statements of `block`.

@@ -136,6 +136,44 @@ pub fn expr_kind(id: ExprId) -> ExprKind {
     with_frame(|frame| frame.function.exprs[id.0 as usize].kind.clone())
 }
 
+/// The value of an expression known when the shader is generated: a literal, a named module
+/// constant's value, or integer arithmetic (`-`, `+`, `-`, `*`) of those (`-TAPS..TAPS + 1`).
+pub fn known_value(id: ExprId) -> Option<crate::ir::Literal> {
+    use crate::ir::{BinaryOp, Literal, UnaryOp};
+    match expr_kind(id) {
+        ExprKind::Literal(l) => Some(l),
+        ExprKind::Global(g) => with(|rec| match rec.module.globals.get(g.0 as usize)?.kind {
+            crate::ir::GlobalKind::Const { value } => Some(value),
+            _ => None,
+        }),
+        ExprKind::Unary(UnaryOp::Neg, a) => match known_value(a)? {
+            Literal::I32(v) => v.checked_neg().map(Literal::I32),
+            _ => None,
+        },
+        ExprKind::Binary(op, a, b) => {
+            let (a, b) = (known_value(a)?, known_value(b)?);
+            match (a, b) {
+                (Literal::I32(x), Literal::I32(y)) => match op {
+                    BinaryOp::Add => x.checked_add(y),
+                    BinaryOp::Sub => x.checked_sub(y),
+                    BinaryOp::Mul => x.checked_mul(y),
+                    _ => None,
+                }
+                .map(Literal::I32),
+                (Literal::U32(x), Literal::U32(y)) => match op {
+                    BinaryOp::Add => x.checked_add(y),
+                    BinaryOp::Sub => x.checked_sub(y),
+                    BinaryOp::Mul => x.checked_mul(y),
+                    _ => None,
+                }
+                .map(Literal::U32),
+                _ => None,
+            }
+        }
+        _ => None,
+    }
+}
+
 /// Appends a statement to the innermost open block.
 pub fn push_stmt(stmt: Stmt) {
     with_frame(|frame| {

@@ -486,10 +486,20 @@ impl Transformer {
         let Pat::Ident(pi) = &*f.pat else {
             return Err(unsupported(&f.pat, "a pattern other than a name in `for`"));
         };
-        let Expr::Range(range) = &*f.expr else {
+        // `for i in unroll(a..b)`: the same range, its body recorded once per counter value.
+        let (unrolled, ranged) = match &*f.expr {
+            Expr::Call(call)
+                if call.args.len() == 1
+                    && matches!(&*call.func, Expr::Path(p) if p.path.is_ident("unroll")) =>
+            {
+                (true, &call.args[0])
+            }
+            other => (false, other),
+        };
+        let Expr::Range(range) = ranged else {
             return Err(syn::Error::new_spanned(
                 &f.expr,
-                "a #[shader_fn] `for` loop must iterate a range `start..end`",
+                "a #[shader_fn] `for` loop must iterate a range `start..end` (or `unroll(start..end)`)",
             ));
         };
         let (Some(start), Some(end)) = (&range.start, &range.end) else {
@@ -514,8 +524,14 @@ impl Transformer {
         self.scopes.pop();
         let body = body?;
         let l = loc(f.span());
-        Ok(quote! {
-            ::nimbus_dsl::control::for_range(#name, #l, (#start, #end), |#ident| { let _ = #body; })
+        Ok(if unrolled {
+            quote! {
+                ::nimbus_dsl::control::unrolled_range(#name, #l, (#start, #end), |#ident| { let _ = #body; })
+            }
+        } else {
+            quote! {
+                ::nimbus_dsl::control::for_range(#name, #l, (#start, #end), |#ident| { let _ = #body; })
+            }
         })
     }
 }

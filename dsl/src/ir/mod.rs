@@ -19,5 +19,5 @@ pub use io::Io;
 pub use module::{EntryPoint, Global, GlobalKind, Module, Stage};
 pub use sampler::{AddressMode, FilterMode, SamplerDesc};
 pub use source::SourceLoc;
-pub use stmt::{Block, Stmt};
+pub use stmt::{Block, Stmt, leaves_loop};
 pub use types::{FieldDef, Scalar, StructDef, Type};

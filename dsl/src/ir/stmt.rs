@@ -7,6 +7,18 @@ use super::source::SourceLoc;
 /// A sequence of statements.
 pub type Block = Vec<Stmt>;
 
+/// Whether a `break` or `continue` of the loop whose body is `block` occurs in it (those of
+/// nested loops do not count).
+pub fn leaves_loop(block: &Block) -> bool {
+    block.iter().any(|s| match s {
+        Stmt::Break { .. } | Stmt::Continue { .. } => true,
+        Stmt::If {
+            then, otherwise, ..
+        } => leaves_loop(then) || leaves_loop(otherwise),
+        _ => false,
+    })
+}
+
 #[derive(Clone, PartialEq, Debug)]
 pub enum Stmt {
     /// `let name = value;`

@@ -13,7 +13,7 @@
 //! distant directions. The parallax of a moving camera, and the depth of the clouds about their
 //! middle, are left to the clipping.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4, ivec2};
 
 use nimbus_dsl::prelude::*;
 
@@ -61,13 +61,16 @@ pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {
     let block = (pixel / r.pixel_scale).floor();
     let texel = Vec2::ONE / r.low_resolution;
     let current = current_tex.sample_level(&nearest, (block + Vec2::splat(0.5)) * texel, 0.0);
-    // Mean and spread of the current samples around this block.
+    // Mean and spread of the current samples around this block: nine texels read as they are
+    // (`load`; the sampler would clamp to the edge, so the indices are clamped), the loop
+    // unrolled (SwiftShader ran it as a loop 8 ms slower in a 640 × 360 frame).
+    let last = r.low_resolution - Vec2::ONE;
     let mut sum = Vec4::ZERO;
     let mut sum_sq = Vec4::ZERO;
-    for dy in -1i32..2i32 {
-        for dx in -1i32..2i32 {
-            let uv = (block + vec2(dx as f32, dy as f32) + Vec2::splat(0.5)) * texel;
-            let c = current_tex.sample_level(&nearest, uv, 0.0);
+    for dy in unroll(-1i32..2i32) {
+        for dx in unroll(-1i32..2i32) {
+            let at = (block + vec2(dx as f32, dy as f32)).clamp(Vec2::ZERO, last);
+            let c = current_tex.load(ivec2(at.x as i32, at.y as i32), 0);
             sum += c;
             sum_sq += c * c;
         }
