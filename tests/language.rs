@@ -172,6 +172,16 @@ fn unroll_unknown_bound(x: f32, n: u32) -> f32 {
     sum
 }
 
+/// Unrollable only in name: more copies than `unroll` makes.
+#[shader_fn]
+fn unroll_too_long(x: f32) -> f32 {
+    let mut sum = 0.0f32;
+    for i in unroll(0u32..17u32) {
+        sum += x * i as f32;
+    }
+    sum
+}
+
 /// Unrollable only in name: its body leaves early.
 #[shader_fn]
 fn unroll_with_break(x: f32) -> f32 {
@@ -248,6 +258,20 @@ fn unroll_refuses_a_loop_it_cannot_copy() {
     });
     let message = format!("{}", leaves.expect_err("an early exit cannot be unrolled"));
     assert!(message.contains("cannot leave early"), "{message}");
+    assert_eq!(unroll_too_long(1.0), 136.0);
+    let long = ModuleBuilder::build("unroll_long", "", loc!(), |m| {
+        m.fragment("fs_main", "", loc!(), |frag| {
+            frag * unroll_too_long::shader(frag.x)
+        });
+    });
+    let message = format!(
+        "{}",
+        long.expect_err("17 copies are more than unroll makes")
+    );
+    assert!(
+        message.contains("17 iterations") && message.contains("at most 16"),
+        "{message}"
+    );
 }
 
 /// Shader functions reached through a module path, as a crate organises them.
