@@ -413,6 +413,53 @@ fn the_impostor_path_draws_from_its_map_alone() {
     );
 }
 
+/// Without the engine's depth the impostor's map holds the whole picture: its bake marches and
+/// composites (the air table, the ground's shadows, the haze), and the cloud pass reads the
+/// map and draws the sun's disc, nothing else (no march, no composite, no noise, no air table,
+/// no shadow map).
+#[test]
+fn the_impostor_path_without_the_scene_reads_its_view() {
+    let lib = library();
+    let mut features = Quality::Medium.features();
+    features.path = nimbus_clouds::Path::Impostor;
+    let drawn = build(&lib, "cumulus", Quality::Medium, features);
+    for read in ["fn impostor_view(", "fn disc_through(", "var cloud_bake"] {
+        assert!(drawn.wgsl.contains(read), "{read} not in the cloud pass");
+    }
+    for gone in [
+        "fn composite(",
+        "fn march_clouds(",
+        "fn impostor_clouds(",
+        "var air_table",
+        "var shadow_map",
+        "var weather_texture",
+        "var shape_texture",
+    ] {
+        assert!(
+            !drawn.wgsl.contains(gone),
+            "{gone} in the cloud pass of an impostor that holds the view"
+        );
+    }
+    let genus = lib.genus("cumulus").expect("genus");
+    let key = CloudVariant::new(genus, Quality::Medium, features).key;
+    assert!(key.bakes_view() && key.reads_air_table());
+    let bake = generate_variant(&ShaderKey::Bake(key), &Target::ALL).expect("impostor pass");
+    for baked in [
+        "fn view_texel(",
+        "fn march_clouds(",
+        "fn composite(",
+        "var air_table",
+        "fn haze_light(",
+    ] {
+        assert!(bake.wgsl.contains(baked), "{baked} not in the bake");
+    }
+    // The disc is drawn per pixel, not baked: the bake's composite leaves it out.
+    assert!(
+        !bake.wgsl.contains("fn sun_disc("),
+        "the bake draws the sun's disc"
+    );
+}
+
 /// The uber-shader reads every generation-time choice from the key uniforms: it validates on
 /// every target, declares the `key` binding, loops to run-time bounds and keeps every effect's
 /// code; a specialised shader has none of that.

@@ -24,7 +24,7 @@ use std::path::Path;
 use glam::Vec4;
 use nimbus_clouds::model::bake::bake_size;
 use nimbus_clouds::model::blob2d::{BLOB_TEXELS, blob2d_fragment};
-use nimbus_clouds::model::impostor::{IMPOSTOR_MARCHES, IMPOSTOR_TEXELS, impostor_fragment};
+use nimbus_clouds::model::impostor::impostor_fragment;
 use nimbus_clouds::model::march::CloudUniforms;
 use nimbus_clouds::model::mesh::{CLUSTER_TEXELS, mesh_fragment};
 use nimbus_clouds::model::slices::{SLICE_TEXELS, slices_fragment};
@@ -287,36 +287,42 @@ fn the_map_pass_draws_what_its_cpu_twin_computes() {
     );
 }
 
-/// The impostor's texels are the volume's march per direction, computed by the same
-/// `impostor_fragment` on the CPU (with the shadow atlas the frame drew, which its marches to
-/// the sun read): (light, transmittance) in the light tiles, (opacity × front depth, samples)
-/// in the depth tile.
+/// The impostor's texels are the volume's pixel per direction, marched and composited by the
+/// same `impostor_fragment` on the CPU (with the shadow atlas the frame drew, which its marches
+/// to the sun and the ground's shadows read): (light, opacity) in every tile of both rows, the
+/// views above and below the horizon, and nothing where a row is never read.
 #[test]
 fn the_impostor_pass_draws_what_its_cpu_twin_computes() {
     let lib = library();
     let genus = lib.genus("cumulus").expect("cumulus");
     let mut f = frame(genus, DrawPath::Impostor);
     f.frames = 1;
-    let (mut compared, mut cloudy, mut worst) = (0, 0, 0.0f32);
-    let ran = compare_bake(&f, 35, 300, impostor_fragment, |x, _, cpu, gpu| {
-        let light_tile = x < IMPOSTOR_MARCHES * IMPOSTOR_TEXELS;
-        for c in 0..if light_tile { 4 } else { 1 } {
+    let (mut compared, mut cloudy, mut empty, mut worst) = (0, 0, 0, 0.0f32);
+    let ran = compare_bake(&f, 35, 300, impostor_fragment, |_, _, cpu, gpu| {
+        for c in 0..4 {
             let scale = cpu[c].abs().max(0.05);
             worst = worst.max((gpu[c] - cpu[c]).abs() / scale);
         }
         compared += 1;
-        if light_tile && cpu.w < 0.9 {
+        if cpu.w > 0.1 {
             cloudy += 1;
+        }
+        if cpu == glam::Vec4::ZERO {
+            empty += 1;
         }
     });
     if ran.is_none() {
         return;
     }
     println!(
-        "{compared} texels of the impostor ({cloudy} in cloud): worst relative difference \
-         {worst:.4}"
+        "{compared} texels of the impostor ({cloudy} in cloud, {empty} never read): worst \
+         relative difference {worst:.4}"
     );
     assert!(cloudy >= 20, "too few texels in cloud to compare: {cloudy}");
+    assert!(
+        empty >= 20 && compared - empty >= 20,
+        "too few texels on either side of the horizon: {empty} of {compared} empty"
+    );
     assert!(
         worst < 0.02,
         "the impostor pass departs from its CPU twin by {worst}"
@@ -378,6 +384,11 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
     let lib = library();
     let genus = lib.genus("cumulus").expect("cumulus");
     let u: CloudUniforms = Renderer::uniforms(&frame(genus, DrawPath::Slices));
+    let key_of = |path: DrawPath| {
+        let f = frame(genus, path);
+        nimbus_clouds::catalog::assign(&f.genus, f.quality, f.features).clouds
+    };
+    let (slices, impostor_key) = (key_of(DrawPath::Slices), key_of(DrawPath::Impostor));
     let bytes = u.to_uniform_bytes().expect("bytes");
     let members = read_members(CloudUniforms::shader_type(), &bytes);
     for m in BAKE_IGNORES {
@@ -388,7 +399,7 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
             "`{m}` names no member of the cloud block"
         );
     }
-    let base = bake_inputs(&u, DrawPath::Slices).expect("inputs");
+    let base = bake_inputs(&u, &slices).expect("inputs");
     let mut view = u;
     view.inverse_view_projection = glam::Mat4::from_rotation_y(0.4) * u.inverse_view_projection;
     view.jitter = 0.73;
@@ -396,23 +407,23 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
     view.resolution = glam::Vec2::new(320.0, 180.0);
     view.shadow.lookup.u = glam::Mat4::IDENTITY;
     assert_eq!(
-        bake_inputs(&view, DrawPath::Slices).expect("inputs"),
+        bake_inputs(&view, &slices).expect("inputs"),
         base,
         "the view moved the stack"
     );
     // The impostor's bake reads the shadow map: a redrawn cascade tile (its transform moved)
     // redraws it, and the view alone does not.
-    let impostor = bake_inputs(&u, DrawPath::Impostor).expect("inputs");
+    let impostor = bake_inputs(&u, &impostor_key).expect("inputs");
     let mut turned = u;
     turned.inverse_view_projection = view.inverse_view_projection;
     assert_eq!(
-        bake_inputs(&turned, DrawPath::Impostor).expect("inputs"),
+        bake_inputs(&turned, &impostor_key).expect("inputs"),
         impostor,
         "the view moved the impostor"
     );
     assert!(IMPOSTOR_READS.starts_with("shadow.lookup"));
     assert_ne!(
-        bake_inputs(&view, DrawPath::Impostor).expect("inputs"),
+        bake_inputs(&view, &impostor_key).expect("inputs"),
         impostor,
         "a redrawn cascade tile left the impostor as it was"
     );
@@ -429,9 +440,36 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
         let mut v = u;
         change(&mut v);
         assert_ne!(
-            bake_inputs(&v, DrawPath::Slices).expect("inputs"),
+            bake_inputs(&v, &slices).expect("inputs"),
             base,
             "{what} left the stack as it was"
+        );
+    }
+    // An impostor that bakes the whole view runs the composite in its bake: the haze and the
+    // composite's switches redraw it. Over the engine's depth it composites per pixel, and
+    // they do not.
+    assert!(impostor_key.bakes_view());
+    let mut depth_key = impostor_key;
+    depth_key.features.scene_depth = true;
+    assert!(!depth_key.bakes_view());
+    let composite_inputs: [(&str, Change); 2] = [
+        ("the haze", |u: &mut CloudUniforms| u.haze.density += 1e-5),
+        ("the ground switch", |u: &mut CloudUniforms| {
+            u.composite.ground = 0.0
+        }),
+    ];
+    for (what, change) in composite_inputs {
+        let mut v = u;
+        change(&mut v);
+        assert_ne!(
+            bake_inputs(&v, &impostor_key).expect("inputs"),
+            bake_inputs(&u, &impostor_key).expect("inputs"),
+            "{what} left the impostor's view as it was"
+        );
+        assert_eq!(
+            bake_inputs(&v, &depth_key).expect("inputs"),
+            bake_inputs(&u, &depth_key).expect("inputs"),
+            "{what} moved the impostor that composites per pixel"
         );
     }
 }

@@ -709,15 +709,18 @@ impl<'g> Renderer<'g> {
         }))
     }
 
-    /// The air table's pipeline and target, for a cloud pipeline that reads it (made with the
-    /// other targets, before any bind group of the frame), or none.
+    /// The air table's pipeline and target, for a cloud pipeline or a bake that reads it (made
+    /// with the other targets, before any bind group of the frame), or none.
     fn ensure_air_table(
         &mut self,
-        clouds_key: ShaderKey,
+        readers: &[ShaderKey],
         uniform_size: usize,
     ) -> Result<(), RuntimeError> {
-        let reads = cloud_bindings(self.pipelines.get(&clouds_key)?)
-            .any(|(_, c)| c == CloudBinding::AirTable);
+        let mut reads = false;
+        for key in readers {
+            reads |=
+                cloud_bindings(self.pipelines.get(key)?).any(|(_, c)| c == CloudBinding::AirTable);
+        }
         if !reads {
             return Ok(());
         }
@@ -767,7 +770,7 @@ impl<'g> Renderer<'g> {
             return Ok(());
         };
         let key = ShaderKey::Bake(clouds);
-        let drawn = bake_inputs(u, clouds.features.path)
+        let drawn = bake_inputs(u, &clouds)
             .map_err(RuntimeError::from)
             .and_then(|inputs| {
                 self.draw_cached(&mut pass, key, (key, inputs), u, encoder, timer, "bake")
@@ -1173,10 +1176,16 @@ impl<'g> Renderer<'g> {
             self.epoch += 1;
         }
 
-        self.ensure_air_table(clouds_key, uniform_size)?;
+        // The bake first: an impostor's that holds the whole view reads the air table where
+        // its cloud pass does not.
+        let mut air_readers = vec![clouds_key];
         if let ShaderKey::Clouds(k) = clouds_key {
             self.ensure_bake(k, uniform_size)?;
+            if self.bake.is_some() {
+                air_readers.push(ShaderKey::Bake(k));
+            }
         }
+        self.ensure_air_table(&air_readers, uniform_size)?;
 
         // Shadow atlas: kept while its size holds, redrawn only when its inputs change.
         let mut encoder = self

@@ -207,15 +207,29 @@ fn explain_state(
     if variant.key.reads_impostor() {
         use nimbus_clouds::model::impostor::{IMPOSTOR_MARCHES, impostor_size};
         let (w, h) = impostor_size();
-        say!(
-            "  {:<24} {:<4} {w}×{h} octahedral map of every direction ({} light tiles, each the \
-             volume's march a texel, and the front's depth), baked when the sun, the camera's \
-             place or the weather moves; {} reads a pixel",
-            "impostor-pass",
-            "in",
-            IMPOSTOR_MARCHES,
-            IMPOSTOR_MARCHES + 1,
-        );
+        if variant.key.bakes_view() {
+            say!(
+                "  {:<24} {:<4} {w}×{h} octahedral map of every direction: the whole picture \
+                 (the volume's march a texel, composited over the sky or the ground with the air \
+                 and the haze), {} marches, above and below the horizon; baked when the sun, the \
+                 camera's place, the weather, the haze or the composite's switches change; {} \
+                 reads and the sun's disc a pixel",
+                "impostor-pass",
+                "in",
+                IMPOSTOR_MARCHES,
+                IMPOSTOR_MARCHES,
+            );
+        } else {
+            say!(
+                "  {:<24} {:<4} {w}×{h} octahedral map of every direction ({} light tiles, each \
+                 the volume's march a texel, and the front's depth), baked when the sun, the \
+                 camera's place or the weather moves; {} reads a pixel, composited per pixel",
+                "impostor-pass",
+                "in",
+                IMPOSTOR_MARCHES,
+                IMPOSTOR_MARCHES + 1,
+            );
+        }
     }
     if variant.key.reads_mesh() {
         use nimbus_clouds::model::mesh::{

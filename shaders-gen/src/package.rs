@@ -410,7 +410,7 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
                 .map(|(width, height)| Bake {
                     width,
                     height,
-                    ignores: bake_ignores(a.clouds.features.path)
+                    ignores: bake_ignores(&a.clouds)
                         .iter()
                         .map(|m| m.to_string())
                         .collect(),

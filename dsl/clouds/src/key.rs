@@ -291,8 +291,9 @@ impl CloudKey {
         f.shadows || (f.haze && f.light_shafts)
     }
 
-    /// Whether the shader reads the air table (`model::air_table`), which its own pass fills:
-    /// every key that composites the air's light and does not integrate it per pixel.
+    /// Whether the key's passes read the air table (`model::air_table`), which its own pass
+    /// fills: every key that composites the air's light and does not integrate it per pixel
+    /// (in its cloud pass, or in the bake of an impostor that holds the view).
     pub fn reads_air_table(&self) -> bool {
         let f = self.features;
         !f.accurate_air_light
@@ -315,6 +316,17 @@ impl CloudKey {
     /// (`model::impostor`), which its own pass bakes.
     pub fn reads_impostor(&self) -> bool {
         !self.uber && self.features.path == crate::Path::Impostor
+    }
+
+    /// Whether the impostor's bake holds the whole picture per direction (the clouds
+    /// composited over the sky or the ground, with the air and the haze: `model::impostor`) and
+    /// the cloud pass reads it, adding only the sun's disc. Over the engine's depth, and for
+    /// the linear layers (the clouds alone, their depth), the bake holds the march's result and
+    /// the cloud pass composites it per pixel.
+    pub fn bakes_view(&self) -> bool {
+        self.reads_impostor()
+            && !self.features.scene_depth
+            && matches!(self.output, PixelOutput::Composite | PixelOutput::Samples)
     }
 
     /// Whether the shader draws the clouds from the mesh path's cluster table

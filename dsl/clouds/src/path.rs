@@ -23,10 +23,11 @@ pub enum Path {
     /// walks the slices, each sample two texture reads in place of the noise and the
     /// secondary marches, lit by the same phase and scattering functions.
     Slices,
-    /// The clouds around the camera baked from every direction into one octahedral map by a
-    /// pass of its own (`model::impostor`: the volume's own march per texel, with its light,
-    /// transmittance and front depth); the cloud pass reads its ray's texel and composites it
-    /// as the volume's march result: three texture reads a pixel.
+    /// The picture around the camera baked from every direction into one octahedral map by a
+    /// pass of its own (`model::impostor`: the volume's own pixel per texel, marched and
+    /// composited over the sky or the ground with the air and the haze); the cloud pass reads
+    /// its ray's texels and draws the sun's disc: two texture reads a pixel. Over the engine's
+    /// depth the map holds the march's result and the cloud pass composites it per pixel.
     Impostor,
     /// The clouds around the camera as a few thousand instanced clusters of soft puffs, each
     /// puff fitted by a pass of its own to the genus' density in its cell (its mass, mean and
@@ -80,8 +81,9 @@ impl Path {
                  by the view ray: two texture reads a sample"
             }
             Path::Impostor => {
-                "the clouds around the camera baked from every direction into one octahedral \
-                 impostor (the volume's own march per texel): three texture reads a pixel"
+                "the picture around the camera baked from every direction into one octahedral \
+                 impostor (the volume's own pixel per texel, clouds, sky, air and haze): two \
+                 texture reads a pixel"
             }
             Path::Mesh => {
                 "instanced clusters of soft puffs fitted to the genus' density around the camera, \

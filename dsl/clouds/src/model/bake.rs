@@ -6,6 +6,7 @@
 //! it out of date is the same for all: everything the block holds but the view.
 
 use crate::Path;
+use crate::key::CloudKey;
 use crate::model::march::CloudUniforms;
 
 use super::blob2d::blob2d_size;
@@ -16,7 +17,7 @@ use super::slices::slices_size;
 /// Members of the cloud block (dotted paths, each with everything under it) no bake depends
 /// on: what only the view decides (its projection, the image's size and pixel mapping, the
 /// frame's jitter), the composite's switches, the haze, and the shadow map's cascade
-/// transforms ([`IMPOSTOR_READS`] aside). Engine packages list a pair's own
+/// transforms ([`IMPOSTOR_READS`] and [`VIEW_READS`] aside). Engine packages list a pair's own
 /// ([`bake_ignores`]: `cloud_bake.ignores`) for their hosts' redraw test.
 pub const BAKE_IGNORES: [&str; 11] = [
     "inverse_view_projection",
@@ -40,12 +41,18 @@ pub const BAKE_IGNORES: [&str; 11] = [
 /// with the first tile alone would keep the old sun's shadows for good.
 pub const IMPOSTOR_READS: &str = "shadow.lookup";
 
-/// The members of the cloud block the bake of `path` does not depend on.
-pub fn bake_ignores(path: Path) -> Vec<&'static str> {
+/// The members of [`BAKE_IGNORES`] an impostor that bakes the whole view
+/// ([`CloudKey::bakes_view`]) depends on as well: the composite's, which its bake runs.
+pub const VIEW_READS: [&str; 2] = ["composite", "haze"];
+
+/// The members of the cloud block the bake of `key` does not depend on.
+pub fn bake_ignores(key: &CloudKey) -> Vec<&'static str> {
+    let impostor = key.features.path == Path::Impostor;
     BAKE_IGNORES
         .iter()
         .copied()
-        .filter(|m| path != Path::Impostor || *m != IMPOSTOR_READS)
+        .filter(|m| !(impostor && *m == IMPOSTOR_READS))
+        .filter(|m| !(key.bakes_view() && VIEW_READS.contains(m)))
         .collect()
 }
 
@@ -58,16 +65,16 @@ fn ignored(ignores: &[&str], member: &str) -> bool {
     })
 }
 
-/// What the bake of `path` from the block `u` depends on: every leaf member's path and value
+/// What the bake of `key` from the block `u` depends on: every leaf member's path and value
 /// but those of [`bake_ignores`]. Two blocks with equal inputs have the same bake: a host
 /// redraws it when they differ.
 pub fn bake_inputs(
     u: &CloudUniforms,
-    path: Path,
+    key: &CloudKey,
 ) -> Result<nimbus_dsl::layout::Members, nimbus_dsl::layout::LayoutError> {
     use nimbus_dsl::layout::{UniformBytes, read_members};
     let bytes = u.to_uniform_bytes()?;
-    let ignores = bake_ignores(path);
+    let ignores = bake_ignores(key);
     Ok(read_members(CloudUniforms::shader_type(), &bytes)
         .into_iter()
         .filter(|(member, _)| !ignored(&ignores, member))

@@ -23,7 +23,7 @@ use super::choices::{
 use super::density::{MediaParams, eroded_density, weather_density};
 use super::diffusion::{diffuse_scattering, phase_asymmetry, sky_diffuse_scattering};
 use super::flat_layer::flat_layer;
-use super::impostor::impostor_clouds;
+use super::impostor::{IMPOSTOR_MARCHES, impostor_clouds, impostor_view};
 use super::layers::LayerGroup;
 use super::mesh::{mesh_clouds, mesh_overhead};
 use super::noise::interleaved_gradient_noise;
@@ -1015,6 +1015,14 @@ pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
 /// ([`composite`]), or one of the linear or instrumented layers of [`PixelOutput`].
 #[shader_fn]
 pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: CloudKey) -> Vec4 {
+    if key.bakes_view() {
+        // The impostor holds the whole picture; each read stands for a march of the bake.
+        let view = impostor_view(direction, key);
+        if key.writes(PixelOutput::Samples) {
+            return view.xyz().extend(IMPOSTOR_MARCHES as f32);
+        }
+        return view;
+    }
     let u = CLOUDS.get();
     // Seeded by the pixel, not the sample point within it: a pixel's jitter sequence is the
     // same whatever the sub-pixel offset.
@@ -1133,7 +1141,10 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
             )
             * switches.ground;
     } else {
-        background += sun_disc(cos_theta, air.transmittance, u.sky) * switches.sun_disc;
+        // A map of the view draws the disc per pixel (`impostor_view`): its texels are wider.
+        if !key.bakes_view() {
+            background += sun_disc(cos_theta, air.transmittance, u.sky) * switches.sun_disc;
+        }
     }
     let mut color = background * clouds.transmittance;
     if clouds.front_depth > 0.0 {
