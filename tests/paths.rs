@@ -203,6 +203,52 @@ fn the_baked_paths_draw_every_genus_as_the_volume_does_at_their_scale() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The sun's disc is narrower than an impostor texel, so the impostor draws it per pixel over
+/// its baked picture: in a narrow view towards the sun, the pixels of the disc (brighter than a
+/// tenth of the brightest) are the volume's, as many and in the same place.
+#[test]
+fn the_impostor_draws_the_suns_disc_where_the_volume_does() {
+    let Some(gpu) = common::gpu() else { return };
+    println!("adapter: {}", gpu.info());
+    let lib = library();
+    let genus = lib.genus("cirrus").expect("cirrus");
+    let mut renderer = Renderer::new(gpu, TextureSizes::default());
+    let disc = |path: DrawPath, renderer: &mut Renderer| {
+        let mut f = Frame::new(genus.clone(), Quality::Low, 320, 180);
+        f.frames = 2;
+        f.camera_altitude = 500.0;
+        f.features.path = path;
+        (f.sun_elevation_deg, f.sun_azimuth_deg) = (8.0, 40.0);
+        (f.camera_pitch_deg, f.camera_yaw_deg, f.fov_deg) = (6.0, 40.0, 12.0);
+        let picture = renderer.render(&f).expect("render");
+        let brightness: Vec<f32> = picture.pixels.iter().map(|p| p[0] + p[1] + p[2]).collect();
+        let brightest = brightness.iter().copied().fold(0.0f32, f32::max);
+        let lit: Vec<bool> = brightness.iter().map(|&b| b > 0.1 * brightest).collect();
+        (lit, brightest)
+    };
+    let (volume, volume_peak) = disc(DrawPath::Volume, &mut renderer);
+    let (impostor, impostor_peak) = disc(DrawPath::Impostor, &mut renderer);
+    let count = |lit: &[bool]| lit.iter().filter(|&&l| l).count();
+    let both = volume.iter().zip(&impostor).filter(|(a, b)| **a && **b).count();
+    println!(
+        "disc pixels: volume {}, impostor {}, in both {both}; peaks {volume_peak:.0} / \
+         {impostor_peak:.0}",
+        count(&volume),
+        count(&impostor)
+    );
+    assert!(count(&volume) >= 8, "the view misses the sun: {}", count(&volume));
+    assert!(
+        both * 10 >= count(&volume).max(count(&impostor)) * 9,
+        "the impostor's disc is not the volume's: {} and {} pixels, {both} in both",
+        count(&volume),
+        count(&impostor)
+    );
+    assert!(
+        (impostor_peak / volume_peak - 1.0).abs() < 0.1,
+        "the disc's radiance: impostor {impostor_peak}, volume {volume_peak}"
+    );
+}
+
 #[test]
 fn the_slice_pass_draws_what_its_cpu_twin_computes() {
     let lib = library();
