@@ -229,14 +229,22 @@ fn the_impostor_draws_the_suns_disc_where_the_volume_does() {
     let (volume, volume_peak) = disc(DrawPath::Volume, &mut renderer);
     let (impostor, impostor_peak) = disc(DrawPath::Impostor, &mut renderer);
     let count = |lit: &[bool]| lit.iter().filter(|&&l| l).count();
-    let both = volume.iter().zip(&impostor).filter(|(a, b)| **a && **b).count();
+    let both = volume
+        .iter()
+        .zip(&impostor)
+        .filter(|(a, b)| **a && **b)
+        .count();
     println!(
         "disc pixels: volume {}, impostor {}, in both {both}; peaks {volume_peak:.0} / \
          {impostor_peak:.0}",
         count(&volume),
         count(&impostor)
     );
-    assert!(count(&volume) >= 8, "the view misses the sun: {}", count(&volume));
+    assert!(
+        count(&volume) >= 8,
+        "the view misses the sun: {}",
+        count(&volume)
+    );
     assert!(
         both * 10 >= count(&volume).max(count(&impostor)) * 9,
         "the impostor's disc is not the volume's: {} and {} pixels, {both} in both",

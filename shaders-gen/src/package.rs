@@ -1020,7 +1020,8 @@ fn frame_order(engine: Engine) -> Vec<&'static str> {
         "air (pairs with an air pass): draw into air_table when light.sun_direction, \
          camera_altitude or the sky block changed since it was last drawn (its whole size, \
          once; drawing it every frame is correct too)",
-        "bake (pairs drawn by a baked path: slices, impostor, mesh, blob2d): draw into cloud_bake \
+        "bake (pairs drawn by a baked path: slices, impostor, mesh, blob2d): after the air table \
+         (an impostor's bake that holds the whole picture reads it), draw into cloud_bake \
          when any member of the pair's block outside the pair's cloud_bake.ignores changed since it was \
          last drawn (its whole size, once; drawing it every frame is correct too)",
         "scene_shadow (pairs that read the engine's depth and have a shadow atlas): after the \
