@@ -232,3 +232,84 @@ fn clouds_only_output_is_the_clouds_radiance_and_transmittance() {
         "clouds-only differs from the clouds by {worst}"
     );
 }
+
+/// The impostor over the engine's scene keeps the march's result in its map and composites it
+/// per pixel (the scene's depth is per pixel); without the scene its map holds the whole
+/// picture. Where the engine drew nothing the two must show the same sky; in front of a 2 m
+/// wall, nothing. The control: the per-pixel composite of a map baked for a sun 6° lower.
+#[test]
+fn the_impostor_over_the_scene_is_the_impostor_where_the_scene_is_empty() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut r = Renderer::new(gpu, small_textures());
+    let impostor = |f: &mut Frame| f.features.path = nimbus_clouds::Path::Impostor;
+    let mut plain = frame();
+    impostor(&mut plain);
+    let baked_view = render(&mut r, &plain);
+    let mut f = frame();
+    impostor(&mut f);
+    f.scene_depth = Some(wall(&f, 2.0, Encoding::Perspective));
+    let over_scene = render(&mut r, &f);
+    let mut lower = f.clone();
+    lower.sun_elevation_deg -= 6.0;
+    let control = render(&mut r, &lower);
+    println!("on {}", gpu.info());
+    let worst =
+        right_half(&over_scene).fold(0.0f32, |m, p| m.max(p[0]).max(p[1]).max(p[2]).max(p[3]));
+    assert!(
+        worst < 2e-3,
+        "in front of a 2 m wall: largest value {worst}"
+    );
+    // Mean relative difference over the left half, where the engine drew nothing.
+    let left = |a: &Image, b: &Image| {
+        let (mut diff, mut sum) = (0.0f32, 0.0f32);
+        for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+            if (i as u32 % W) < W / 2 {
+                for c in 0..3 {
+                    diff += (p[c] - q[c]).abs();
+                    sum += p[c].abs();
+                }
+            }
+        }
+        diff / sum.max(1e-20)
+    };
+    let d = left(&baked_view, &over_scene);
+    let c = left(&baked_view, &control);
+    println!("left half: over the scene {d:.4} from the baked view; control (sun 6° lower) {c:.4}");
+    assert!(
+        d < 0.02,
+        "the impostor over the scene departs from its baked view by {d}"
+    );
+    assert!(c > 2.0 * 0.02, "the control passes: {c}");
+}
+
+/// Every baked path stops at the engine's surface: the slices' march ends there as the
+/// volume's does, and the clouds of a map (the impostor's, the mesh's, the 2D map's, each the
+/// whole ray's) are hidden where their front lies behind it. In front of a 2 m wall Nimbus adds
+/// nothing; the control is the same path without the scene, its sky in those pixels.
+#[test]
+fn every_baked_path_stops_at_the_scene() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut r = Renderer::new(gpu, small_textures());
+    println!("on {}", gpu.info());
+    for path in [
+        nimbus_clouds::Path::Slices,
+        nimbus_clouds::Path::Impostor,
+        nimbus_clouds::Path::Mesh,
+        nimbus_clouds::Path::Blob2d,
+    ] {
+        let mut plain = frame();
+        plain.features.path = path;
+        let sky = right_half(&render(&mut r, &plain)).fold(0.0f32, |m, p| m.max(p[2]));
+        let mut f = plain.clone();
+        f.scene_depth = Some(wall(&f, 2.0, Encoding::Perspective));
+        let with = render(&mut r, &f);
+        let worst =
+            right_half(&with).fold(0.0f32, |m, p| m.max(p[0]).max(p[1]).max(p[2]).max(p[3]));
+        println!("{path}: in front of a 2 m wall {worst:.2e}; without the scene {sky:.3}");
+        assert!(sky > 0.01, "{path}: the sky without a scene: {sky}");
+        assert!(
+            worst < 2e-3,
+            "{path} in front of a 2 m wall: largest value {worst}"
+        );
+    }
+}

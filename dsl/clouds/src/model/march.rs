@@ -1028,12 +1028,8 @@ pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: Clo
     // same whatever the sub-pixel offset.
     let jitter =
         (interleaved_gradient_noise(cell + Vec2::splat(0.5), u.frame) + u.jitter).fract_gl();
-    let clouds = if key.reads_blob2d() {
-        blob2d_clouds(direction, jitter, key)
-    } else if key.reads_impostor() {
-        impostor_clouds(direction)
-    } else if key.reads_mesh() {
-        mesh_clouds(direction, key)
+    let clouds = if key.reads_blob2d() || key.reads_impostor() || key.reads_mesh() {
+        map_clouds(direction, jitter, key)
     } else if gate(key, FLAT_HIGH_LAYER) {
         flat_layer(direction, jitter, pixel_angle, key)
     } else {
@@ -1056,6 +1052,32 @@ pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: Clo
         return color.xyz().extend(clouds.samples);
     }
     color
+}
+
+/// The clouds along `direction` read from the key's map (the 2D map, the impostor or the mesh's
+/// cluster table). A map holds the whole ray's clouds, where the march stops at the engine's
+/// surface: over the engine's scene, clouds whose front lies behind its surface are hidden (a
+/// surface within a cloud keeps it whole: a map holds one front per direction, not where along
+/// the ray its light was scattered).
+#[shader_fn]
+pub fn map_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> MarchResult {
+    let clouds = if key.reads_blob2d() {
+        blob2d_clouds(direction, jitter, key)
+    } else if key.reads_impostor() {
+        impostor_clouds(direction)
+    } else {
+        mesh_clouds(direction, key)
+    };
+    if gate(key, SCENE_DEPTH) {
+        let hidden = clouds.front_depth > scene_distance(direction, key);
+        return MarchResult {
+            radiance: select(clouds.radiance, Vec3::ZERO, hidden),
+            transmittance: select(clouds.transmittance, 1.0, hidden),
+            front_depth: select(clouds.front_depth, -1.0, hidden),
+            samples: clouds.samples,
+        };
+    }
+    clouds
 }
 
 /// Samples of [`overhead_optical_depth`].
