@@ -335,3 +335,36 @@ fn calls_resolve_by_declaration_and_match_cpu() {
         },
     );
 }
+
+/// Two comparisons as a call's arguments, a `<` before a `>`: what WGSL's template-list rule
+/// would read as `x<…, x>`.
+#[shader_fn]
+fn between(p: Vec4) -> Vec4 {
+    let x = p.x;
+    let low = p.y;
+    let high = p.z;
+    let below = p.w > 0.5;
+    let outside = select(x < low - 1.0, x > high + 1.0, below);
+    Vec4::splat(select(0.0, 1.0, outside))
+}
+
+/// The printed WGSL parses: an argument with a `<` of its own before the last is
+/// parenthesised, so a later `>` cannot close a template list (the impostor's bake printed
+/// `select(elevation < horizon - reach, elevation > horizon + reach, below)`, which naga's
+/// parser refused). The last argument and lone comparisons keep their plain spelling.
+#[test]
+fn comparisons_in_arguments_are_not_template_lists() {
+    let m = ModuleBuilder::build("between", "", loc!(), |m| {
+        m.fragment("fs_main", "", loc!(), between::shader);
+    })
+    .expect("records");
+    let g = generate(m, "default", &Target::ALL).expect("every target validates");
+    assert!(
+        g.wgsl
+            .contains("select((x < low - 1.0), x > high + 1.0, below)"),
+        "{}",
+        g.wgsl
+    );
+    assert!(g.wgsl.contains("select(0.0, 1.0, outside)"), "{}", g.wgsl);
+    naga::front::wgsl::parse_str(&g.wgsl).expect("the printed WGSL parses");
+}

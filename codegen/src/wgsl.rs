@@ -82,6 +82,22 @@ fn prec(op: BinaryOp) -> Prec {
     }
 }
 
+/// Whether `id` prints a `<` comparison outside any parentheses or brackets of its own, which a
+/// later `>` in the same argument list would close as a template list.
+fn opens_template(f: &Function, id: ExprId) -> bool {
+    match f.expr(id).kind {
+        ExprKind::Binary(BinaryOp::Lt, ..) => true,
+        ExprKind::Binary(op, a, b) => {
+            let bare = |child: ExprId, right: bool| match f.expr(child).kind {
+                ExprKind::Binary(c, ..) if needs_parens(op, c, right) => false,
+                _ => opens_template(f, child),
+            };
+            bare(a, false) || bare(b, true)
+        }
+        _ => false,
+    }
+}
+
 /// Whether a binary child needs parentheses under parent `op` (on the right when `right`).
 pub(crate) fn needs_parens(parent: BinaryOp, child: BinaryOp, right: bool) -> bool {
     let (p, c) = (prec(parent), prec(child));
@@ -461,8 +477,15 @@ impl Printer<'_> {
 
     fn args(&mut self, f: &Function, args: &[ExprId]) -> Result<String, CodegenError> {
         let mut v = Vec::with_capacity(args.len());
-        for a in args {
-            v.push(self.expr(f, *a)?);
+        for (i, a) in args.iter().enumerate() {
+            let text = self.expr(f, *a)?;
+            // WGSL reads `name < … , … >` as a template list: `select(a < b, a > c, s)` does
+            // not parse. An argument before the last with a `<` of its own is parenthesised.
+            v.push(if i + 1 < args.len() && opens_template(f, *a) {
+                format!("({text})")
+            } else {
+                text
+            });
         }
         Ok(v.join(", "))
     }
@@ -526,37 +549,29 @@ impl Printer<'_> {
                 if_false,
                 if_true,
                 cond,
-            } => format!(
-                "select({}, {}, {})",
-                self.expr(f, *if_false)?,
-                self.expr(f, *if_true)?,
-                self.expr(f, *cond)?
-            ),
+            } => format!("select({})", self.args(f, &[*if_false, *if_true, *cond])?),
             ExprKind::Sample {
                 texture,
                 sampler,
                 coords,
                 kind,
-            } => {
-                let t = self.expr(f, *texture)?;
-                let s = self.expr(f, *sampler)?;
-                let c = self.expr(f, *coords)?;
-                match kind {
-                    SampleKind::Level(l) => {
-                        format!("textureSampleLevel({t}, {s}, {c}, {})", self.expr(f, *l)?)
-                    }
-                    SampleKind::Implicit => format!("textureSample({t}, {s}, {c})"),
-                }
-            }
+            } => match kind {
+                SampleKind::Level(l) => format!(
+                    "textureSampleLevel({})",
+                    self.args(f, &[*texture, *sampler, *coords, *l])?
+                ),
+                SampleKind::Implicit => format!(
+                    "textureSample({})",
+                    self.args(f, &[*texture, *sampler, *coords])?
+                ),
+            },
             ExprKind::Load {
                 texture,
                 texel,
                 level,
             } => format!(
-                "textureLoad({}, {}, {})",
-                self.expr(f, *texture)?,
-                self.expr(f, *texel)?,
-                self.expr(f, *level)?
+                "textureLoad({})",
+                self.args(f, &[*texture, *texel, *level])?
             ),
         })
     }
