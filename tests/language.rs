@@ -367,4 +367,8 @@ fn comparisons_in_arguments_are_not_template_lists() {
     );
     assert!(g.wgsl.contains("select(0.0, 1.0, outside)"), "{}", g.wgsl);
     naga::front::wgsl::parse_str(&g.wgsl).expect("the printed WGSL parses");
+    // The CPU twin reads the same: below the band against its lower edge, above it the upper.
+    let at = |x: f32, below: f32| between(Vec4::new(x, 2.0, 5.0, below)).x;
+    assert_eq!((at(0.5, 0.0), at(1.5, 0.0)), (1.0, 0.0));
+    assert_eq!((at(6.5, 1.0), at(5.5, 1.0)), (1.0, 0.0));
 }
