@@ -15,8 +15,9 @@
 //! the whole sphere, a texel about 0.55°, a 2 × 2 grid of tiles 1,280 texels square within
 //! WebGL2's guaranteed 2,048), and a new bake when what the clouds are made of or lit by
 //! changes (the sun, the weather, the camera's place, and a redrawn shadow cascade, which its
-//! marches read: [`super::bake::bake_ignores`]). Its use: a background sky, a device that
-//! cannot march, a view whose camera turns but does not travel.
+//! marches read; with the view baked, the haze and the composite's switches too:
+//! [`super::bake::bake_ignores`]). Its use: a background sky, a device that cannot march, a
+//! view whose camera turns but does not travel.
 //!
 //! For such a view everything a pixel shows is a function of its direction alone: the clouds,
 //! the sky and the ground behind them, the air in front and the haze. So the map holds the
