@@ -1011,8 +1011,9 @@ pub fn cloud_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
 }
 
 /// Colour of the pixel `cell` (its block's corner when upscaled) along the view ray
-/// `direction`, whose pixel subtends `pixel_angle` (rad): its clouds marched, then composited
-/// ([`composite`]), or one of the linear or instrumented layers of [`PixelOutput`].
+/// `direction`, whose pixel subtends `pixel_angle` (rad): its clouds marched (or read from a
+/// path's map), then composited ([`composite`]), or one of the linear or instrumented layers of
+/// [`PixelOutput`]; an impostor that holds the whole picture is read as it is.
 #[shader_fn]
 pub fn shade_ray(cell: Vec2, direction: Vec3, pixel_angle: f32, #[spec] key: CloudKey) -> Vec4 {
     if key.bakes_view() {
