@@ -274,6 +274,41 @@ fn unroll_refuses_a_loop_it_cannot_copy() {
     );
 }
 
+/// Copies of the first loop in [`unroll_where_known`].
+const COPIES: u32 = 3;
+
+/// One loop whose count is known when the shader is generated and one whose count is not: the
+/// first unrolled, the second left a loop, neither an error (the key's counts in a specialised
+/// shader and in the uber-shader).
+#[shader_fn]
+fn unroll_where_known(x: f32, n: u32) -> f32 {
+    let mut sum = 0.0f32;
+    for i in unroll_known(0u32..COPIES) {
+        sum += (x * (i + 1u32) as f32).cos();
+    }
+    for i in unroll_known(0u32..n) {
+        sum += (x * i as f32).sin();
+    }
+    sum
+}
+
+#[test]
+fn unroll_known_unrolls_known_counts_and_keeps_other_loops() {
+    let expected: f32 = (1..=3).map(|i| (0.5 * i as f32).cos()).sum::<f32>()
+        + (0..4).map(|i| (0.5 * i as f32).sin()).sum::<f32>();
+    assert_eq!(unroll_where_known(0.5, 4), expected);
+    let m = ModuleBuilder::build("unroll_known", "", loc!(), |m| {
+        m.fragment("fs_main", "", loc!(), |frag| {
+            frag * unroll_where_known::shader(frag.x, 4u32)
+        });
+    })
+    .expect("an unknown count is a loop, not an error");
+    let g = generate(m, "default", &Target::ALL).expect("every target validates");
+    assert_eq!(g.stats.loops, 1, "{}", g.wgsl);
+    assert_eq!(g.wgsl.matches("cos(").count(), 3, "{}", g.wgsl);
+    assert_eq!(g.wgsl.matches("sin(").count(), 1, "{}", g.wgsl);
+}
+
 /// Shader functions reached through a module path, as a crate organises them.
 mod helpers {
     use nimbus_dsl::prelude::*;

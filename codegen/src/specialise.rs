@@ -9,8 +9,8 @@
 use std::collections::BTreeSet;
 
 use nimbus_dsl::ir::{
-    BinaryOp, Block, ExprId, ExprKind, Function, Literal, LocalId, Module, Stmt, Type, UnaryOp,
-    leaves_loop,
+    BinaryOp, Block, Builtin, ExprId, ExprKind, Function, Literal, LocalId, Module, Stmt, Type,
+    UnaryOp, leaves_loop,
 };
 
 /// Specialises a recorded module in place.
@@ -455,6 +455,10 @@ fn fold_binary(op: BinaryOp, a: Literal, b: Literal) -> Option<Literal> {
             BinaryOp::BitAnd => U32(x & y),
             BinaryOp::BitOr => U32(x | y),
             BinaryOp::BitXor => U32(x ^ y),
+            // Unsigned division and remainder by a non-zero literal are exact; by zero they
+            // are left to naga, which reports them.
+            BinaryOp::Div if y != 0 => U32(x / y),
+            BinaryOp::Rem if y != 0 => U32(x % y),
             BinaryOp::Lt => Bool(x < y),
             BinaryOp::Le => Bool(x <= y),
             BinaryOp::Gt => Bool(x > y),
@@ -518,6 +522,27 @@ fn fold_constants(f: &mut Function) {
                 }
                 _ => None,
             },
+            // `max`/`min` of two integer literals (an unrolled loop's counter against a count
+            // the key fixes): the lanes an octave reads become fixed.
+            ExprKind::Builtin(op @ (Builtin::Max | Builtin::Min), args) if args.len() == 2 => {
+                match (lit(f, args[0]), lit(f, args[1])) {
+                    (Some(Literal::U32(x)), Some(Literal::U32(y))) => {
+                        Some(Literal::U32(if op == Builtin::Max {
+                            x.max(y)
+                        } else {
+                            x.min(y)
+                        }))
+                    }
+                    (Some(Literal::I32(x)), Some(Literal::I32(y))) => {
+                        Some(Literal::I32(if op == Builtin::Max {
+                            x.max(y)
+                        } else {
+                            x.min(y)
+                        }))
+                    }
+                    _ => None,
+                }
+            }
             ExprKind::Select {
                 if_false,
                 if_true,

@@ -348,6 +348,16 @@ pub fn unroll<T>(range: std::ops::Range<T>) -> std::ops::Range<T> {
     range
 }
 
+/// The marker of a loop unrolled where the shader's generation fixes its count, and left a loop
+/// where a uniform gives it: `for k in unroll_known(0u32..key_count(key, OCTAVES)) { .. }`. A
+/// specialised shader knows the key's counts and gets the copies [`unroll`] makes (a small
+/// loop indexing a vector by its counter ran as a loop in SwiftShader about 7 % of `low`'s
+/// frame slower: the octaves' sum); the uber-shader reads them from its key uniform and keeps
+/// the loop. On the CPU it is the range itself.
+pub fn unroll_known<T>(range: std::ops::Range<T>) -> std::ops::Range<T> {
+    range
+}
+
 /// The most copies [`unroll`] makes of one loop's body.
 pub const UNROLL_LIMIT: i64 = 16;
 
@@ -359,6 +369,30 @@ pub fn unrolled_range<R: LoopRange>(
     name: &str,
     loc: SourceLoc,
     range: R,
+    body: impl FnMut(R::Counter),
+) {
+    unroll_or_loop(name, loc, range, true, body);
+}
+
+/// `for name in unroll_known(start..end) { body }`: unrolled as [`unrolled_range`] when the
+/// bounds are known when the shader is generated, an ordinary loop when they are not (see
+/// [`unroll_known`]).
+pub fn unrolled_range_if_known<R: LoopRange>(
+    name: &str,
+    loc: SourceLoc,
+    range: R,
+    body: impl FnMut(R::Counter),
+) {
+    unroll_or_loop(name, loc, range, false, body);
+}
+
+/// The body recorded once per counter value; with bounds unknown at generation, an error when
+/// `required`, else the loop itself.
+fn unroll_or_loop<R: LoopRange>(
+    name: &str,
+    loc: SourceLoc,
+    range: R,
+    required: bool,
     mut body: impl FnMut(R::Counter),
 ) {
     let (start, end) = range.bounds();
@@ -368,6 +402,9 @@ pub fn unrolled_range<R: LoopRange>(
         _ => None,
     };
     let (Some((first, kind)), Some((last, _))) = (literal(start), literal(end)) else {
+        if !required {
+            return record_loop(name, loc, start, end, body);
+        }
         push_error(format!(
             "{loc}: `for {name} in unroll(start..end)` needs bounds known when the shader is \
              generated (literals, constants or #[spec] values)"

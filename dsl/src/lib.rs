@@ -54,7 +54,7 @@ pub mod shader {
 /// DSL values, and the CPU extension methods (`fract_gl`, `saturate`, ...).
 pub mod prelude {
     pub use crate::builtins::{mix, pack4x8unorm, select, smoothstep, step};
-    pub use crate::control::unroll;
+    pub use crate::control::{unroll, unroll_known};
     pub use crate::value::CpuVecExt;
     pub use crate::value::scalar_ext::CpuScalarExt;
     pub use crate::{ShaderStruct, shader_fn};

@@ -4,7 +4,10 @@
 //!
 //! Each timed frame is one `render` call of one frame, as a game loop makes them: the shadow
 //! atlas, the cloud pass (and the resolve when upscaled), and the readback that waits for the
-//! GPU. Pipelines and textures are built in an untimed warm-up.
+//! GPU. Pipelines and textures are built in an untimed warm-up. Where the adapter has
+//! timestamp queries, the preset table also gives the GPU's own time for the same frames (the
+//! sum over the frame's passes): on a real GPU the readback and the call's overhead are most
+//! of the wall time, so only the GPU's time says what the shaders cost there.
 
 use std::path::Path as FilePath;
 use std::time::Instant;
@@ -36,16 +39,29 @@ fn time_frames(
     frame: &Frame,
     iterations: u32,
 ) -> Result<f64, Box<dyn std::error::Error>> {
+    Ok(time_frames_gpu(renderer, frame, iterations)?.0)
+}
+
+/// [`time_frames`], and the median GPU time of the same calls where the adapter has timestamp
+/// queries.
+fn time_frames_gpu(
+    renderer: &mut Renderer<'_>,
+    frame: &Frame,
+    iterations: u32,
+) -> Result<(f64, Option<f64>), Box<dyn std::error::Error>> {
     let mut first = frame.clone();
     first.continue_history = false;
     renderer.render(&first)?;
     let mut times = Vec::new();
+    let mut gpu = Vec::new();
     for _ in 0..iterations {
         let start = Instant::now();
         renderer.render(frame)?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
+        gpu.extend(renderer.last_gpu_time_ms());
     }
-    Ok(median(times))
+    let gpu = (gpu.len() == times.len()).then(|| median(gpu));
+    Ok((median(times), gpu))
 }
 
 pub(crate) fn run(
@@ -65,14 +81,13 @@ pub(crate) fn run(
     );
     let mut renderer = Renderer::new(&gpu, TextureSizes::default());
     let mut rows = Vec::new();
+    let mut gpu_rows = Vec::new();
     for quality in Quality::ALL {
         for upscale in [false, true] {
             let f = preset_frame(&base, quality, upscale);
-            rows.push((
-                quality,
-                upscale,
-                time_frames(&mut renderer, &f, iterations)?,
-            ));
+            let (wall, gpu) = time_frames_gpu(&mut renderer, &f, iterations)?;
+            rows.push((quality, upscale, wall));
+            gpu_rows.extend(gpu.map(|g| (quality, upscale, g)));
         }
     }
     let (high_full, high_up) = (
@@ -92,7 +107,31 @@ pub(crate) fn run(
             full / up
         );
     }
-    compare_paths(&mut renderer, &base, iterations, &rows)?;
+    if gpu_rows.len() == rows.len() {
+        say!();
+        say!("GPU time of the same frames (timestamp queries, the sum over the frame's passes):");
+        say!("| preset | full res GPU ms | ×high | upscaled GPU ms | ×high | upscaling speed-up |");
+        say!("|---|---:|---:|---:|---:|---:|");
+        let (high_full, high_up) = (
+            ms_of(&gpu_rows, Quality::High, false),
+            ms_of(&gpu_rows, Quality::High, true),
+        );
+        for q in Quality::ALL {
+            let (full, up) = (ms_of(&gpu_rows, q, false), ms_of(&gpu_rows, q, true));
+            say!(
+                "| {} | {full:.2} | {:.2} | {up:.2} | {:.2} | {:.2}× |",
+                q.name(),
+                full / high_full,
+                up / high_up,
+                full / up
+            );
+        }
+    } else {
+        say!();
+        say!("(no GPU times: the adapter has no timestamp queries)");
+    }
+    let timed = gpu_rows.len() == rows.len();
+    compare_paths(&mut renderer, &base, iterations, &rows, timed)?;
     if uber {
         compare_uber(&mut renderer, &base, iterations, |q| ms_of(&rows, q, false))?;
     }
@@ -101,26 +140,35 @@ pub(crate) fn run(
 
 /// Each built path other than the volume at every preset, full resolution and upscaled,
 /// against the volume's rows timed above; and what a frame costs when the path's bake must be
-/// redrawn (the sun moved), against the same frame with the bake kept.
+/// redrawn (the sun moved), against the same frame with the bake kept. With `gpu_timed` (the
+/// adapter has timestamp queries) a last column gives the GPU's time of the full-resolution
+/// and upscaled frames.
 fn compare_paths(
     renderer: &mut Renderer<'_>,
     base: &Frame,
     iterations: u32,
     volume: &[(Quality, bool, f64)],
+    gpu_timed: bool,
 ) -> Result<(), Box<dyn std::error::Error>> {
     for path in Path::ALL.into_iter().filter(|p| *p != Path::Volume) {
         say!();
         say!("path `{path}`: {}", path.doc());
+        let (gpu_head, gpu_rule) = if gpu_timed {
+            (" GPU ms full res / upscaled |", "---:|")
+        } else {
+            ("", "")
+        };
         say!(
-            "| preset | full res ms/frame | ×volume | upscaled ms/frame | ×volume | full res, bake redrawn ms/frame |"
+            "| preset | full res ms/frame | ×volume | upscaled ms/frame | ×volume | full res, bake redrawn ms/frame |{gpu_head}"
         );
-        say!("|---|---:|---:|---:|---:|---:|");
+        say!("|---|---:|---:|---:|---:|---:|{gpu_rule}");
         for q in Quality::ALL {
             let mut ms = [0.0; 2];
+            let mut gpu = [None; 2];
             for (i, upscale) in [false, true].into_iter().enumerate() {
                 let mut f = preset_frame(base, q, upscale);
                 f.features.path = path;
-                ms[i] = time_frames(renderer, &f, iterations)?;
+                (ms[i], gpu[i]) = time_frames_gpu(renderer, &f, iterations)?;
             }
             // A sun moving a little each frame: every frame's bake is out of date.
             let mut f = preset_frame(base, q, false);
@@ -133,8 +181,13 @@ fn compare_paths(
                 times.push(start.elapsed().as_secs_f64() * 1e3);
             }
             let moving = median(times);
+            let gpu_cell = match gpu {
+                [Some(full), Some(up)] => format!(" {full:.2} / {up:.2} |"),
+                _ if gpu_timed => " – |".to_string(),
+                _ => String::new(),
+            };
             say!(
-                "| {} | {:.1} | {:.2} | {:.1} | {:.2} | {moving:.1} |",
+                "| {} | {:.1} | {:.2} | {:.1} | {:.2} | {moving:.1} |{gpu_cell}",
                 q.name(),
                 ms[0],
                 ms[0] / ms_of(volume, q, false),

@@ -486,15 +486,15 @@ impl Transformer {
         let Pat::Ident(pi) = &*f.pat else {
             return Err(unsupported(&f.pat, "a pattern other than a name in `for`"));
         };
-        // `for i in unroll(a..b)`: the same range, its body recorded once per counter value.
+        // `for i in unroll(a..b)`: the same range, its body recorded once per counter value;
+        // `unroll_known(a..b)`: so where the bounds are known at generation, else a loop.
+        let marker = |call: &syn::ExprCall, name: &str| {
+            call.args.len() == 1 && matches!(&*call.func, Expr::Path(p) if p.path.is_ident(name))
+        };
         let (unrolled, ranged) = match &*f.expr {
-            Expr::Call(call)
-                if call.args.len() == 1
-                    && matches!(&*call.func, Expr::Path(p) if p.path.is_ident("unroll")) =>
-            {
-                (true, &call.args[0])
-            }
-            other => (false, other),
+            Expr::Call(call) if marker(call, "unroll") => (Some(true), &call.args[0]),
+            Expr::Call(call) if marker(call, "unroll_known") => (Some(false), &call.args[0]),
+            other => (None, other),
         };
         let Expr::Range(range) = ranged else {
             return Err(syn::Error::new_spanned(
@@ -524,9 +524,13 @@ impl Transformer {
         self.scopes.pop();
         let body = body?;
         let l = loc(f.span());
-        Ok(if unrolled {
+        Ok(if unrolled == Some(true) {
             quote! {
                 ::nimbus_dsl::control::unrolled_range(#name, #l, (#start, #end), |#ident| { let _ = #body; })
+            }
+        } else if unrolled == Some(false) {
+            quote! {
+                ::nimbus_dsl::control::unrolled_range_if_known(#name, #l, (#start, #end), |#ident| { let _ = #body; })
             }
         } else {
             quote! {

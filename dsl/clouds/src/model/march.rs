@@ -305,7 +305,8 @@ pub fn multiple_scattering(optical_depth: f32, phases: OctavePhases, #[spec] key
     let last = n.max(1u32) - 1u32;
     let mut attenuation = (-optical_depth * (-(last as f32)).exp2()).exp();
     let mut sum = 0.0f32;
-    for octave in 0u32..n {
+    // Unrolled in a specialised shader: each copy reads a fixed lane of a fixed vector.
+    for octave in unroll_known(0u32..key_count(key, OCTAVES)) {
         let k = last - octave;
         let lanes = select(
             select(phases.high, phases.mid, k < 8u32),
@@ -709,6 +710,8 @@ pub fn next_boundary(mu: f32, t: f32, group: u32, best: f32) -> f32 {
     let radius = CLOUDS.get().march.radius;
     let layers = CLOUDS.get().groups[group as usize];
     let mut b = best;
+    // A loop, not `unroll`: unrolled, this body (two shell intersections) inlined into the march
+    // made SwiftShader's compile of the cloud pass run past two minutes.
     for lane in 0u32..4u32 {
         let bottom = layers.min_height[lane as usize];
         let top = layers.max_height[lane as usize];
