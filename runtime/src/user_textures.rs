@@ -53,6 +53,7 @@ impl Gpu {
             label,
             [size.width, size.height, size.depth_or_array_layers],
             dimension,
+            4,
             &halves,
         );
         // The red channel's means, for the detail level of detail.

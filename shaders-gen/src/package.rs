@@ -1371,8 +1371,9 @@ fn readme(engine: Engine, table: &[Assignment]) -> String {
          - `uniforms/<pair>.json`, `uniforms/resolve.json`, `uniforms/display.json`: each \
          uniform block's size, members (offset, type, value) and which members to set when; \
          `bytes_hex` is the whole block.\n\
-         - `textures/`: the noise textures (2D PNG, 3D raw RGBA8; see `textures` in \
-         `{PACKAGE_FILE}`), uploaded as half floats (`rgba16float`), each byte widened \
+         - `textures/`: the noise textures (2D PNG, RGBA8; 3D raw R8, the one channel the \
+         shaders read; see `textures` in `{PACKAGE_FILE}`), uploaded as half floats (`format`: \
+         `rgba16float`, or `r16float` for the one-channel files), each byte widened \
          through `texel_halves` as Nimbus's runtime does: a GPU that filters 8-bit textures \
          in 8-bit arithmetic leaves a faint halo of opacity round every cloud.\n\
          - the shader files, named `<module>-<key>.<entry>.<ext>` (`<module>-<key>.wgsl` and \

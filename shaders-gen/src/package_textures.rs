@@ -1,5 +1,5 @@
-//! The noise textures of an engine package, as files: 2D as PNG, 3D as raw RGBA8 with a JSON
-//! descriptor. They are made by the same compute kernels the runtime runs (on whatever adapter
+//! The noise textures of an engine package, as files: 2D as PNG (RGBA8), 3D as raw R8 (the one
+//! channel the shaders read: `NoiseKind::channels`) with a JSON descriptor. They are made by the same compute kernels the runtime runs (on whatever adapter
 //! this machine has, lavapipe included), so they are byte-identical to what `nimbus render`
 //! samples; with no adapter at all, by the kernels' CPU twins, which agree within one 8-bit
 //! level (`tests/textures.rs`), and the descriptor says so.
@@ -89,7 +89,17 @@ fn make_texture_files(
         };
         // pack4x8unorm puts R in the lowest byte: little-endian words are R, G, B, A bytes.
         let rgba: Vec<u8> = texels.iter().flat_map(|t| t.to_le_bytes()).collect();
-        let (file, bytes, layout) = if is_3d(kind) {
+        let one_channel = is_3d(kind) && kind.channels() == 1;
+        let (file, bytes, layout) = if is_3d(kind) && one_channel {
+            // The cloud passes read the red channel alone: the file holds it, one byte a texel.
+            (
+                format!("textures/{}.r8", kind.name()),
+                rgba.iter().step_by(4).copied().collect(),
+                "raw R8, 1 byte per texel, x fastest, then y, then z; no header or padding; \
+                 upload each byte widened through texel_halves, one half float a texel \
+                 (r16float: the shaders read only the red channel)",
+            )
+        } else if is_3d(kind) {
             (
                 format!("textures/{}.rgba8", kind.name()),
                 rgba,
@@ -121,8 +131,13 @@ fn make_texture_files(
             } else {
                 vec![size, size]
             },
-            format: "rgba16float".into(),
-            file_format: "rgba8unorm".into(),
+            format: if one_channel {
+                "r16float"
+            } else {
+                "rgba16float"
+            }
+            .into(),
+            file_format: if one_channel { "r8unorm" } else { "rgba8unorm" }.into(),
             layout: layout.into(),
             colour_space: "linear".into(),
             address_mode: "repeat".into(),

@@ -197,8 +197,12 @@ fn every_engine_gets_a_complete_package() {
                 .filter_map(Value::as_u64)
                 .collect();
             if size.len() == 3 {
+                // One byte a texel: the red channel, the one the shaders read, uploaded as
+                // `r16float`.
+                assert_eq!(t["format"], "r16float", "{t}");
+                assert_eq!(t["file_format"], "r8unorm", "{t}");
                 let len = std::fs::metadata(&file).expect("3D texture file").len();
-                assert_eq!(len, size.iter().product::<u64>() * 4, "{}", file.display());
+                assert_eq!(len, size.iter().product::<u64>(), "{}", file.display());
             } else {
                 let img = image::open(&file).expect("PNG").to_rgba8();
                 assert_eq!(
@@ -237,14 +241,16 @@ fn package_textures_are_the_runtimes_texels() {
     let gpu = nimbus_runtime::Gpu::new().expect("adapter");
     use nimbus_runtime::textures::NoiseKind;
     for (kind, file, size) in [
-        (NoiseKind::Detail, "textures/detail.rgba8", 32u32),
+        (NoiseKind::Detail, "textures/detail.r8", 32u32),
         (NoiseKind::Weather, "textures/weather.png", 512),
     ] {
+        // The runtime's texels, as many channels of each as the file holds.
+        let channels = kind.channels() as usize;
         let want: Vec<u8> = gpu
             .noise_texels(kind, size)
             .expect("texels")
             .iter()
-            .flat_map(|t| t.to_le_bytes())
+            .flat_map(|t| t.to_le_bytes().into_iter().take(channels))
             .collect();
         let got = if file.ends_with(".png") {
             image::open(out.join(file))
@@ -475,7 +481,8 @@ fn the_three_package_timeline_drifts_and_changes_as_nimbus_does() {
     );
 }
 
-/// The packages hold their textures as RGBA8 files but tell the host to upload half floats,
+/// The packages hold their textures as 8-bit files (the 3D noises one channel, the 2D maps four)
+/// but tell the host to upload half floats,
 /// and the shipped host module (`widenTexels` in nimbus-host.js, run by node) widens every byte
 /// of a texture file to exactly the value Nimbus's runtime samples (`texel_value`): the
 /// engines filter in float as the runtime does, with no 8-bit halo round the clouds.
@@ -491,10 +498,15 @@ fn the_package_host_widens_texels_to_what_the_runtime_samples() {
     let pkg = tmp.path().join("pkg");
     let (p, _) = package("three", &pkg);
     for t in p["textures"].as_array().expect("textures") {
-        assert_eq!(t["format"], "rgba16float", "{t}");
-        assert_eq!(t["file_format"], "rgba8unorm", "{t}");
+        let (format, file_format) = if t["dimension"] == "3d" {
+            ("r16float", "r8unorm")
+        } else {
+            ("rgba16float", "rgba8unorm")
+        };
+        assert_eq!(t["format"], format, "{t}");
+        assert_eq!(t["file_format"], file_format, "{t}");
     }
-    let detail = std::fs::read(pkg.join("textures/detail.rgba8")).expect("detail texture");
+    let detail = std::fs::read(pkg.join("textures/detail.r8")).expect("detail texture");
     let sample: Vec<u8> = detail.iter().take(4096).copied().collect();
     let every_byte: Vec<u8> = (0..=u8::MAX).collect();
     let runner = tmp.path().join("widen.mjs");

@@ -172,7 +172,17 @@ pub fn render(
     let halves = &pkg.package.texel_halves;
     for t in &pkg.package.textures {
         let path = pkg.path(&t.file);
-        let rgba8 = if t.dimension == "2d" {
+        let (format, channels) = match t.format.as_str() {
+            "r16float" => (vk::Format::R16_SFLOAT, 1),
+            "rgba16float" => (HDR, 4),
+            other => {
+                return Err(HostError::Package {
+                    path: pkg.path("nimbus-package.json"),
+                    what: format!("texture `{}` has the format `{other}`", t.name),
+                });
+            }
+        };
+        let bytes = if t.dimension == "2d" {
             image::load_from_memory_with_format(&read_bytes(&path)?, image::ImageFormat::Png)
                 .map_err(|source| HostError::Image {
                     path: path.clone(),
@@ -198,13 +208,16 @@ pub fn render(
             }
         };
         let texels = (w * h * d) as usize;
-        if rgba8.len() != texels * 4 {
+        if bytes.len() != texels * channels {
             return Err(HostError::Package {
                 path,
-                what: format!("{} bytes for {w}×{h}×{d} RGBA8 texels", rgba8.len()),
+                what: format!(
+                    "{} bytes for {w}×{h}×{d} texels of {channels} byte(s)",
+                    bytes.len()
+                ),
             });
         }
-        let wide: Vec<u8> = rgba8
+        let wide: Vec<u8> = bytes
             .iter()
             .flat_map(|b| halves[*b as usize].to_le_bytes())
             .collect();
@@ -216,7 +229,7 @@ pub fn render(
         };
         let img = gpu.image(
             extent,
-            HDR,
+            format,
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
         )?;
         gpu.submit(|cb| {

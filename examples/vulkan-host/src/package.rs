@@ -23,6 +23,8 @@ pub struct TextureFile {
     pub file: String,
     pub dimension: String,
     pub size: Vec<u32>,
+    /// The texel format to create: `r16float` (one channel) or `rgba16float`.
+    pub format: String,
 }
 
 #[derive(Deserialize)]

@@ -136,9 +136,14 @@ public final class NimbusMetal: NSObject, MTKViewDelegate {
         }
         // Each byte k becomes the half float the package lists: what Nimbus samples.
         let data = texels.map { halves[Int($0)] }
+        // `r16float`: the file holds the one channel the shaders read, a byte a texel.
+        let channels = t.format == "r16float" ? 1 : 4
+        guard data.count == width * height * depth * channels else {
+            throw NimbusMetalError.package("\(t.file): \(data.count) bytes, expected \(width * height * depth * channels)")
+        }
         let d = MTLTextureDescriptor()
         d.textureType = t.dimension == "2d" ? .type2D : .type3D
-        d.pixelFormat = .rgba16Float
+        d.pixelFormat = channels == 1 ? .r16Float : .rgba16Float
         d.width = width
         d.height = height
         d.depth = depth
@@ -148,7 +153,7 @@ public final class NimbusMetal: NSObject, MTKViewDelegate {
         }
         data.withUnsafeBytes { raw in
             texture.replace(region: MTLRegionMake3D(0, 0, 0, width, height, depth), mipmapLevel: 0, slice: 0,
-                            withBytes: raw.baseAddress!, bytesPerRow: width * 8, bytesPerImage: width * height * 8)
+                            withBytes: raw.baseAddress!, bytesPerRow: width * 2 * channels, bytesPerImage: width * height * 2 * channels)
         }
         return texture
     }
@@ -273,7 +278,7 @@ public final class NimbusMetal: NSObject, MTKViewDelegate {
 
 // The parts of the package's JSON this host reads.
 private struct PackageFile: Decodable { let textures: [TextureEntry]; let texel_halves: [UInt16]; let pairs: [PairEntry] }
-private struct TextureEntry: Decodable { let name: String; let file: String; let dimension: String; let size: [Int] }
+private struct TextureEntry: Decodable { let name: String; let file: String; let dimension: String; let size: [Int]; let format: String }
 private struct Size: Decodable { let width: Int; let height: Int }
 private struct PairEntry: Decodable {
     let pair: String; let uniforms: String; let scene_depth: Bool

@@ -39,17 +39,19 @@ function withoutVersion(source) {
 }
 
 /**
- * One noise texture, as half floats (RGBA16F): 3D files widened through the package's
- * `texel_halves`, 2D images converted by WebGL's upload (each byte k to k/255).
+ * One noise texture, as half floats (`t.format`: R16F, or RGBA16F): 3D files widened through
+ * the package's `texel_halves`, 2D images converted by WebGL's upload (each byte k to k/255).
  */
 async function loadTexture(url, t, texelHalves) {
   const response = await fetch(url);
   if (!response.ok) throw new Error(`${url}: ${response.status}`);
+  const channels = t.format === 'r16float' ? 1 : 4;
   let texture;
   if (t.dimension === '3d') {
     const data = new Uint8Array(await response.arrayBuffer());
     const [w, h, d] = t.size;
-    if (data.length !== w * h * d * 4) throw new Error(`${url}: ${data.length} bytes, expected ${w * h * d * 4}`);
+    const expected = w * h * d * channels;
+    if (data.length !== expected) throw new Error(`${url}: ${data.length} bytes, expected ${expected}`);
     texture = new THREE.Data3DTexture(widenTexels(data, texelHalves), w, h, d);
     texture.wrapR = THREE.RepeatWrapping;
   } else {
@@ -62,9 +64,9 @@ async function loadTexture(url, t, texelHalves) {
     texture = new THREE.Texture(bitmap);
     texture.flipY = false;
   }
-  texture.format = THREE.RGBAFormat;
+  texture.format = channels === 1 ? THREE.RedFormat : THREE.RGBAFormat;
   texture.type = THREE.HalfFloatType;
-  texture.internalFormat = 'RGBA16F';
+  texture.internalFormat = channels === 1 ? 'R16F' : 'RGBA16F';
   texture.colorSpace = THREE.NoColorSpace;
   texture.premultiplyAlpha = false;
   texture.generateMipmaps = false;

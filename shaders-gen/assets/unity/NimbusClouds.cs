@@ -344,7 +344,14 @@ namespace Nimbus
             }
             else
             {
-                var t3 = new Texture3D(width, height, depth, TextureFormat.RGBAHalf, false);
+                // `r16float`: the file holds the one channel the shaders read, a byte a texel.
+                var format = t.format == "r16float" ? TextureFormat.RHalf : TextureFormat.RGBAHalf;
+                int channels = t.format == "r16float" ? 1 : 4;
+                if (data.Length != width * height * depth * channels)
+                {
+                    throw new InvalidDataException($"{t.file}: {data.Length} bytes, expected {width * height * depth * channels}");
+                }
+                var t3 = new Texture3D(width, height, depth, format, false);
                 t3.SetPixelData(data, 0);
                 t3.Apply(false, true);
                 texture = t3;
@@ -424,7 +431,7 @@ namespace Nimbus
         // fills fields by their JSON names and ignores the rest).
 #pragma warning disable 0649
         [Serializable] sealed class PackageFile { public TextureEntry[] textures; public ushort[] texel_halves; public PairEntry[] pairs; }
-        [Serializable] sealed class TextureEntry { public string name; public string file; public string dimension; public int[] size; public string address_mode; public string filter; }
+        [Serializable] sealed class TextureEntry { public string name; public string file; public string dimension; public int[] size; public string format; public string address_mode; public string filter; }
         [Serializable] sealed class PairEntry { public string pair; public string uniforms; public bool scene_depth; public Size shadow_atlas; public Size air_table; public PassEntry[] passes; }
         [Serializable] sealed class Size { public int width; public int height; }
         [Serializable] sealed class PassEntry { public string pass; public string shader; public EntryPoints entry_points; public BindingEntry[] bindings; public string writes; }

@@ -29,8 +29,9 @@ import { NimbusHost, loadPackage, widenTexels } from './nimbus-host.js';
 const HDR = 'rgba16float';
 
 /**
- * One noise texture, as half floats (`t.format`, `rgba16float`): 3D files widened through the
- * package's `texel_halves`, 2D images converted by the copy (each byte k to k/255).
+ * One noise texture, as half floats (`t.format`: `r16float`, one channel, or `rgba16float`):
+ * 3D files widened through the package's `texel_halves`, 2D images converted by the copy (each
+ * byte k to k/255).
  */
 async function loadTexture(device, get, t, texelHalves) {
   const [w, h, d = 1] = t.size;
@@ -42,10 +43,12 @@ async function loadTexture(device, get, t, texelHalves) {
     usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST | GPUTextureUsage.RENDER_ATTACHMENT,
   });
   if (t.dimension === '3d') {
+    const channels = t.format === 'r16float' ? 1 : 4;
     const data = await get(t.file, 'bytes');
-    if (data.length !== w * h * d * 4) throw new Error(`${t.file}: ${data.length} bytes, expected ${w * h * d * 4}`);
+    const expected = w * h * d * channels;
+    if (data.length !== expected) throw new Error(`${t.file}: ${data.length} bytes, expected ${expected}`);
     const halves = widenTexels(data, texelHalves);
-    device.queue.writeTexture({ texture }, halves, { bytesPerRow: w * 8, rowsPerImage: h }, [w, h, d]);
+    device.queue.writeTexture({ texture }, halves, { bytesPerRow: w * 2 * channels, rowsPerImage: h }, [w, h, d]);
   } else {
     // Texel values are data, not colours: no premultiplication, no colour conversion.
     const bitmap = await createImageBitmap(await get(t.file, 'blob'), {
