@@ -90,42 +90,12 @@ pub(crate) fn run(
             gpu_rows.extend(gpu.map(|g| (quality, upscale, g)));
         }
     }
-    let (high_full, high_up) = (
-        ms_of(&rows, Quality::High, false),
-        ms_of(&rows, Quality::High, true),
-    );
     say!();
-    say!("| preset | full res ms/frame | ×high | upscaled ms/frame | ×high | upscaling speed-up |");
-    say!("|---|---:|---:|---:|---:|---:|");
-    for q in Quality::ALL {
-        let (full, up) = (ms_of(&rows, q, false), ms_of(&rows, q, true));
-        say!(
-            "| {} | {full:.1} | {:.2} | {up:.1} | {:.2} | {:.2}× |",
-            q.name(),
-            full / high_full,
-            up / high_up,
-            full / up
-        );
-    }
+    preset_table(&rows, "ms/frame", 1);
     if gpu_rows.len() == rows.len() {
         say!();
         say!("GPU time of the same frames (timestamp queries, the sum over the frame's passes):");
-        say!("| preset | full res GPU ms | ×high | upscaled GPU ms | ×high | upscaling speed-up |");
-        say!("|---|---:|---:|---:|---:|---:|");
-        let (high_full, high_up) = (
-            ms_of(&gpu_rows, Quality::High, false),
-            ms_of(&gpu_rows, Quality::High, true),
-        );
-        for q in Quality::ALL {
-            let (full, up) = (ms_of(&gpu_rows, q, false), ms_of(&gpu_rows, q, true));
-            say!(
-                "| {} | {full:.2} | {:.2} | {up:.2} | {:.2} | {:.2}× |",
-                q.name(),
-                full / high_full,
-                up / high_up,
-                full / up
-            );
-        }
+        preset_table(&gpu_rows, "GPU ms", 2);
     } else {
         say!();
         say!("(no GPU times: the adapter has no timestamp queries)");
@@ -260,6 +230,27 @@ pub(crate) fn run_moving_sun(
         }
     }
     Ok(())
+}
+
+/// The preset table of `rows` (ms per frame, each preset full resolution and upscaled) with
+/// ratios to `high`: `unit` names the times, printed with `decimals` decimals.
+fn preset_table(rows: &[(Quality, bool, f64)], unit: &str, decimals: usize) {
+    let (high_full, high_up) = (
+        ms_of(rows, Quality::High, false),
+        ms_of(rows, Quality::High, true),
+    );
+    say!("| preset | full res {unit} | ×high | upscaled {unit} | ×high | upscaling speed-up |");
+    say!("|---|---:|---:|---:|---:|---:|");
+    for q in Quality::ALL {
+        let (full, up) = (ms_of(rows, q, false), ms_of(rows, q, true));
+        say!(
+            "| {} | {full:.decimals$} | {:.2} | {up:.decimals$} | {:.2} | {:.2}× |",
+            q.name(),
+            full / high_full,
+            up / high_up,
+            full / up
+        );
+    }
 }
 
 /// The time of `q` (upscaled or not) among `rows`.
