@@ -11,7 +11,7 @@ use nimbus_clouds::model::density::{
 use nimbus_clouds::model::genus_fns::exponential_profile;
 use nimbus_clouds::model::layers::{LayerGroup, LayerGroupShader};
 use nimbus_clouds::model::phase::{approximate_mie, draine_phase, isotropic_phase, rayleigh_phase};
-use nimbus_clouds::model::shell::{EARTH_RADIUS, ray_shell, shells_after};
+use nimbus_clouds::model::shell::{EARTH_RADIUS, ray_shell};
 use nimbus_dsl::Value;
 use nimbus_dsl::ir::{ExprId, Scalar, Type};
 
@@ -60,98 +60,6 @@ fn ray_shell_matches_cpu() {
             vec![r.x.to_bits(), r.y.to_bits()]
         },
         // Distances up to ~1000 km; a few ulp of sqrt differ between CPU and GPU.
-        Tolerance {
-            abs: 1e-3,
-            rel: 2e-6,
-        },
-    );
-}
-
-/// Camera altitude, up-cosine, four shell altitudes and a distance `t`: the extremes of
-/// [`ray_shell_matches_cpu`] (shells crossed, grazed and missed, the ground shell), then random.
-fn shells_inputs() -> Vec<Vec<u32>> {
-    let mut rng = Rng::new(22);
-    let mut inputs = Vec::new();
-    for hc in [0.0, 2.0, 1000.0, 10_000.0, 400_000.0] {
-        for mu in [-1.0, -0.01, 0.0, 1e-4, 0.5, 1.0] {
-            for t in [1e-5, 900.0, 50_000.0] {
-                inputs.push(vec![
-                    f(hc),
-                    f(mu),
-                    f(0.0),
-                    f(750.0),
-                    f(1400.0),
-                    f(8000.0),
-                    f(t),
-                ]);
-            }
-        }
-    }
-    while inputs.len() < MIN_INPUTS {
-        let mut w = vec![f(rng.range(0.0, 20_000.0)), f(rng.range(-1.0, 1.0))];
-        w.extend((0..4).map(|_| f(rng.range(0.0, 20_000.0))));
-        w.push(f(rng.range(0.0, 100_000.0)));
-        inputs.push(w);
-    }
-    inputs
-}
-
-/// The four-shell form the march's boundary search uses is `ray_shell` lane by lane, to the
-/// bit: in each lane the nearer root beyond `t`, 1e30 where there is none.
-#[test]
-fn shells_after_is_ray_shell_per_lane() {
-    let mut hits = 0;
-    for w in shells_inputs() {
-        let (hc, mu, t) = (a(&w, 0), a(&w, 1), a(&w, 6));
-        let heights = v4(&w, 2);
-        let four = shells_after(hc, mu, heights, EARTH_RADIUS, t);
-        for lane in 0..4 {
-            let roots = ray_shell(hc, mu, heights[lane], EARTH_RADIUS);
-            let expected = if roots.x > t {
-                roots.x
-            } else if roots.y > t {
-                roots.y
-            } else {
-                1e30
-            };
-            hits += usize::from(expected < 1e30);
-            assert_eq!(
-                four[lane].to_bits(),
-                expected.to_bits(),
-                "camera {hc} m, mu {mu}, shell {} m, t {t}: {} against {expected}",
-                heights[lane],
-                four[lane]
-            );
-        }
-    }
-    // Both kinds of lane are in the inputs: roots beyond t and none.
-    assert!(hits > 1000, "{hits} lanes with a root beyond t");
-}
-
-#[test]
-fn shells_after_matches_cpu() {
-    assert_eq!(
-        shells_after::PARAMS.iter().map(|p| p.1).collect::<Vec<_>>(),
-        [Type::F32, Type::F32, VEC4, Type::F32, Type::F32]
-    );
-    // Inputs as the shader takes them: the camera, mu, four heights, the radius, t.
-    let inputs: Vec<Vec<u32>> = shells_inputs()
-        .into_iter()
-        .map(|w| {
-            let mut v = w[..6].to_vec();
-            v.push(f(EARTH_RADIUS));
-            v.push(w[6]);
-            v
-        })
-        .collect();
-    compare(
-        "shells_after",
-        shells_after::PARAMS.iter().map(|p| p.1).collect(),
-        shells_after::RESULT,
-        &shells_after::call_ids,
-        &inputs,
-        |w| out4(shells_after(a(w, 0), a(w, 1), v4(w, 2), a(w, 6), a(w, 7))),
-        // As ray_shell's: a few ulp of sqrt differ between CPU and GPU.
         Tolerance {
             abs: 1e-3,
             rel: 2e-6,

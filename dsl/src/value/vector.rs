@@ -190,12 +190,6 @@ macro_rules! float_vector {
                 Self::from_id(builtin(Builtin::Exp, &[self.id], <Self as Value>::TYPE))
             }
 
-            /// Component-wise square root.
-            #[must_use]
-            pub fn sqrt(self) -> Self {
-                Self::from_id(builtin(Builtin::Sqrt, &[self.id], <Self as Value>::TYPE))
-            }
-
             /// Component-wise floor.
             #[must_use]
             pub fn floor(self) -> Self {
@@ -368,9 +362,6 @@ pub trait CpuVecExt {
 
     /// Component-wise `x^e`, each lane its own exponent (WGSL's vector `pow`).
     fn pow(self, e: Self) -> Self;
-
-    /// Component-wise square root.
-    fn sqrt(self) -> Self;
 }
 
 macro_rules! cpu_vec_ext {
@@ -384,10 +375,6 @@ macro_rules! cpu_vec_ext {
                 <$t>::from_array(
                     core::array::from_fn(|i| self.to_array()[i].powf(e.to_array()[i])),
                 )
-            }
-
-            fn sqrt(self) -> Self {
-                <$t>::from_array(self.to_array().map(f32::sqrt))
             }
         }
     )*};

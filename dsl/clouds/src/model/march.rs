@@ -34,7 +34,7 @@ use super::phase::{
 use super::scene_depth::{composite_over_scene, scene_distance};
 use super::scene_shadow::sun_through_clouds;
 use super::shadow::{ShadowParams, shadow_texel};
-use super::shell::{ground_hit, ray_shell, shells_after};
+use super::shell::{ground_hit, ray_shell};
 use super::sky::{AtmosphereParams, ground_radiance, sky_distance, sun_disc};
 use super::slices::slices_at;
 use super::transmission::{DROPLET_ASYMMETRY, slab_diffuse_transmittance};
@@ -695,21 +695,30 @@ pub fn layer_step(mu: f32, t: f32, #[spec] key: CloudKey) -> f32 {
     march_step(t).min((exit - t).max(1e-5))
 }
 
+/// The earlier of `best` and each root of `roots` that lies beyond `t`.
+#[shader_fn]
+pub fn earliest_after(t: f32, roots: Vec2, best: f32) -> f32 {
+    let a = select(best, best.min(roots.x), roots.x > t);
+    select(a, a.min(roots.y), roots.y > t)
+}
+
 /// Distance to the next crossing of any layer boundary of group `group` beyond `t` (or
-/// `best`): the bottom and the top of each of its four layers, four shells at once.
+/// `best`): the bottom and the top of each of its four layers.
 #[shader_fn]
 pub fn next_boundary(mu: f32, t: f32, group: u32, best: f32) -> f32 {
     let camera_altitude = CLOUDS.get().camera_altitude;
     let radius = CLOUDS.get().march.radius;
     let layers = CLOUDS.get().groups[group as usize];
-    let roots = shells_after(camera_altitude, mu, layers.min_height, radius, t).min(shells_after(
-        camera_altitude,
-        mu,
-        layers.max_height,
-        radius,
-        t,
-    ));
-    best.min(roots.x.min(roots.y)).min(roots.z.min(roots.w))
+    let mut b = best;
+    // A loop, not `unroll`: unrolled, this body (two shell intersections) inlined into the march
+    // made SwiftShader's compile of the cloud pass run past two minutes.
+    for lane in 0u32..4u32 {
+        let bottom = layers.min_height[lane as usize];
+        let top = layers.max_height[lane as usize];
+        b = earliest_after(t, ray_shell(camera_altitude, mu, bottom, radius), b);
+        b = earliest_after(t, ray_shell(camera_altitude, mu, top, radius), b);
+    }
+    b
 }
 
 /// Step over a sample whose weather allows no cloud. Near the camera it is the ordinary step:
