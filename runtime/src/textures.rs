@@ -35,8 +35,8 @@ impl NoiseKind {
     }
 
     /// The channels the cloud passes read, and so the channels its texture holds: the two 3D
-    /// noises only their red (the density's erosion reads `.x` of each; `tests/textures.rs`
-    /// checks every generated shader), the 2D maps all four. One half float a texel in place
+    /// noises only their red (the density's erosion reads `.x` of each; `tests/clouds.rs`
+    /// checks every catalogued shader), the 2D maps all four. One half float a texel in place
     /// of four took 7 % off `low`'s frame in SwiftShader, with the same values sampled.
     pub fn channels(self) -> u32 {
         if self.is_3d() { 1 } else { 4 }

@@ -1,6 +1,7 @@
 //! The noise textures of an engine package, as files: 2D as PNG (RGBA8), 3D as raw R8 (the one
-//! channel the shaders read: `NoiseKind::channels`) with a JSON descriptor. They are made by the same compute kernels the runtime runs (on whatever adapter
-//! this machine has, lavapipe included), so they are byte-identical to what `nimbus render`
+//! channel the shaders read: `NoiseKind::channels`) with a JSON descriptor. They are made by
+//! the same compute kernels the runtime runs (on whatever adapter this machine has, lavapipe
+//! included), so they are byte-identical to what `nimbus render`
 //! samples; with no adapter at all, by the kernels' CPU twins, which agree within one 8-bit
 //! level (`tests/textures.rs`), and the descriptor says so.
 
@@ -90,7 +91,7 @@ fn make_texture_files(
         // pack4x8unorm puts R in the lowest byte: little-endian words are R, G, B, A bytes.
         let rgba: Vec<u8> = texels.iter().flat_map(|t| t.to_le_bytes()).collect();
         let one_channel = is_3d(kind) && kind.channels() == 1;
-        let (file, bytes, layout) = if is_3d(kind) && one_channel {
+        let (file, bytes, layout) = if one_channel {
             // The cloud passes read the red channel alone: the file holds it, one byte a texel.
             (
                 format!("textures/{}.r8", kind.name()),
