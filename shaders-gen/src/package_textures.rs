@@ -1,9 +1,9 @@
 //! The noise textures of an engine package, as files: 2D as PNG (RGBA8), 3D as raw R8 (the one
 //! channel the shaders read: `NoiseKind::channels`) with a JSON descriptor. They are made by
 //! the same compute kernels the runtime runs (on whatever adapter this machine has, lavapipe
-//! included), so they are byte-identical to what `nimbus render`
-//! samples; with no adapter at all, by the kernels' CPU twins, which agree within one 8-bit
-//! level (`tests/textures.rs`), and the descriptor says so.
+//! included), so they are byte-identical to what `nimbus render` samples; with no adapter at
+//! all, by the kernels' CPU twins, which agree within one 8-bit level (`tests/textures.rs`),
+//! and the descriptor says so.
 
 use std::io::Cursor;
 
