@@ -92,7 +92,7 @@ fn markers(toggle: Toggle) -> &'static [&'static str] {
         Toggle::Turbulence => &["turbulence_texture", "turbulence_tex", "curl"],
         Toggle::LightShafts => &["shadow_length"],
         Toggle::Haze => &["haze_opacity", "haze_light"],
-        Toggle::Shadows => &["shadow_optical_depth(texel, to_top, reach)"],
+        Toggle::Shadows => &["shadow_optical_depth(map.texel, to_top, reach)"],
         Toggle::GroundBounce => &["ground_bounce_light", "ground_irradiance"],
         Toggle::Diffusion => &[
             "slab_diffuse_fluence",
@@ -406,7 +406,7 @@ fn the_impostor_path_draws_from_its_map_alone() {
     );
     // The bake's marches to the sun read the shadow map, as the volume's; the cloud pass
     // reads it for the ground's shadows.
-    assert!(bake.wgsl.contains("fn shadow_texel("));
+    assert!(bake.wgsl.contains("fn shadow_read("));
     assert!(
         drawn.wgsl.contains("var shadow_map"),
         "the ground's shadows went"

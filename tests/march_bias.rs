@@ -208,8 +208,14 @@ fn reference_secondary_marches_are_unbiased() {
 fn real_time_secondary_marches_sample_interval_midpoints() {
     // The real-time presets hand the rest of the path to the shadow map; over their own short
     // reach a midpoint per interval is far closer to the integral than the interval's start.
+    // A preset that leaves the whole way to the map (`low`) has no reach to check.
     let t = textures();
-    for quality in [Quality::Low, Quality::High] {
+    let marching: Vec<Quality> = Quality::ALL
+        .into_iter()
+        .filter(|q| q.settings().max_iteration_count_to_sun > 0)
+        .collect();
+    assert!(!marching.is_empty(), "some preset marches towards the sun");
+    for quality in marching {
         let mid = measure("cumulus", quality, 40.0, false, &[0.5], 150, &t);
         let start = measure("cumulus", quality, 40.0, false, &[0.0], 150, &t);
         println!(
@@ -275,12 +281,14 @@ fn sun_march_above_every_shadow_caster_spans_the_whole_path() {
                     100.0 * control
                 ));
             }
-            // One midpoint over kilometres (low's single sun step) is crude, but must still beat
-            // the short march; two or more steps must follow the path.
+            // One midpoint over kilometres is crude (the one step a full path takes at `low`,
+            // whose preset leaves the sun to the map below the shadow casters: measured -58 %
+            // for cirrus, +29 % for cirrostratus), but must still see the path's cloud (none
+            // read is -100 %) and beat the short march; two or more steps must follow the path.
             let allowed = if m.sun_steps >= 2 {
                 0.15
             } else {
-                control.abs()
+                control.abs().min(0.7)
             };
             if bias.abs() > allowed {
                 failures.push(format!(

@@ -164,6 +164,8 @@ pub fn air_table_fragment(frag_coord: Vec4) -> Vec4 {
         entry + (length - entry) * fraction * fraction,
         u.sky,
         u.march.radius,
+        // The optical-depth band (the top third) needs no sunlight.
+        band < 1.5,
     );
     let value = select(
         air.optical_depth,

@@ -90,11 +90,27 @@ impl ShadowParams {
     }
 }
 
+/// What the shadow atlas knows at a point: the texel ([`shadow_texel`]) and how much of it
+/// the map holds (1 inside its cascades, fading to 0 over the outer fifth of the last, 0
+/// beyond), so that a caller with nothing else towards the sun can take over where the map
+/// fades.
+#[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
+pub struct ShadowRead {
+    pub texel: Vec4,
+    pub held: f32,
+}
+
 /// The atlas texel of the finest cascade that holds camera-relative `p`, its optical depth
 /// faded out towards the edge of the last cascade; an empty texel (no optical depth) outside
 /// every cascade.
 #[shader_fn]
 pub fn shadow_texel(p: Vec3) -> Vec4 {
+    shadow_read(p).texel
+}
+
+/// [`shadow_texel`] with the share of it the map holds.
+#[shader_fn]
+pub fn shadow_read(p: Vec3) -> ShadowRead {
     let s = CLOUDS.get().shadow;
     let q = p.extend(1.0);
     // Every tile's coordinates at once, centred on the tile.
@@ -111,7 +127,10 @@ pub fn shadow_texel(p: Vec3) -> Vec4 {
     let order = vec4(0.0, 1.0, 2.0, 3.0) + (Vec4::ONE - holding) * 4.0;
     let k = order.x.min(order.y).min(order.z.min(order.w));
     if k > 3.5 {
-        return Vec4::ZERO;
+        return ShadowRead {
+            texel: Vec4::ZERO,
+            held: 0.0,
+        };
     }
     let local = vec2(u[k as u32 as usize], v[k as u32 as usize]) + Vec2::splat(0.5);
     let columns = atlas_columns(s.cascade_count) as f32;
@@ -128,7 +147,10 @@ pub fn shadow_texel(p: Vec3) -> Vec4 {
     // the ground (and a jump in the light shafts) wherever the map's coverage ended.
     let last = extent[(count as u32 - 1u32) as usize] / margin;
     let fade = 1.0 - smoothstep(0.8, 1.0, last);
-    vec4(texel.x, texel.y * fade, texel.z * fade, texel.w * fade)
+    ShadowRead {
+        texel: vec4(texel.x, texel.y * fade, texel.z * fade, texel.w * fade),
+        held: fade,
+    }
 }
 
 /// The largest front depth (m) the shadow atlas stores: half floats end at 65,504.

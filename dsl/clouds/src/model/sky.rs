@@ -142,7 +142,9 @@ pub fn phased_air_light(
 /// `distance` metres, without the phase functions ([`AirIntegrals`]). Samples are spaced
 /// quadratically (denser near the camera, where the air is thick), each lit by the sun
 /// through [`transmittance_towards`]. From above the atmosphere (a camera in orbit) they start
-/// where the ray enters it, not in the vacuum before.
+/// where the ray enters it, not in the vacuum before. With `lit` false only the optical depth
+/// is integrated (the scattered light reads 0): the air table's optical-depth band, whose
+/// texels need no sun, skips the two Chapman functions per sample that the light costs.
 #[shader_fn]
 pub fn air_integrals(
     camera_altitude: f32,
@@ -151,6 +153,7 @@ pub fn air_integrals(
     distance: f32,
     atmosphere: AtmosphereParams,
     radius: f32,
+    lit: bool,
 ) -> AirIntegrals {
     let mu = direction.y;
     let mut optical_depth = Vec3::ZERO;
@@ -176,14 +179,16 @@ pub fn air_integrals(
         let rho_m = (-h / atmosphere.mie_height).exp();
         let extinction =
             atmosphere.rayleigh_scattering * rho_r + Vec3::splat(atmosphere.mie_extinction * rho_m);
-        // Cosine of the sun's elevation at the sample (the local up turns along the ray).
-        let r = radius + h;
-        let up = (direction * t + vec3(0.0, radius + camera_altitude, 0.0)) / r;
-        let sun_mu = up.dot(sun_direction);
-        let to_sun = transmittance_towards(h, sun_mu, atmosphere, radius);
-        let lit = to_sun * (-(optical_depth + extinction * (dt * 0.5))).exp() * dt;
-        rayleigh += atmosphere.rayleigh_scattering * lit * rho_r;
-        mie += lit * (atmosphere.mie_scattering * rho_m);
+        if lit {
+            // Cosine of the sun's elevation at the sample (the local up turns along the ray).
+            let r = radius + h;
+            let up = (direction * t + vec3(0.0, radius + camera_altitude, 0.0)) / r;
+            let sun_mu = up.dot(sun_direction);
+            let to_sun = transmittance_towards(h, sun_mu, atmosphere, radius);
+            let light = to_sun * (-(optical_depth + extinction * (dt * 0.5))).exp() * dt;
+            rayleigh += atmosphere.rayleigh_scattering * light * rho_r;
+            mie += light * (atmosphere.mie_scattering * rho_m);
+        }
         optical_depth += extinction * dt;
     }
     AirIntegrals {
@@ -211,6 +216,7 @@ pub fn air_light(
         distance,
         atmosphere,
         radius,
+        true,
     );
     phased_air_light(integrals, direction.dot(sun_direction), atmosphere)
 }
