@@ -428,12 +428,13 @@ fn the_mesh_pass_draws_what_its_cpu_twin_computes() {
 }
 
 /// The stack is redrawn when what it is baked from moves (the sun, the camera's place and
-/// height, the weather) and kept when only the view does (turning the camera, another frame's
+/// height, the weather, a redrawn shadow cascade) and kept when only the view does (turning the
+/// camera, another frame's
 /// jitter, the image's size): the members engine hosts are told to ignore
 /// (`cloud_bake.ignores`) are members of the block, and nothing the bake reads.
 #[test]
 fn the_stack_follows_the_sun_and_the_place_not_the_view() {
-    use nimbus_clouds::model::bake::{BAKE_IGNORES, IMPOSTOR_READS, bake_inputs};
+    use nimbus_clouds::model::bake::{BAKE_IGNORES, MAP_READS, bake_inputs};
     use nimbus_dsl::layout::{UniformBytes, read_members};
     let lib = library();
     let genus = lib.genus("cumulus").expect("cumulus");
@@ -459,27 +460,38 @@ fn the_stack_follows_the_sun_and_the_place_not_the_view() {
     view.jitter = 0.73;
     view.frame = 11;
     view.resolution = glam::Vec2::new(320.0, 180.0);
-    view.shadow.lookup.u = glam::Mat4::IDENTITY;
     assert_eq!(
         bake_inputs(&view, &slices).expect("inputs"),
         base,
         "the view moved the stack"
     );
-    // The impostor's bake reads the shadow map: a redrawn cascade tile (its transform moved)
-    // redraws it, and the view alone does not.
     let impostor = bake_inputs(&u, &impostor_key).expect("inputs");
-    let mut turned = u;
-    turned.inverse_view_projection = view.inverse_view_projection;
     assert_eq!(
-        bake_inputs(&turned, &impostor_key).expect("inputs"),
+        bake_inputs(&view, &impostor_key).expect("inputs"),
         impostor,
         "the view moved the impostor"
     );
-    assert!(IMPOSTOR_READS.starts_with("shadow.lookup"));
-    assert_ne!(
-        bake_inputs(&view, &impostor_key).expect("inputs"),
-        impostor,
-        "a redrawn cascade tile left the impostor as it was"
+    // Every bake lights as the volume does at its key, through the shadow map: a redrawn
+    // cascade tile (its transform moved) redraws it; a key without the map ignores it.
+    assert!(MAP_READS.starts_with("shadow.lookup"));
+    let mut tile = u;
+    tile.shadow.lookup.u = glam::Mat4::IDENTITY;
+    assert!(slices.uses_shadow_map() && impostor_key.uses_shadow_map());
+    for (name, key) in [("stack", slices), ("impostor", impostor_key)] {
+        assert_ne!(
+            bake_inputs(&tile, &key).expect("inputs"),
+            bake_inputs(&u, &key).expect("inputs"),
+            "a redrawn cascade tile left the {name} as it was"
+        );
+    }
+    let mut unshadowed = slices;
+    unshadowed.features.shadows = false;
+    unshadowed.features.light_shafts = false;
+    assert!(!unshadowed.uses_shadow_map());
+    assert_eq!(
+        bake_inputs(&tile, &unshadowed).expect("inputs"),
+        bake_inputs(&u, &unshadowed).expect("inputs"),
+        "a stack that reads no map followed its tiles"
     );
     type Change = fn(&mut CloudUniforms);
     let moved: [(&str, Change); 4] = [

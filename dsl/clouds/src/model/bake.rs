@@ -17,7 +17,7 @@ use super::slices::slices_size;
 /// Members of the cloud block (dotted paths, each with everything under it) no bake depends
 /// on: what only the view decides (its projection, the image's size and pixel mapping, the
 /// frame's jitter), the composite's switches, the haze, and the shadow map's cascade
-/// transforms ([`IMPOSTOR_READS`] and [`VIEW_READS`] aside). Engine packages list a pair's own
+/// transforms ([`MAP_READS`] and [`VIEW_READS`] aside). Engine packages list a pair's own
 /// ([`bake_ignores`]: `cloud_bake.ignores`) for their hosts' redraw test.
 pub const BAKE_IGNORES: [&str; 11] = [
     "inverse_view_projection",
@@ -33,13 +33,13 @@ pub const BAKE_IGNORES: [&str; 11] = [
     "shadow.inverse_matrix",
 ];
 
-/// The member of [`BAKE_IGNORES`] the impostor's bake does depend on. The slices and the 2D
-/// map march their whole way to the sun and read no shadow map; the impostor's bake is the
-/// volume's march, which reads it through the cascades' transforms. With cascades in rotation
-/// (the JavaScript hosts' default) a moved sun redraws one tile a frame, each redraw moves its
-/// transform, and the impostor is baked again until every tile is the new sun's: a bake made
-/// with the first tile alone would keep the old sun's shadows for good.
-pub const IMPOSTOR_READS: &str = "shadow.lookup";
+/// The member of [`BAKE_IGNORES`] the bake of a key that samples the shadow map
+/// ([`CloudKey::uses_shadow_map`]) does depend on: each bake lights its texels as the volume's
+/// march does at its key, and that reads the map through the cascades' transforms. With cascades in rotation (the JavaScript hosts' default) a moved sun redraws
+/// one tile a frame, each redraw moves its transform, and the bake is drawn again until every
+/// tile is the new sun's: a bake made with the first tile alone would keep the old sun's
+/// shadows for good.
+pub const MAP_READS: &str = "shadow.lookup";
 
 /// The members of [`BAKE_IGNORES`] an impostor that bakes the whole view
 /// ([`CloudKey::bakes_view`]) depends on as well: the composite's, which its bake runs.
@@ -47,11 +47,10 @@ pub const VIEW_READS: [&str; 2] = ["composite", "haze"];
 
 /// The members of the cloud block the bake of `key` does not depend on.
 pub fn bake_ignores(key: &CloudKey) -> Vec<&'static str> {
-    let impostor = key.features.path == Path::Impostor;
     BAKE_IGNORES
         .iter()
         .copied()
-        .filter(|m| !(impostor && *m == IMPOSTOR_READS))
+        .filter(|m| !(key.uses_shadow_map() && *m == MAP_READS))
         .filter(|m| !(key.bakes_view() && VIEW_READS.contains(m)))
         .collect()
 }

@@ -30,8 +30,8 @@ use nimbus_dsl::prelude::*;
 use super::bindings::{BAKE, CLOUDS, LINEAR_REPEAT};
 use super::choices::{DIFFUSION, GROUND_BOUNCE, GROUPS, gate, key_count};
 use super::march::{
-    MarchResult, altitude_along, octave_phases, one_minus_exp_over, sample_source,
-    secondary_optical_depth, shell_range, total_density,
+    MarchResult, altitude_along, octave_phases, one_minus_exp_over, sample_source, shell_range,
+    sun_optical_depth, total_density,
 };
 use super::shell::{ground_hit, ray_shell};
 use super::slices::{curved_height, slice_coordinate, slice_offset};
@@ -43,8 +43,6 @@ pub const BLOB_TEXELS: u32 = 512;
 pub const BLOB_BANDS: u32 = 2;
 /// Density samples up a band's column.
 pub const BLOB_COLUMN_STEPS: u32 = 16;
-/// Steps of the bake's march towards the sun from each of the four depths, the whole way out.
-pub const BLOB_SUN_STEPS: u32 = 6;
 /// Samples along a view ray's way through each band (each reads the band's two tiles).
 pub const BLOB_SAMPLES: u32 = 8;
 
@@ -151,7 +149,8 @@ pub fn blob2d_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
 }
 
 /// Optical depth to the sun from the column at (`x`, `z`) (`d` from the camera's vertical) at
-/// altitude `h`, the whole way out of the slab.
+/// altitude `h`, as the volume's march takes it at this key ([`sun_optical_depth`]: its sun
+/// steps, then the shadow map), so the map's light is the volume's.
 #[shader_fn]
 pub fn sun_depth_from(
     x: f32,
@@ -161,9 +160,8 @@ pub fn sun_depth_from(
     footprint: f32,
     #[spec] key: CloudKey,
 ) -> f32 {
-    let sun = CLOUDS.get().light.sun_direction;
     let p = vec3(x, curved_height(h, d), z);
-    secondary_optical_depth(p, h, sun, BLOB_SUN_STEPS, 0.5, true, footprint, key)
+    sun_optical_depth(p, h, 0.5, footprint, key)
 }
 
 /// The map's texel of `tile` at the camera-relative horizontal point (`x`, `z`), bilinear

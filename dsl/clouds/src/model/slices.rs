@@ -4,9 +4,10 @@
 //! place of the procedural density and its secondary marches.
 //!
 //! A texel holds what the march's lighting needs at its point: the density (the sum over the
-//! layer groups, [`total_density`]), the optical depth towards the sun along the whole way out
-//! of the slab, and, where the key lights by them, the optical depths straight down to the
-//! base and up to the top. The phase, the octaves, the sky light and the powder stay per
+//! layer groups, [`total_density`]), the optical depth towards the sun as the volume's march
+//! takes it at the same key ([`sun_optical_depth`]: its sun steps, then the shadow map), and,
+//! where the key lights by them, the optical depths straight down to the base and up to the
+//! top. The phase, the octaves, the sky light and the powder stay per
 //! sample in the march ([`super::march::march_clouds`]), so the sun's angle to the view is
 //! exact and the stack is the same for every view direction: turning the camera redraws
 //! nothing; moving the sun, the camera or the weather does.
@@ -30,7 +31,7 @@ use nimbus_dsl::prelude::*;
 
 use super::bindings::{BAKE, CLOUDS, LINEAR_REPEAT};
 use super::choices::{DIFFUSION, GROUND_BOUNCE, gate};
-use super::march::{secondary_optical_depth, total_density};
+use super::march::{secondary_optical_depth, sun_optical_depth, total_density};
 use crate::key::CloudKey;
 
 /// Texels across a slice, in x and in z.
@@ -42,9 +43,6 @@ pub const SLICE_TILES_ACROSS: u32 = 8;
 /// Distance from the camera (m) within which the grid is about even; beyond it the texels grow
 /// in proportion to their distance.
 pub const SLICE_NEAR: f32 = 1000.0;
-/// Steps of the bake's march towards the sun, spanning the whole way out of the slab: the
-/// bake runs once per sun, so it takes more than a real-time preset's sun march.
-pub const SLICE_SUN_STEPS: u32 = 8;
 /// Steps of the bake's marches straight down and up (ground bounce, diffusion).
 pub const SLICE_VERTICAL_STEPS: u32 = 4;
 
@@ -124,8 +122,11 @@ pub fn slices_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     let footprint = (slice_offset(c.x.abs() + half) - slice_offset(c.x.abs() - half))
         .max(slice_offset(c.y.abs() + half) - slice_offset(c.y.abs() - half));
     let rho = total_density(p, h, footprint, key);
-    let sun = CLOUDS.get().light.sun_direction;
-    let tau_sun = secondary_optical_depth(p, h, sun, SLICE_SUN_STEPS, 0.5, true, footprint, key);
+    // The volume's own light at this key. The stack had its own march, 8 steps the whole way
+    // out of the slab: where the volume lit from the map (`low`, and every preset past its sun
+    // steps) the path drew other light, 3.6/255 from the volume's picture for stratocumulus at
+    // `low` and 8.6/255 for stratus at `medium` (0.6 and 0.3 with the volume's light).
+    let tau_sun = sun_optical_depth(p, h, 0.5, footprint, key);
     let mut tau_down = 0.0f32;
     if gate(key, GROUND_BOUNCE) {
         tau_down = vertical_depth(p, h, -1.0, footprint, key);
