@@ -9,7 +9,8 @@
 //! before: the test must see that as biased.
 //!
 //! The real-time presets' sun march is checked where no shadow map can finish it: above every
-//! shadow-casting layer it must follow the whole path out of the slab.
+//! shadow-casting layer it must follow the whole path out of the slab, and a preset that takes
+//! no sun step below the casters (`low`) must take one where the map fades out at its edge.
 
 mod common;
 
@@ -21,8 +22,9 @@ use nimbus_clouds::model::bindings::CloudTextures;
 use nimbus_clouds::model::clouds::CloudVariant;
 use nimbus_clouds::model::march::{
     CloudUniforms, altitude_along, cloud_range, march_clouds, secondary_optical_depth,
-    secondary_reach, slab_exit, sun_optical_depth, total_density,
+    secondary_reach, shadow_optical_depth, slab_exit, sun_optical_depth, total_density,
 };
+use nimbus_clouds::model::shadow::shadow_read;
 use nimbus_clouds::{CloudLibrary, Quality, key::CloudKey};
 use nimbus_runtime::density_export::generate_cpu_textures;
 use nimbus_runtime::render::TextureSizes;
@@ -428,4 +430,85 @@ fn the_old_reference_sun_march_was_biased() {
         100.0 * bias
     );
     assert!(bias > 0.05, "the old scheme read {:+.2} %", 100.0 * bias);
+}
+
+#[test]
+fn a_preset_without_sun_steps_takes_one_where_the_map_fades() {
+    // `low` takes no sun step below the shadow casters: the map carries the whole way to the
+    // sun. Towards the map's edge the map fades out (`ShadowRead::held` from 1 to 0) and one
+    // short step fades in, as much as the map fades; beyond it the step is all. Cascades as a
+    // frame of the runtime places them; the map's texels (the CPU textures hold an empty map)
+    // read as clear sky, so what the map adds is the texel's own (zero) and the rest is the
+    // step. Controls: the map alone (no step anywhere) reads nothing beyond the map, and a step
+    // everywhere reads it inside the map too.
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let genus = lib.genus("cumulus").expect("cumulus");
+    assert_eq!(Quality::Low.settings().max_iteration_count_to_sun, 0);
+    let mut frame = nimbus_runtime::render::Frame::new(genus.clone(), Quality::Low, 320, 180);
+    frame.sun_elevation_deg = 35.0;
+    let u = nimbus_runtime::render::Renderer::uniforms(&frame);
+    let key = CloudVariant::new(genus, Quality::Low, Quality::Low.features()).key;
+    assert!(key.uses_shadow_map(), "low samples the shadow map");
+    let t = textures();
+    let _bound = t.bind(u);
+    let sun = u.light.sun_direction;
+    let m = u.march;
+    let mut rng = Rng::new(23);
+    let (mut inside, mut fading, mut beyond) = (0usize, 0usize, 0usize);
+    let mut step_beyond = 0.0f64;
+    // Points at which each control departs from the model: beyond the map with cloud in the
+    // step (the map alone reads less there), inside it with cloud in the step (a step
+    // everywhere reads more there).
+    let (mut tells_map_alone, mut tells_step_everywhere) = (0usize, 0usize);
+    let mut failures = Vec::new();
+    let mut tries = 0;
+    while (inside < 100 || fading < 20 || beyond < 100) && tries < 400_000 {
+        tries += 1;
+        let h = rng.range(m.min_height, m.shadow_top_height);
+        let r = 150_000.0 * rng.range(0.0, 1.0).sqrt();
+        let a = rng.range(0.0, std::f32::consts::TAU);
+        let p = Vec3::new(r * a.cos(), h, r * a.sin());
+        if total_density(p, h, 0.0, key) <= 0.0 {
+            continue;
+        }
+        let map = shadow_read(p);
+        let to_top = (m.shadow_top_height - h).max(0.0) / sun.y.max(0.01);
+        let from_map = shadow_optical_depth(map.texel, to_top, 0.0);
+        let step = secondary_optical_depth(p, h, sun, 1, 0.5, false, 0.0, key);
+        let expected = from_map + (1.0 - map.held) * step;
+        let got = sun_optical_depth(p, h, 0.5, 0.0, key);
+        if (got - expected).abs() > 1e-4 * expected.max(1.0) {
+            failures.push(format!(
+                "at {p} (held {:.2}): {got} where the map gives {from_map} and the step {step}",
+                map.held
+            ));
+        }
+        if map.held >= 1.0 {
+            inside += 1;
+            tells_step_everywhere += usize::from(step > 1e-3);
+        } else if map.held > 0.0 {
+            fading += 1;
+        } else {
+            beyond += 1;
+            step_beyond += f64::from(step);
+            tells_map_alone += usize::from(step > 1e-3);
+        }
+    }
+    println!(
+        "low, cumulus: {inside} cloudy points inside the map, {fading} where it fades, {beyond} \
+         beyond (one step there reads {:.3} on average); the map alone departs at \
+         {tells_map_alone}, a step everywhere at {tells_step_everywhere}",
+        step_beyond / beyond.max(1) as f64
+    );
+    assert!(
+        inside >= 100 && fading >= 20 && beyond >= 100,
+        "too few points in some part of the map ({inside} / {fading} / {beyond})"
+    );
+    assert!(
+        tells_map_alone >= 50 && tells_step_everywhere >= 50,
+        "the controls cannot be told apart here: the map alone departs at {tells_map_alone} \
+         points, a step everywhere at {tells_step_everywhere}"
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
