@@ -390,8 +390,8 @@ pub fn mesh_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
         return (spread * 1e-3).extend(peak * 1e3);
     }
     // Beyond the puff: the optical depth to the sun from where the sun's line through its
-    // centre leaves its kernel, the whole way out of the slab (the cloud pass adds the puff's
-    // own, from the point it lights to that edge, in closed form).
+    // centre leaves its kernel, as the volume takes it from there (the cloud pass adds the
+    // puff's own, from the point it lights to that edge, in closed form).
     let sun = CLOUDS.get().light.sun_direction;
     let frame = cell_frame(ring, sector);
     let reach = spread * PUFF_REACH;
