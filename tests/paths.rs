@@ -429,9 +429,8 @@ fn the_mesh_pass_draws_what_its_cpu_twin_computes() {
 
 /// The stack is redrawn when what it is baked from moves (the sun, the camera's place and
 /// height, the weather, a redrawn shadow cascade) and kept when only the view does (turning the
-/// camera, another frame's
-/// jitter, the image's size): the members engine hosts are told to ignore
-/// (`cloud_bake.ignores`) are members of the block, and nothing the bake reads.
+/// camera, another frame's jitter, the image's size): the members engine hosts are told to
+/// ignore (`cloud_bake.ignores`) are members of the block, and nothing the bake reads.
 #[test]
 fn the_stack_follows_the_sun_and_the_place_not_the_view() {
     use nimbus_clouds::model::bake::{BAKE_IGNORES, MAP_READS, bake_inputs};
