@@ -245,11 +245,15 @@ fn the_javascript_twins_keep_and_read_the_tiles_as_the_cpu_twins() {
 }
 
 /// The wgpu runtime in rotation (`Renderer::set_cascade_rotation`): after the sun moves, each
-/// frame redraws one tile; once all three of `high`'s are redrawn the atlas is a whole
+/// frame draws one band of a tile (`tile_bands`: `high`'s 512-texel tiles in eight) into the
+/// back atlas, and a tile reaches the atlas the clouds read only with its last band: until
+/// then the atlas is the old sun's to the bit (no frame reads a tile half drawn), after it
+/// that tile is the whole redraw's. Once all three tiles are drawn the atlas is a whole
 /// redraw's to the bit and the frame its to rounding, while the frame right after the move
-/// (one tile redrawn, two for the old sun) is not (the control).
+/// is not (the control).
 #[test]
-fn the_runtime_redraws_a_tile_a_frame_and_ends_at_the_whole_atlas() {
+fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
+    use nimbus_clouds::model::tile_bands::tile_bands;
     use nimbus_runtime::render::{Frame, Image, Renderer};
     let Some(gpu) = common::gpu() else { return };
     let lib =
@@ -274,6 +278,24 @@ fn the_runtime_redraws_a_tile_a_frame_and_ends_at_the_whole_atlas() {
             .flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs()))
             .fold(0.0f32, f32::max)
     };
+    // The atlas's first tile (its top-left square of `side` texels) against another's.
+    let tile0 = |a: &Image, b: &Image, side: usize| {
+        let mut d = 0.0f32;
+        for y in 0..side {
+            for x in 0..side {
+                let (p, q) = (
+                    a.pixels[y * a.width as usize + x],
+                    b.pixels[y * b.width as usize + x],
+                );
+                d = (0..4).map(|c| (p[c] - q[c]).abs()).fold(d, f32::max);
+            }
+        }
+        d
+    };
+    let settings = Quality::High.settings();
+    let (count, side) = (settings.shadow_cascade_count, settings.shadow_map_size);
+    let bands = tile_bands(side);
+    assert!(bands > 1, "high's tiles are drawn in bands");
     let (before, after) = (frame(35.0), frame(20.0));
     let mut whole = Renderer::new(gpu, common::SMALL_TEXTURES);
     let want = whole.render(&after).expect("render");
@@ -282,35 +304,70 @@ fn the_runtime_redraws_a_tile_a_frame_and_ends_at_the_whole_atlas() {
     let mut rotating = Renderer::new(gpu, common::SMALL_TEXTURES);
     rotating.set_cascade_rotation(true);
     rotating.render(&before).expect("render");
-    let mut frames = Vec::new();
-    for _ in 0..4 {
+    let old_atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
+    let mut passes = Vec::new();
+    let mut first = None;
+    let mut last = None;
+    // While the first tile's bands are drawn, and right after its last.
+    let (mut while_drawing, mut tile_done) = (0.0f32, f32::MAX);
+    for i in 0..count * bands + 1 {
         let image = rotating.render(&after).expect("render");
-        let shadow_passes = rotating
-            .stats()
-            .passes
-            .iter()
-            .filter(|p| **p == "shadow")
-            .count();
-        frames.push((image, shadow_passes));
+        passes.push(
+            rotating
+                .stats()
+                .passes
+                .iter()
+                .filter(|p| **p == "shadow")
+                .count(),
+        );
+        let atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
+        if i + 1 < bands {
+            while_drawing = while_drawing.max(largest(&atlas, &old_atlas));
+        } else if i + 1 == bands {
+            tile_done = tile0(&atlas, &want_atlas, side as usize);
+        }
+        if i == 0 {
+            first = Some(image);
+        } else {
+            last = Some(image);
+        }
     }
-    let passes: Vec<usize> = frames.iter().map(|(_, n)| *n).collect();
+    let want_passes: Vec<usize> = (0..count * bands + 1)
+        .map(|i| usize::from(i < count * bands))
+        .collect();
     assert_eq!(
-        passes,
-        [1, 1, 1, 0],
-        "a tile per frame, three tiles, then none"
+        passes, want_passes,
+        "a band per frame, {count} tiles of {bands}, then none"
     );
     let got_atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
     let atlas_d = largest(&got_atlas, &want_atlas);
-    let settled = largest(&frames[2].0, &want);
-    let first = largest(&frames[0].0, &want);
+    let settled = largest(last.as_ref().expect("frames"), &want);
+    let first = largest(first.as_ref().expect("frames"), &want);
     println!(
-        "rotation: atlas after three tiles {atlas_d} from a whole redraw; frame {settled:.2e} \
-         (the frame after the move, one tile redrawn: {first:.3})"
+        "rotation in bands ({count} tiles of {bands}): the atlas {while_drawing} from the old one \
+         while the first tile is drawn, its tile {tile_done} from a whole redraw's after its last \
+         band; the atlas at the end {atlas_d} from a whole redraw, the frame {settled:.2e} (the \
+         frame after the move: {first:.3})"
+    );
+    // The control: the new sun's first tile is not the old one's, so a band of it in the
+    // atlas would show.
+    let moved = tile0(&old_atlas, &want_atlas, side as usize);
+    assert!(
+        moved > 1e-2,
+        "the control: the sun's move left the first tile alone ({moved})"
+    );
+    assert!(
+        while_drawing == 0.0,
+        "a tile half drawn reached the atlas: {while_drawing}"
+    );
+    assert!(
+        tile_done == 0.0,
+        "the first tile, done, differs by {tile_done}"
     );
     assert!(atlas_d == 0.0, "the rotated atlas differs by {atlas_d}");
     assert!(settled < 1e-3, "the settled frame differs by {settled}");
     assert!(
         first > 1e-2,
-        "the control: one tile redrawn already looked whole ({first})"
+        "the control: the frame after the move already looked whole ({first})"
     );
 }

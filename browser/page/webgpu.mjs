@@ -43,12 +43,19 @@ async function run(result) {
     forward: camera.getWorldDirection(new THREE.Vector3()).toArray(),
     far: camera.far,
   });
-  if (q.has('sun')) clouds.setSun(...q.get('sun').split(',').map(Number));
   const target = device.createTexture({
     size: [width, height],
     format,
     usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.COPY_SRC,
   });
+  // With `first=1`, a frame is drawn at the package's sun before `sun` moves it (its shadow
+  // atlas drawn whole), as main.mjs does; `rotation=0` redraws the whole atlas at once after
+  // the move, by default a band of a cascade tile a frame, and `settle=N` draws N frames
+  // before the published one.
+  if (q.get('first') === '1') clouds.render(target.createView());
+  if (q.get('rotation') === '0') clouds.cascadeRotation = false;
+  if (q.has('sun')) clouds.setSun(...q.get('sun').split(',').map(Number));
+  for (let i = 0; i < number('settle', 0); i++) clouds.render(target.createView());
   // The application's frame: its scene, then the clouds over it.
   const scene = q.has('tower') ? towerScene(device, format, target, unitViewProjection, camera.position) : null;
   const options = scene && q.get('depth') !== '0' ? { depth: scene.depth } : {};

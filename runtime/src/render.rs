@@ -28,6 +28,7 @@ use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::shadow::{
     CascadeLookup, anchored_tiles, atlas_columns, redrawn_tiles, shadow_anchor,
 };
+use nimbus_clouds::model::tile_bands::{TileRedraw, band_redraw, tiles_out_of_date};
 use nimbus_clouds::wind::Drift;
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -156,11 +157,23 @@ struct ShadowPass {
     /// how many bands of cascade tiles ([`REFRESH_BAND`]), finest first, it has redrawn.
     refreshing: Option<(ShaderKey, u32)>,
     /// Cascades in rotation ([`Renderer::set_cascade_rotation`]): every tile's transform as
-    /// drawn, relative to the clouds' anchor (`None` until the atlas is drawn whole), the
-    /// tiles out of date (bit `k`: tile `k`) and the tile the rotation looks at next.
+    /// drawn, relative to the clouds' anchor (`None` until the atlas is drawn whole), and where
+    /// the redraw in bands stands ([`band_redraw`]).
     tiles: Option<CascadeLookup>,
-    stale_tiles: u32,
-    next_tile: u32,
+    redraw: TileRedraw,
+    /// The tile in progress: what its bands are drawn from, and the atlas they are drawn into
+    /// (made with the first band), its square copied into `atlas` with the last.
+    banded: Option<BandedTile>,
+    back: Option<Target>,
+}
+
+/// What a cascade tile drawn in bands is drawn from, taken with its first band: the block as
+/// it stood, with the sun's lookup and the clouds' anchor of that frame, which the tile keeps
+/// once its last band is drawn.
+struct BandedTile {
+    block: CloudUniforms,
+    current: CascadeLookup,
+    anchor: Vec3,
 }
 
 /// Texel rows of the shadow atlas redrawn per frame when only the shadow key changed (with
@@ -336,9 +349,11 @@ fn target_of(
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
+        // Copies in too: a cascade tile drawn in bands reaches the shadow atlas by a copy.
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
     let view = texture.create_view(&Default::default());
@@ -835,9 +850,11 @@ impl<'g> Renderer<'g> {
         self.read_back(&p.target).map(Some)
     }
 
-    /// Cascades in rotation ([`Self::set_cascade_rotation`]): redraws the first out-of-date
-    /// tile from where the rotation stands, takes the sun's transform for it, and writes every
-    /// tile's transform, moved to where its clouds are now, into the frame's block.
+    /// Cascades in rotation ([`Self::set_cascade_rotation`]): draws this frame's band of the
+    /// tile in progress, or the first of the next out-of-date tile ([`band_redraw`]), into the
+    /// back atlas from the block as it stood at that tile's first band; with its last band the
+    /// tile is copied into the atlas and keeps that block's transform. Writes every tile's
+    /// transform, moved to where its clouds are now, into the frame's block.
     fn rotate_cascades(
         &mut self,
         key: ShaderKey,
@@ -846,17 +863,29 @@ impl<'g> Renderer<'g> {
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<PassTimer>,
     ) -> Result<(), RuntimeError> {
-        let Some(p) = self.shadow.as_ref() else {
+        let Some(p) = self.shadow.as_mut() else {
             return Ok(());
         };
         let count = u.shadow.cascade_count;
-        let next = (0..count)
-            .map(|i| (p.next_tile + i) % count)
-            .find(|k| p.stale_tiles & (1 << k) != 0);
-        if let Some(k) = next {
+        let side = u.shadow.map_size as u32;
+        let step = band_redraw(p.redraw, count, side);
+        p.redraw = step.state;
+        if step.first == 1 {
+            p.banded = Some(BandedTile {
+                block: *u,
+                current: u.shadow.lookup,
+                anchor,
+            });
+        }
+        if step.height > 0 {
+            if p.back.is_none() {
+                let (w, h) = size_of(&p.atlas);
+                p.back = Some(target(self.gpu, "shadow back atlas", w, h));
+            }
             let epoch = self.epoch;
             let rebuild = !matches!(&p.group, Some(g) if g.key == key && g.epoch == epoch);
             if rebuild {
+                let p = self.shadow.as_ref().ok_or_else(missing)?;
                 let group = self.cloud_group(key, &p.uniform)?;
                 if let Some(p) = &mut self.shadow {
                     p.group = Some(BoundGroup { group, key, epoch });
@@ -865,34 +894,60 @@ impl<'g> Renderer<'g> {
             let pipeline = self.pipelines.get(&key)?;
             let p = self.shadow.as_ref().ok_or_else(missing)?;
             let group = p.group.as_ref().ok_or_else(missing)?;
-            let side = u.shadow.map_size as u32;
-            let columns = atlas_columns(count);
+            let banded = p.banded.as_ref().ok_or_else(missing)?;
+            let back = p.back.as_ref().ok_or_else(missing)?;
             self.gpu
                 .queue()
-                .write_buffer(&p.uniform, 0, &u.to_uniform_bytes()?);
+                .write_buffer(&p.uniform, 0, &banded.block.to_uniform_bytes()?);
             draw(
                 encoder,
                 "shadow",
-                &p.atlas.view,
+                &back.view,
                 &pipeline.pipeline,
                 &group.group,
                 PassTimer::next(timer),
-                Some([(k % columns) * side, (k / columns) * side, side, side]),
+                Some([step.x, step.y + step.top, side, step.height]),
             );
             self.passes.push("shadow");
-            if let Some(p) = &mut self.shadow {
-                // Lanes past the cascade count hold no tile: they follow the sun, as a whole
-                // redraw's do.
-                let mut redraw = Vec4::ZERO;
-                for lane in 0..4 {
-                    if lane == k || lane >= count {
-                        redraw[lane as usize] = 1.0;
+            if step.last == 1 {
+                let origin = wgpu::Origin3d {
+                    x: step.x,
+                    y: step.y,
+                    z: 0,
+                };
+                encoder.copy_texture_to_texture(
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &back.texture,
+                        mip_level: 0,
+                        origin,
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &p.atlas.texture,
+                        mip_level: 0,
+                        origin,
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    wgpu::Extent3d {
+                        width: side,
+                        height: side,
+                        depth_or_array_layers: 1,
+                    },
+                );
+                let (current, drawn_at) = (banded.current, banded.anchor);
+                if let Some(p) = &mut self.shadow {
+                    // Lanes past the cascade count hold no tile: they follow the sun, as a
+                    // whole redraw's do.
+                    let mut redraw = Vec4::ZERO;
+                    for lane in 0..4 {
+                        if lane == step.tile || lane >= count {
+                            redraw[lane as usize] = 1.0;
+                        }
                     }
+                    let kept = p.tiles.unwrap_or(current);
+                    p.tiles = Some(redrawn_tiles(kept, current, drawn_at, redraw));
+                    p.banded = None;
                 }
-                let kept = p.tiles.unwrap_or(u.shadow.lookup);
-                p.tiles = Some(redrawn_tiles(kept, u.shadow.lookup, anchor, redraw));
-                p.stale_tiles &= !(1 << k);
-                p.next_tile = (k + 1) % count;
             }
         }
         if let Some(tiles) = self.shadow.as_ref().and_then(|p| p.tiles) {
@@ -1216,8 +1271,9 @@ impl<'g> Renderer<'g> {
                     inputs: None,
                     refreshing: None,
                     tiles: None,
-                    stale_tiles: 0,
-                    next_tile: 0,
+                    redraw: TileRedraw::default(),
+                    banded: None,
+                    back: None,
                 });
                 self.epoch += 1;
             }
@@ -1293,16 +1349,18 @@ impl<'g> Renderer<'g> {
                         _ => p.refreshing = None,
                     }
                     if rotate {
-                        p.stale_tiles = (1 << s.cascade_count) - 1;
+                        p.redraw = tiles_out_of_date(p.redraw, s.cascade_count);
                     } else if tile.is_none() {
-                        // Drawn whole: every tile for the sun as it is, around the camera.
+                        // Drawn whole: every tile for the sun as it is, around the camera; a
+                        // tile in progress is dropped.
                         p.tiles = Some(redrawn_tiles(
                             u.shadow.lookup,
                             u.shadow.lookup,
                             anchor,
                             Vec4::ONE,
                         ));
-                        p.stale_tiles = 0;
+                        p.redraw = TileRedraw::default();
+                        p.banded = None;
                     }
                 }
                 if let Some(p) = &mut self.shadow

@@ -86,7 +86,7 @@ pub(crate) const CS_FRAME: &str = "NimbusFrame.cs";
 const CS_SUN_EXPORTS: [&str; 1] = ["sun_direction"];
 
 /// What `SUN_MODULE` exports.
-const SUN_EXPORTS: [&str; 7] = [
+const SUN_EXPORTS: [&str; 9] = [
     "sun_direction",
     "sun_light",
     "atlas_columns",
@@ -94,6 +94,8 @@ const SUN_EXPORTS: [&str; 7] = [
     "shadow_anchor",
     "redrawn_tiles",
     "anchored_tiles",
+    "tiles_out_of_date",
+    "band_redraw",
 ];
 
 /// What `WIND_MODULE` exports: the functions and the altitude of a scene's top wind.

@@ -24,6 +24,15 @@ use common::{
 };
 use image_compare::rgb_hybrid_compare;
 
+/// Frames a JavaScript host in rotation takes to redraw every cascade tile of `quality`'s
+/// atlas after a move (`cascadeRotation`: each tile in bands, `tile_bands`), by the rule the
+/// host's printed twin follows: the last of them draws the last band and shows the whole
+/// redraw's atlas. The page's `settle` is one less (the published frame is the last).
+fn rotation_frames(quality: nimbus_clouds::Quality) -> u32 {
+    let s = quality.settings();
+    s.shadow_cascade_count * nimbus_clouds::model::tile_bands::tile_bands(s.shadow_map_size)
+}
+
 /// Perceptual similarity (SSIM on luma, RMS on chroma; 1 = identical) a browser frame must
 /// reach against Nimbus's own render of the scene, and the mean absolute difference (of 255) it
 /// must stay under. One frame each (no accumulation), so the march's noise and SwiftShader's
@@ -518,8 +527,9 @@ fn timeline_scene(dir: &Path, name: &str, wind: bool, weather: bool) -> PathBuf 
 /// Controls: the same scene at second 0 (neither the drift nor the thinning applied), and at
 /// the same time without its wind (the thinning alone) or without its weather state (the
 /// drift alone), must each fail the comparison. The atlas is redrawn a cascade tile per frame
-/// (`cascadeRotation`): once every tile is redrawn the frame is the one a whole redraw draws,
-/// and the frame right after the clock's move (a tile redrawn) is not.
+/// (`cascadeRotation`), each tile in bands: once every band is redrawn the frame is the one a
+/// whole redraw draws, and the frame right after the clock's move (a band drawn into the back
+/// atlas, none copied yet) is not.
 #[test]
 fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
     if !browser_tools_present("the browser timeline test", missing()) {
@@ -579,9 +589,14 @@ fn the_three_package_drifts_and_changes_its_weather_as_nimbus_renders_it() {
         args.extend(extra.iter().map(|s| s.to_string()));
         browser_frame(&package, &out.join(png), &args)
     };
-    // The cascades redraw a tile per frame: three frames before the one compared cover four.
+    // The cascades redraw a band of a tile per frame: the frame compared draws the last.
     let browser_png = out.join("at-time-chromium.png");
-    let got = page("at-time-chromium.png", &["settle=3"]);
+    let settle = format!(
+        "settle={}",
+        rotation_frames(nimbus_clouds::Quality::Low) - 1
+    );
+    assert_eq!(v.quality, "low");
+    let got = page("at-time-chromium.png", &[&settle]);
     // Cascades in rotation end where a whole redraw does; the frame right after the move,
     // its coarser tiles still those of second 0, does not (the control).
     let whole = page("at-time-whole-chromium.png", &["rotation=0"]);
@@ -705,7 +720,8 @@ fn the_three_package_example_page_runs_and_its_sun_moves() {
 /// package's WGSL, entry points and bind-group layouts as the API takes them) on Chromium's
 /// WebGPU (SwiftShader's Vulkan): one frame and sixteen upscaled ones against `nimbus render`
 /// of the same scene, and the one frame against the three.js package's frame in the same
-/// browser. The control: the low-sun scene's render against this frame.
+/// browser. The control: the low-sun scene's render against this frame. Its cascades in
+/// rotation end, band by band, at the frame a whole redraw of the atlas gives.
 #[test]
 fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
     if !browser_tools_present("the WebGPU browser test", missing()) {
@@ -790,6 +806,52 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
     let mean = mean_difference(&low, &one);
     println!("control (sun-low render vs this frame): mean {mean:.2}/255");
     assert!(mean > MAX_MEAN, "the comparison cannot fail");
+    // The same host's cascades in rotation: a frame at the package's sun, then the sun moved
+    // (VIEWS[1]'s), each tile redrawn in bands into the back atlas and copied in when done;
+    // once every band is drawn, the frame a whole redraw gives. Control: the frame right
+    // after the move (one band drawn, nothing copied in yet).
+    let moved = &VIEWS[1];
+    assert_eq!(v.quality, "low");
+    let sun = format!("sun={},{}", moved.sun_elevation, moved.sun_azimuth);
+    let frames = rotation_frames(nimbus_clouds::Quality::Low);
+    let settle = format!("settle={}", frames - 1);
+    let rotated = ["page=webgpu", "first=1", &sun];
+    let settled = browse(
+        "webgpu-settled",
+        &packages[0],
+        &[&rotated[..], &[&settle]].concat(),
+    );
+    // One frame short: the last tile's last band not drawn, its tile still the old sun's.
+    let short = format!("settle={}", frames - 2);
+    let unsettled = browse(
+        "webgpu-short",
+        &packages[0],
+        &[&rotated[..], &[&short]].concat(),
+    );
+    let whole = browse(
+        "webgpu-whole",
+        &packages[0],
+        &[&rotated[..], &["rotation=0"]].concat(),
+    );
+    let first = browse("webgpu-first", &packages[0], &rotated);
+    let (after, short, before) = (
+        mean_difference(&whole, &settled),
+        mean_difference(&whole, &unsettled),
+        mean_difference(&whole, &first),
+    );
+    println!(
+        "WebGPU cascades in rotation against a whole redraw: {after:.3}/255 once every band is \
+         drawn ({frames} frames), {short:.3}/255 a frame short, {before:.3}/255 the frame after \
+         the sun moved"
+    );
+    assert!(
+        after <= 0.1,
+        "the rotation did not end at the whole atlas: {after}"
+    );
+    assert!(
+        short > 0.1 && before > 0.3,
+        "the controls: a frame short ({short}) or one band drawn ({before}) already looked whole"
+    );
     // The baked path by the same host: its bake pass drawn because the block it depends on is
     // new, then the clouds read it.
     let got = browse("webgpu-blob2d", &packages[2], &["page=webgpu", "frames=1"]);
@@ -800,10 +862,11 @@ fn the_webgpu_package_draws_with_its_host_module_what_nimbus_renders() {
     assert!(volume > MAX_MEAN, "the blob2d frame is the volume's");
 }
 
-/// The impostor's bake reads the shadow cascades, which the three.js host redraws one a frame
-/// after the sun moves: each redraw must bake the impostor again, so that once every tile is
-/// the new sun's the frame is the one a whole redraw gives. A frame at the package's sun
-/// first, then `setSun` to the low sun; compared after three more frames (a tile each) with
+/// The impostor's bake reads the shadow cascades, which the three.js host redraws a band a
+/// frame after the sun moves: each tile copied in must bake the impostor again, so that once
+/// every tile is the new sun's the frame is the one a whole redraw gives. A frame at the
+/// package's sun first, then `setSun` to the low sun; compared after as many more frames as
+/// the atlas has bands with
 /// the frame of a host that redraws every tile at once. Control: the frame right after the
 /// move, its coarser tiles still the old sun's.
 #[test]
@@ -836,7 +899,12 @@ fn the_impostor_follows_a_moved_sun_through_rotating_cascades() {
         args.extend(extra.iter().map(|s| s.to_string()));
         browser_frame(&package, &out.join(png), &args)
     };
-    let settled = page("settled-chromium.png", &["settle=3"]);
+    assert_eq!(v.quality, "low");
+    let settle = format!(
+        "settle={}",
+        rotation_frames(nimbus_clouds::Quality::Low) - 1
+    );
+    let settled = page("settled-chromium.png", &[&settle]);
     let whole = page("whole-chromium.png", &["rotation=0"]);
     let first = page("first-frame-chromium.png", &[]);
     let (after, before) = (

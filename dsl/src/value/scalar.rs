@@ -118,6 +118,8 @@ macro_rules! bits {
         impl_binop!($name, $rust => $name; BitAnd bitand BitAnd, BitOr bitor BitOr, BitXor bitxor BitXor);
         impl_binop!($name, U32 => $name; Shl shl Shl, Shr shr Shr);
         impl_binop!($name, u32 => $name; Shl shl Shl, Shr shr Shr);
+        // A literal shifted by a value (`1u32 << k`: the bit of tile `k`).
+        impl_binop!($rust, U32 => $name; Shl shl Shl, Shr shr Shr);
     };
 }
 bits!(I32, i32);

@@ -90,6 +90,13 @@ export interface View {
   reversed?: boolean;
 }
 
+/** What the shadow pass draws in a frame (`NimbusHost.shadowTiles`). */
+export interface ShadowPlan {
+  rects: [number, number, number, number][];
+  back: boolean;
+  copy: [number, number, number, number] | null;
+}
+
 export declare class NimbusHost {
   constructor(pkg: unknown, pair: PackagePair, blocks: Blocks);
   readonly pair: PackagePair;
@@ -112,8 +119,9 @@ export declare class NimbusHost {
   /** Every tile of the shadow atlas is out of date: redraw from the next frame. */
   shadowDirty: boolean;
   /**
-   * Redraw one out-of-date cascade tile per frame, in turn, once the atlas has been drawn
-   * whole (default); false redraws every out-of-date tile at once.
+   * Redraw the out-of-date cascade tiles in turn, each in bands of rows over several frames
+   * (drawn into a back atlas, copied into the one the clouds read when done), once the atlas
+   * has been drawn whole (default); false redraws the whole atlas when a tile is out of date.
    */
   cascadeRotation: boolean;
   /** Redraw the air table (the sky and the air in front of the clouds) on the next frame. */
@@ -128,10 +136,16 @@ export declare class NimbusHost {
   setSun(elevation: number, azimuth: number): void;
   relight(): void;
   /**
-   * The atlas's tiles to redraw now, `[x, y, width, height]` in atlas texels, with the block's
-   * `shadow.lookup` written for them: call before the block is uploaded.
+   * What the shadow pass draws this frame, with the block's `shadow.lookup` written for the
+   * tiles as they will be read: call before the blocks are uploaded. The pass draws each of
+   * `rects` (`[x, y, width, height]` in atlas texels) alone, from `shadowBlock`, into the back
+   * atlas when `back`; then `copy`, when not null, is copied from the back atlas into the
+   * atlas the clouds read.
    */
-  shadowTiles(): [number, number, number, number][];
+  shadowTiles(): ShadowPlan;
+  /** The block bytes the shadow pass draws from (bind them as its cloud block). */
+  readonly shadowBlock: Uint8Array;
+  readonly shadowFloats: Float32Array;
   /**
    * Whether the bake (a pair of a baked path: slices, impostor, blob2d) must be redrawn this frame: a member
    * of the block outside the package's `cloud_bake.ignores` changed since it was drawn.

@@ -6,7 +6,9 @@
 // runtime runs.
 
 import { cloud_frame, resolve_frame } from './nimbus-frame.js';
-import { anchored_tiles, atlas_columns, atlas_rows, redrawn_tiles, shadow_anchor, sun_direction, sun_light } from './nimbus-sun.js';
+import {
+  anchored_tiles, atlas_columns, atlas_rows, band_redraw, redrawn_tiles, shadow_anchor, sun_direction, sun_light, tiles_out_of_date,
+} from './nimbus-sun.js';
 import { NimbusTimeline } from './nimbus-timeline.js';
 import { facing_altitude } from './nimbus-wind.js';
 
@@ -217,14 +219,20 @@ export class NimbusHost {
     this.seed = 0;
     this.shadowDirty = true;
     // Cascades in rotation (`shadowTiles`): with a sun, camera or wind that moves every frame,
-    // one tile of the shadow atlas is redrawn per frame, each tile read through the transform
-    // it was drawn with; off, every tile is redrawn whenever anything it shows moved.
+    // the shadow atlas's out-of-date tiles are redrawn one after another, each in bands of rows
+    // over several frames, each tile read through the transform it was drawn with; off, every
+    // tile is redrawn whenever anything it shows moved.
     this.cascadeRotation = true;
-    // The tiles as drawn, relative to the clouds' anchor (null: none drawn yet), which are
-    // out of date, where the rotation stands, and the tiles of the sun as it is now.
+    // The tiles as drawn, relative to the clouds' anchor (null: none drawn yet), where the
+    // redraw in rotation stands (`band_redraw`), and the tiles of the sun as it is now.
     this.tiles = null;
-    this.staleTiles = [];
-    this.nextTile = 0;
+    this.redraw = { stale: 0, tile: 0, band: 0, next: 0 };
+    // The block the shadow pass draws from: the pair block as it was when the tile in
+    // progress began (its bands all drawn from it), or as it is for a whole redraw; with the
+    // sun's lookup and the clouds' anchor of that moment, which the tile keeps once done.
+    this.shadowBlock = new Uint8Array(blocks.pair.bytes.length);
+    this.shadowFloats = new Float32Array(this.shadowBlock.buffer);
+    this.banded = null;
     const columns = (v) => [0, 4, 8, 12].map((i) => v.slice(i, i + 4));
     this.currentTiles = {
       u: columns(blocks.pair.vector('shadow.lookup.u', 16)),
@@ -372,44 +380,66 @@ export class NimbusHost {
   }
 
   /**
-   * The shadow atlas's tiles to redraw now, as rectangles `[x, y, width, height]` in atlas
-   * texels (its frag-coord space: WebGPU's from the top, WebGL's from the bottom, as the pass
-   * reads it), with the block's `shadow.lookup` written for them: call it before the block is
-   * uploaded, and draw the shadow pass over each rectangle alone.
+   * What the shadow pass draws this frame, with the block's `shadow.lookup` written for the
+   * tiles as they will be read: call it before the blocks are uploaded. Returns `rects`, the
+   * rectangles `[x, y, width, height]` to draw the shadow pass over (atlas texels, its
+   * frag-coord space: WebGPU's from the top, WebGL's from the bottom, as the pass reads them),
+   * each alone, from `shadowBlock`; into the back atlas when `back`, and then, when `copy` is
+   * a rectangle, that rectangle copied from the back atlas into the atlas the clouds read.
    *
-   * `shadowDirty` makes every tile out of date. Each redrawn tile takes the sun's transform
-   * as it is now, kept relative to the clouds' anchor (`redrawn_tiles`); the others are read
-   * where their clouds are now (`anchored_tiles`), however the camera or the wind moved since
-   * they were drawn. With `cascadeRotation`, once every tile has been drawn, one out-of-date
-   * tile is redrawn per frame, in turn, so a sun that moves every frame costs a tile a frame
-   * rather than the whole atlas; without it, every out-of-date tile is redrawn at once.
+   * `shadowDirty` makes every tile out of date. A tile redrawn takes the sun's transform as it
+   * was when its drawing began, kept relative to the clouds' anchor (`redrawn_tiles`); the
+   * others are read where their clouds are now (`anchored_tiles`), however the camera or the
+   * wind moved since they were drawn. With `cascadeRotation`, once every tile has been drawn,
+   * the out-of-date tiles are redrawn in turn, each in bands of rows over several frames
+   * (`band_redraw`: a bounded share of the atlas a frame, whatever the preset), into a back
+   * atlas, from a copy of the block taken at its first band, and copied into the atlas the
+   * clouds read with its last: a sun that moves every frame costs a band a frame rather than
+   * the whole atlas, and no frame reads a tile half drawn. Without it, every tile is redrawn
+   * at once whenever one is out of date.
    */
   shadowTiles() {
     const u = this.blocks.pair;
     const count = u.uint('shadow.cascade_count');
+    const side = u.float('shadow.map_size');
     if (this.shadowDirty) {
-      this.staleTiles = Array.from({ length: count }, () => true);
+      this.redraw = tiles_out_of_date(this.redraw, count);
       this.shadowDirty = false;
     }
-    const stale = this.staleTiles.flatMap((out, k) => (out ? [k] : []));
-    let redraw = stale;
-    if (this.cascadeRotation && this.tiles && stale.length > 1) {
-      redraw = [stale.find((k) => k >= this.nextTile) ?? stale[0]];
-    }
-    if (redraw.length) this.nextTile = (redraw[redraw.length - 1] + 1) % count;
-    for (const k of redraw) this.staleTiles[k] = false;
     const anchor = shadow_anchor(u.vector('camera_offset', 3), u.float('camera_altitude'), u.vector('media.wind_drift', 2));
-    // Lanes past the cascade count hold no tile: they follow the sun, as a whole redraw's do.
-    const mask = [0, 1, 2, 3].map((k) => (k >= count || redraw.includes(k) ? 1 : 0));
-    this.tiles = redrawn_tiles(this.tiles ?? this.currentTiles, this.currentTiles, anchor, mask);
-    const lookup = anchored_tiles(this.tiles, anchor);
+    const plan = { rects: [], back: false, copy: null };
+    if (!this.cascadeRotation || !this.tiles) {
+      if (this.redraw.stale !== 0) {
+        // The whole atlas in one draw (its empty corner draws nothing), every tile for the
+        // sun as it is, around the camera; a tile in progress is dropped.
+        this.tiles = redrawn_tiles(this.currentTiles, this.currentTiles, anchor, [1, 1, 1, 1]);
+        this.redraw = { stale: 0, tile: 0, band: 0, next: 0 };
+        plan.rects.push([0, 0, side * atlas_columns(count), side * atlas_rows(count)]);
+      }
+    } else {
+      const step = band_redraw(this.redraw, count, side);
+      this.redraw = step.state;
+      if (step.first) {
+        this.shadowBlock.set(u.bytes);
+        this.banded = { current: this.currentTiles, anchor };
+      }
+      if (step.height) {
+        plan.rects.push([step.x, step.y + step.top, side, step.height]);
+        plan.back = true;
+      }
+      if (step.last) {
+        plan.copy = [step.x, step.y, side, side];
+        // Lanes past the cascade count hold no tile: they follow the sun, as a whole
+        // redraw's do.
+        const mask = [0, 1, 2, 3].map((k) => (k >= count || k === step.tile ? 1 : 0));
+        this.tiles = redrawn_tiles(this.tiles, this.banded.current, this.banded.anchor, mask);
+      }
+    }
+    const lookup = anchored_tiles(this.tiles ?? this.currentTiles, anchor);
     u.setFloats('shadow.lookup.u', lookup.u.flat());
     u.setFloats('shadow.lookup.v', lookup.v.flat());
-    const side = u.float('shadow.map_size');
-    const columns = atlas_columns(count);
-    // Every tile: the whole atlas in one draw (its empty corner draws nothing).
-    if (redraw.length === count) return [[0, 0, side * columns, side * atlas_rows(count)]];
-    return redraw.map((k) => [(k % columns) * side, Math.floor(k / columns) * side, side, side]);
+    if (plan.rects.length && !plan.back) this.shadowBlock.set(u.bytes);
+    return plan;
   }
 
   /**

@@ -127,6 +127,9 @@ export class NimbusClouds extends NimbusHost {
     this.shadowTarget = pair.shadow_atlas
       ? hdrTarget(pair.shadow_atlas.width, pair.shadow_atlas.height, THREE.RepeatWrapping)
       : null;
+    // Cascades in rotation draw a tile's bands here, copied into the atlas when done (made
+    // with the first band).
+    this.shadowBack = null;
     this.airTarget = pair.air_table
       ? hdrTarget(pair.air_table.width, pair.air_table.height, THREE.RepeatWrapping)
       : null;
@@ -215,7 +218,8 @@ export class NimbusClouds extends NimbusHost {
           const group = new THREE.UniformsGroup();
           group.setName(named.name);
           // The block's bytes as they are: three writes a typed array into the buffer verbatim.
-          group.add(new THREE.Uniform(resource.floats));
+          // The shadow pass draws from the host's copy of the cloud block (`shadowTiles`).
+          group.add(new THREE.Uniform(pass.pass === 'shadow' ? this.shadowFloats : resource.floats));
           group.setUsage(THREE.DynamicDrawUsage);
           groups.push(group);
         } else if (named.combined_sampler) {
@@ -386,19 +390,31 @@ export class NimbusClouds extends NimbusHost {
   }
 
   /**
-   * Redraws the tiles of the shadow atlas that are out of date (the sun, the camera's place
-   * or the clouds moved), all at once or one a frame (`cascadeRotation`): `shadowTiles`.
+   * Redraws what of the shadow atlas is out of date (the sun, the camera's place or the clouds
+   * moved): the whole atlas, or with `cascadeRotation` a band of a tile a frame, drawn into the
+   * back atlas and copied into the atlas when the tile is done (`shadowTiles`).
    */
   drawShadowAtlas(renderer) {
     if (!this.passes.shadow) return;
-    const target = this.shadowTarget;
-    for (const [x, y, width, height] of this.shadowTiles()) {
+    const plan = this.shadowTiles();
+    if (plan.back && !this.shadowBack) {
+      const { width, height } = this.pair.shadow_atlas;
+      this.shadowBack = hdrTarget(width, height, THREE.RepeatWrapping);
+    }
+    const target = plan.back ? this.shadowBack : this.shadowTarget;
+    for (const [x, y, width, height] of plan.rects) {
       // WebGL's scissor counts rows from the bottom, as the pass's frag coords do.
       target.scissor.set(x, y, width, height);
       target.scissorTest = true;
       this.draw(renderer, this.passes.shadow, target);
     }
     target.scissorTest = false;
+    if (plan.copy) {
+      const [x, y, width, height] = plan.copy;
+      // Texel rows counted from the first, as the scissor's.
+      const region = new THREE.Box2(new THREE.Vector2(x, y), new THREE.Vector2(x + width, y + height));
+      renderer.copyTextureToTexture(this.shadowBack.texture, this.shadowTarget.texture, region, new THREE.Vector2(x, y));
+    }
   }
 
   /**
@@ -474,6 +490,7 @@ export class NimbusClouds extends NimbusHost {
     this.cloudTarget.dispose();
     for (const h of this.history) h.dispose();
     if (this.shadowTarget) this.shadowTarget.dispose();
+    if (this.shadowBack) this.shadowBack.dispose();
     if (this.airTarget) this.airTarget.dispose();
     if (this.bakeTarget) this.bakeTarget.dispose();
     for (const p of Object.values(this.passes)) p.material.dispose();

@@ -131,8 +131,17 @@ export class NimbusWebGPU extends NimbusHost {
         usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
       });
     }
+    // The shadow pass draws from the host's copy of the cloud block (`shadowTiles`).
+    this.shadowBuffer = device.createBuffer({
+      label: 'shadow block',
+      size: Math.ceil(this.shadowBlock.length / 16) * 16,
+      usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
+    });
     const atlas = pair.shadow_atlas;
-    this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height) : null;
+    this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height, GPUTextureUsage.COPY_DST) : null;
+    // Cascades in rotation draw a tile's bands here, copied into the atlas when done (made
+    // with the first band).
+    this.shadowBack = null;
     const air = this.pair.air_table;
     this.airTarget = air ? this.target('air table', air.width, air.height) : null;
     // The bake of a baked path (slices, impostor, mesh, blob2d), redrawn when the block members it depends on
@@ -230,9 +239,9 @@ export class NimbusWebGPU extends NimbusHost {
     }
     const queue = this.device.queue;
     const encoder = this.device.createCommandEncoder({ label: 'nimbus scene shadow' });
-    const tiles = this.passes.shadow ? this.shadowTiles() : [];
+    const plan = this.passes.shadow ? this.shadowTiles() : null;
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
-    this.drawShadowAtlas(encoder, tiles);
+    this.drawShadowAtlas(encoder, plan);
     this.draw(encoder, 'scene_shadow', this.sceneShadowTarget.createView());
     queue.submit([encoder.finish()]);
     return this.sceneShadowTarget;
@@ -254,12 +263,27 @@ export class NimbusWebGPU extends NimbusHost {
   }
 
   /**
-   * Redraws the tiles of the shadow atlas `tiles` names (`shadowTiles`, called before the
-   * blocks were written: it writes the tiles' lookup).
+   * Draws what `plan` says of the shadow atlas (`shadowTiles`, called before the blocks were
+   * written: it writes the tiles' lookup): the whole atlas, or a band of a tile into the back
+   * atlas, copied into the atlas when the tile is done.
    */
-  drawShadowAtlas(encoder, tiles) {
-    if (!this.passes.shadow) return;
-    for (const rect of tiles) this.draw(encoder, 'shadow', this.shadowTarget.createView(), null, null, rect);
+  drawShadowAtlas(encoder, plan) {
+    if (!plan || !plan.rects.length) return;
+    this.device.queue.writeBuffer(this.shadowBuffer, 0, this.shadowBlock);
+    if (plan.back && !this.shadowBack) {
+      const { width, height } = this.pair.shadow_atlas;
+      this.shadowBack = this.target('shadow back atlas', width, height, GPUTextureUsage.COPY_SRC);
+    }
+    const target = plan.back ? this.shadowBack : this.shadowTarget;
+    for (const rect of plan.rects) this.draw(encoder, 'shadow', target.createView(), null, null, rect);
+    if (plan.copy) {
+      const [x, y, width, height] = plan.copy;
+      encoder.copyTextureToTexture(
+        { texture: this.shadowBack, origin: [x, y] },
+        { texture: this.shadowTarget, origin: [x, y] },
+        [width, height],
+      );
+    }
   }
 
   /** A sampler as the pass's layout describes it, made once. */
@@ -287,6 +311,7 @@ export class NimbusWebGPU extends NimbusHost {
       const { id, kind } = b.holds;
       let resource;
       if (kind === 'sampler') resource = this.sampler(layoutEntry);
+      else if (kind === 'uniform block' && pass.pass === 'shadow') resource = { buffer: this.shadowBuffer };
       else if (kind === 'uniform block' && this.buffers[id]) resource = { buffer: this.buffers[id] };
       else if (kind === 'texture' && this.textures[id]) resource = this.textures[id].createView();
       else if (kind === 'target' && targets[id]) resource = targets[id].createView();
@@ -330,9 +355,9 @@ export class NimbusWebGPU extends NimbusHost {
       read = this.history[this.latest];
       shown = this.history[1 - this.latest];
     }
-    const tiles = this.passes.shadow ? this.shadowTiles() : [];
+    const plan = this.passes.shadow ? this.shadowTiles() : null;
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
-    this.drawShadowAtlas(encoder, tiles);
+    this.drawShadowAtlas(encoder, plan);
     this.drawAirTable(encoder);
     this.drawBake(encoder);
     this.draw(encoder, 'clouds', this.cloudTarget.createView());
@@ -346,8 +371,9 @@ export class NimbusWebGPU extends NimbusHost {
   }
 
   dispose() {
-    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.airTarget, this.bakeTarget, this.sceneShadowTarget]) t?.destroy();
+    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.shadowBack, this.airTarget, this.bakeTarget, this.sceneShadowTarget]) t?.destroy();
     for (const t of Object.values(this.textures)) t.destroy();
     for (const b of Object.values(this.buffers)) b.destroy();
+    this.shadowBuffer.destroy();
   }
 }

@@ -32,6 +32,7 @@ pub mod shell;
 pub mod sky;
 pub mod slices;
 pub mod sun;
+pub mod tile_bands;
 pub mod tonemap;
 pub mod transmission;
 pub mod untiled_weather;

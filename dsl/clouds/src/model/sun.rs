@@ -20,6 +20,7 @@ use super::shadow::{
     shadow_matrices,
 };
 use super::sky::{sky_irradiance_at, sun_irradiance_at};
+use super::tile_bands::{band_redraw, tiles_out_of_date};
 
 /// The members of the cloud block that follow the sun.
 #[derive(Clone, Copy, Debug, PartialEq, ShaderStruct)]
@@ -105,6 +106,9 @@ pub fn host_module() -> Result<nimbus_dsl::ir::Module, DslError> {
             m.host(nimbus_dsl::host_fn!(shadow_anchor), loc!());
             m.host(nimbus_dsl::host_fn!(redrawn_tiles), loc!());
             m.host(nimbus_dsl::host_fn!(anchored_tiles), loc!());
+            // Each tile in bands: which rows a frame draws, and when a tile is done.
+            m.host(nimbus_dsl::host_fn!(tiles_out_of_date), loc!());
+            m.host(nimbus_dsl::host_fn!(band_redraw), loc!());
         },
     )
 }
