@@ -250,10 +250,12 @@ fn the_javascript_twins_keep_and_read_the_tiles_as_the_cpu_twins() {
 /// then the atlas is the old sun's to the bit (no frame reads a tile half drawn), after it
 /// that tile is the whole redraw's. Once all three tiles are drawn the atlas is a whole
 /// redraw's to the bit and the frame its to rounding, while the frame right after the move
-/// is not (the control).
+/// is not (the control). The air table, drawn in bands likewise, stays the old sun's until
+/// its last band and ends at the whole redraw's table.
 #[test]
 fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
-    use nimbus_clouds::model::tile_bands::tile_bands;
+    use nimbus_clouds::model::air_table::air_table_size;
+    use nimbus_clouds::model::tile_bands::{bands_of, tile_bands};
     use nimbus_runtime::render::{Frame, Image, Renderer};
     let Some(gpu) = common::gpu() else { return };
     let lib =
@@ -296,6 +298,8 @@ fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
     let (count, side) = (settings.shadow_cascade_count, settings.shadow_map_size);
     let bands = tile_bands(side);
     assert!(bands > 1, "high's tiles are drawn in bands");
+    let (air_w, air_h) = air_table_size();
+    let air_bands = bands_of(air_w, air_h);
     let (before, after) = (frame(35.0), frame(20.0));
     let mut whole = Renderer::new(gpu, common::SMALL_TEXTURES);
     let want = whole.render(&after).expect("render");
@@ -305,7 +309,10 @@ fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
     rotating.set_cascade_rotation(true);
     rotating.render(&before).expect("render");
     let old_atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
+    let old_air = rotating.air_table().expect("readback").expect("air table");
     let mut passes = Vec::new();
+    let mut air_passes = Vec::new();
+    let mut air_while_drawing = 0.0f32;
     let mut first = None;
     let mut last = None;
     // While the first tile's bands are drawn, and right after its last.
@@ -320,6 +327,18 @@ fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
                 .filter(|p| **p == "shadow")
                 .count(),
         );
+        air_passes.push(
+            rotating
+                .stats()
+                .passes
+                .iter()
+                .filter(|p| **p == "air")
+                .count(),
+        );
+        let air = rotating.air_table().expect("readback").expect("air table");
+        if i + 1 < air_bands {
+            air_while_drawing = air_while_drawing.max(largest(&air, &old_air));
+        }
         let atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
         if i + 1 < bands {
             while_drawing = while_drawing.max(largest(&atlas, &old_atlas));
@@ -339,6 +358,22 @@ fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
         passes, want_passes,
         "a band per frame, {count} tiles of {bands}, then none"
     );
+    // The air table in bands likewise, one tile: the old sun's until its last band.
+    let want_air: Vec<usize> = (0..count * bands + 1)
+        .map(|i| usize::from(i < air_bands))
+        .collect();
+    assert_eq!(air_passes, want_air, "the air table's {air_bands} bands");
+    let want_table = whole.air_table().expect("readback").expect("air table");
+    let table_d = largest(
+        &rotating.air_table().expect("readback").expect("air table"),
+        &want_table,
+    );
+    let table_moved = largest(&old_air, &want_table);
+    println!(
+        "air table in {air_bands} bands: {air_while_drawing} from the old one while drawn, {table_d} \
+         from a whole redraw's at the end (the sun's move changed it by {table_moved})"
+    );
+    assert!(air_while_drawing == 0.0 && table_d == 0.0 && table_moved > 1e-3);
     let got_atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
     let atlas_d = largest(&got_atlas, &want_atlas);
     let settled = largest(last.as_ref().expect("frames"), &want);

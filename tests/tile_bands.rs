@@ -2,23 +2,37 @@
 //! runs. Each out-of-date tile is drawn in bands that cover its rows once, in order, a band a
 //! frame and never more than `BAND_TEXELS` texels; the rotation takes the tiles in turn; a
 //! change while a tile is drawn leaves that tile to finish from its copy and marks it out of
-//! date again; and the JavaScript twin the engine packages run takes the same steps.
+//! date again; the air table is one tile in bands; and the JavaScript twin the engine packages
+//! run takes the same steps.
 
 mod common;
 
 use nimbus_clouds::Quality;
+use nimbus_clouds::model::air_table::air_table_size;
 use nimbus_clouds::model::sun::host_module;
 use nimbus_clouds::model::tile_bands::{
-    BAND_TEXELS, BandDraw, TileRedraw, band_redraw, tile_bands, tiles_out_of_date,
+    BAND_TEXELS, BandDraw, TileRedraw, band_redraw, bands_of, tile_bands, tiles_out_of_date,
 };
 use nimbus_codegen::print_js;
 use serde_json::{Value, json};
 
-/// Every frame's step from `s` until nothing is out of date (at most `limit` frames).
-fn run(mut s: TileRedraw, count: u32, side: u32, limit: usize) -> Vec<BandDraw> {
+/// Every frame's step from `s` until nothing is out of date (at most `limit` frames), for
+/// `count` square tiles of `side` texels.
+fn run(s: TileRedraw, count: u32, side: u32, limit: usize) -> Vec<BandDraw> {
+    run_tiles(s, count, side, side, limit)
+}
+
+/// [`run`] for tiles of `width` × `height` texels.
+fn run_tiles(
+    mut s: TileRedraw,
+    count: u32,
+    width: u32,
+    height: u32,
+    limit: usize,
+) -> Vec<BandDraw> {
     let mut steps = Vec::new();
     for _ in 0..limit {
-        let step = band_redraw(s, count, side);
+        let step = band_redraw(s, count, width, height);
         s = step.state;
         if step.height == 0 {
             break;
@@ -82,6 +96,33 @@ fn every_tile_is_drawn_once_in_bands_that_cover_its_rows() {
     }
 }
 
+/// The air table is one tile, wider than a band's texels allow in one row set: 128 rows of
+/// its 256 a frame, three bands (its Rayleigh, Mie and optical-depth bands).
+#[test]
+fn the_air_table_is_one_tile_in_bands() {
+    let (w, h) = air_table_size();
+    let start = tiles_out_of_date(TileRedraw::default(), 1);
+    let steps = run_tiles(start, 1, w, h, 100);
+    let rows: Vec<(u32, u32, u32, u32)> = steps
+        .iter()
+        .map(|d| (d.top, d.height, d.first, d.last))
+        .collect();
+    println!("air table {w}×{h}: bands (top, rows, first, last) {rows:?}");
+    assert_eq!(rows.iter().map(|r| r.1).sum::<u32>(), h);
+    assert!(
+        steps
+            .iter()
+            .all(|d| d.x == 0 && d.y == 0 && d.height * w <= BAND_TEXELS)
+    );
+    assert_eq!(rows.first().map(|r| r.2), Some(1));
+    assert_eq!(rows.last().map(|r| r.3), Some(1));
+    assert_eq!(steps.len() as u32, bands_of(w, h));
+    assert!(
+        steps.len() > 1,
+        "the air table is drawn in more than one band"
+    );
+}
+
 #[test]
 fn a_change_while_a_tile_is_drawn_lets_it_finish_and_marks_it_again() {
     let (count, side) = (3, 512);
@@ -89,7 +130,7 @@ fn a_change_while_a_tile_is_drawn_lets_it_finish_and_marks_it_again() {
     let mut s = tiles_out_of_date(TileRedraw::default(), count);
     // Tile 0 and half of tile 1 drawn.
     for _ in 0..bands + bands / 2 {
-        s = band_redraw(s, count, side).state;
+        s = band_redraw(s, count, side, side).state;
     }
     assert_eq!((s.tile, s.band), (1, bands / 2));
     assert_eq!(s.stale, 0b100, "tiles 0 and 1 taken, tile 2 waits");
@@ -140,7 +181,7 @@ fn the_javascript_twin_takes_the_same_steps() {
                let s = tiles_out_of_date({{ stale: 0, tile: 0, band: 0, next: 0 }}, count);\n\
                const steps = [];\n\
                for (let i = 0; i < 10000; i++) {{\n\
-                 const d = band_redraw(s, count, side);\n\
+                 const d = band_redraw(s, count, side, side);\n\
                  s = d.state;\n\
                  if (d.height === 0) break;\n\
                  steps.push([d.tile, d.x, d.y, d.top, d.height, d.first, d.last, s.stale, s.tile, s.band, s.next]);\n\

@@ -204,6 +204,17 @@ impl<I> CachedPass<I> {
 /// The air table pass, redrawn when the sun, the camera's altitude or the atmosphere changes.
 type AirPass = CachedPass<AirTableInputs>;
 
+/// The air table drawn in bands (cascades in rotation, [`Renderer::set_cascade_rotation`]), as
+/// a shadow tile is ([`band_redraw`], one tile): where the redraw stands, the inputs it was
+/// last asked for, the block (and its inputs) the bands in progress are drawn from, and the
+/// table they are drawn into, copied into the air pass's with the last band.
+struct AirBands {
+    redraw: TileRedraw,
+    requested: AirTableInputs,
+    drawing: Option<(CloudUniforms, AirTableInputs)>,
+    back: Target,
+}
+
 /// The bake pass (the baked paths: the slice stack, the 2D map), redrawn when its key or what
 /// the bake depends on changes (the sun, the camera's place, the layers, the weather; not the
 /// view).
@@ -262,6 +273,7 @@ pub struct Renderer<'g> {
     pipelines: PipelineCache,
     shadow: Option<ShadowPass>,
     air: Option<AirPass>,
+    air_bands: Option<AirBands>,
     bake: Option<BakePass>,
     clouds: Option<CloudPass>,
     resolve: Option<ResolvePass>,
@@ -391,6 +403,7 @@ impl<'g> Renderer<'g> {
             pipelines: PipelineCache::default(),
             shadow: None,
             air: None,
+            air_bands: None,
             bake: None,
             clouds: None,
             resolve: None,
@@ -426,11 +439,14 @@ impl<'g> Renderer<'g> {
 
     /// Cascades in rotation, for game loops whose sun, camera or wind moves every frame: once
     /// the shadow atlas has been drawn whole, a change of what it shows makes every tile out
-    /// of date and each frame redraws one of them, in turn, instead of the whole atlas. Each
-    /// tile is read through the transform it was drawn with, moved to where its clouds are
-    /// now (`shadow::redrawn_tiles`, `shadow::anchored_tiles`, as the JavaScript hosts do), so
-    /// a tile a few frames old shows the clouds' shadows for a sun a few frames old, in the
-    /// right place. Off by default: an image rendered once is drawn with its whole atlas.
+    /// of date and each frame draws a band of one of them ([`band_redraw`]: at most
+    /// `BAND_TEXELS` texels), in turn, instead of the whole atlas, into a back atlas from the
+    /// block as it stood at the tile's first band; the tile is copied into the atlas with its
+    /// last. Each tile is read through the transform it was drawn with, moved to where its
+    /// clouds are now (`shadow::redrawn_tiles`, `shadow::anchored_tiles`, as the JavaScript
+    /// hosts do), so a tile a few frames old shows the clouds' shadows for a sun a few frames
+    /// old, in the right place. The air table, once drawn whole, is redrawn in bands likewise.
+    /// Off by default: an image rendered once is drawn with its whole atlas and table.
     pub fn set_cascade_rotation(&mut self, on: bool) {
         self.cascade_rotation = on;
     }
@@ -868,7 +884,7 @@ impl<'g> Renderer<'g> {
         };
         let count = u.shadow.cascade_count;
         let side = u.shadow.map_size as u32;
-        let step = band_redraw(p.redraw, count, side);
+        let step = band_redraw(p.redraw, count, side, side);
         p.redraw = step.state;
         if step.first == 1 {
             p.banded = Some(BandedTile {
@@ -910,30 +926,7 @@ impl<'g> Renderer<'g> {
             );
             self.passes.push("shadow");
             if step.last == 1 {
-                let origin = wgpu::Origin3d {
-                    x: step.x,
-                    y: step.y,
-                    z: 0,
-                };
-                encoder.copy_texture_to_texture(
-                    wgpu::TexelCopyTextureInfo {
-                        texture: &back.texture,
-                        mip_level: 0,
-                        origin,
-                        aspect: wgpu::TextureAspect::All,
-                    },
-                    wgpu::TexelCopyTextureInfo {
-                        texture: &p.atlas.texture,
-                        mip_level: 0,
-                        origin,
-                        aspect: wgpu::TextureAspect::All,
-                    },
-                    wgpu::Extent3d {
-                        width: side,
-                        height: side,
-                        depth_or_array_layers: 1,
-                    },
-                );
+                copy_region(encoder, back, &p.atlas, [step.x, step.y, side, side]);
                 let (current, drawn_at) = (banded.current, banded.anchor);
                 if let Some(p) = &mut self.shadow {
                     // Lanes past the cascade count hold no tile: they follow the sun, as a
@@ -968,17 +961,88 @@ impl<'g> Renderer<'g> {
             return Ok(());
         };
         let inputs = AirTableInputs::of(u);
-        let drawn = self.draw_cached(
-            &mut pass,
-            ShaderKey::AirTable,
-            inputs,
-            u,
-            encoder,
-            timer,
-            "air",
-        );
+        let drawn = match pass.inputs {
+            Some(drawn) if self.cascade_rotation => {
+                self.draw_air_band(&mut pass, drawn, inputs, u, encoder, timer)
+            }
+            _ => {
+                // Drawn whole: a table in progress is dropped.
+                self.air_bands = None;
+                self.draw_cached(
+                    &mut pass,
+                    ShaderKey::AirTable,
+                    inputs,
+                    u,
+                    encoder,
+                    timer,
+                    "air",
+                )
+            }
+        };
         self.air = Some(pass);
         drawn
+    }
+
+    /// Cascades in rotation: this frame's band of the air table ([`band_redraw`], one tile),
+    /// drawn into the back table from the block as it stood at the first band, the table
+    /// copied into `pass`'s with the last (`drawn`: the inputs `pass`'s table was drawn from).
+    fn draw_air_band(
+        &mut self,
+        pass: &mut AirPass,
+        drawn: AirTableInputs,
+        inputs: AirTableInputs,
+        u: &CloudUniforms,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut Option<PassTimer>,
+    ) -> Result<(), RuntimeError> {
+        let (w, h) = size_of(&pass.target);
+        let gpu = self.gpu;
+        let bands = self.air_bands.get_or_insert_with(|| AirBands {
+            redraw: TileRedraw::default(),
+            requested: drawn,
+            drawing: None,
+            back: target(gpu, "air table back", w, h),
+        });
+        if bands.requested != inputs {
+            bands.redraw = tiles_out_of_date(bands.redraw, 1);
+            bands.requested = inputs;
+        }
+        let step = band_redraw(bands.redraw, 1, w, h);
+        bands.redraw = step.state;
+        if step.first == 1 {
+            bands.drawing = Some((*u, inputs));
+        }
+        if step.height == 0 {
+            return Ok(());
+        }
+        let epoch = self.epoch;
+        let key = ShaderKey::AirTable;
+        if !matches!(&pass.group, Some(g) if g.key == key && g.epoch == epoch) {
+            let group = self.cloud_group(key, &pass.uniform)?;
+            pass.group = Some(BoundGroup { group, key, epoch });
+        }
+        let pipeline = self.pipelines.get(&key)?;
+        let group = pass.group.as_ref().ok_or_else(missing)?;
+        let bands = self.air_bands.as_ref().ok_or_else(missing)?;
+        let (block, from) = bands.drawing.ok_or_else(missing)?;
+        self.gpu
+            .queue()
+            .write_buffer(&pass.uniform, 0, &block.to_uniform_bytes()?);
+        draw(
+            encoder,
+            "air",
+            &bands.back.view,
+            &pipeline.pipeline,
+            &group.group,
+            PassTimer::next(timer),
+            Some([step.x, step.y + step.top, w, step.height]),
+        );
+        self.passes.push("air");
+        if step.last == 1 {
+            copy_region(encoder, &bands.back, &pass.target, [0, 0, w, h]);
+            pass.inputs = Some(from);
+        }
+        Ok(())
     }
 
     /// The uniforms of `frame` at frame index 0 ([`Frame::uniforms`], the model's).
@@ -1581,6 +1645,20 @@ impl<'g> Renderer<'g> {
         }
     }
 
+    /// The air table the last frame read (Rayleigh, Mie and optical-depth bands), if its key
+    /// reads one.
+    pub fn air_table(&mut self) -> Result<Option<Image>, RuntimeError> {
+        match &self.air {
+            Some(p) => {
+                let (w, h) = size_of(&p.target);
+                self.ensure_readback(w, h);
+                let p = self.air.as_ref().ok_or_else(missing)?;
+                Ok(Some(self.read_back(&p.target)?))
+            }
+            None => Ok(None),
+        }
+    }
+
     /// The clouds' shadow on the scene of the last frame (the `scene_shadow` pass): per pixel of
     /// its depth buffer, the sun's light through the clouds at the surface there (red, green and
     /// blue alike; 1 where the scene has no surface), read from the last frame's shadow atlas.
@@ -1748,4 +1826,30 @@ fn draw(
         pass.set_scissor_rect(x, y, w, h);
     }
     pass.draw(0..3, 0..1);
+}
+
+/// Copies `region` (x, y, width, height in texels) of `from` to the same place in `to`: a tile
+/// or table drawn in bands into a back target reaching the one the passes read.
+fn copy_region(encoder: &mut wgpu::CommandEncoder, from: &Target, to: &Target, region: [u32; 4]) {
+    let [x, y, width, height] = region;
+    let origin = wgpu::Origin3d { x, y, z: 0 };
+    encoder.copy_texture_to_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &from.texture,
+            mip_level: 0,
+            origin,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyTextureInfo {
+            texture: &to.texture,
+            mip_level: 0,
+            origin,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
 }

@@ -90,8 +90,14 @@ export interface View {
   reversed?: boolean;
 }
 
-/** What the shadow pass draws in a frame (`NimbusHost.shadowTiles`). */
-export interface ShadowPlan {
+/** A copy of the pair block's bytes, with a float view of them. */
+export interface BlockCopy {
+  bytes: Uint8Array;
+  floats: Float32Array;
+}
+
+/** What the shadow or air pass draws in a frame (`NimbusHost.shadowTiles`, `airBands`). */
+export interface BandPlan {
   rects: [number, number, number, number][];
   back: boolean;
   copy: [number, number, number, number] | null;
@@ -121,10 +127,14 @@ export declare class NimbusHost {
   /**
    * Redraw the out-of-date cascade tiles in turn, each in bands of rows over several frames
    * (drawn into a back atlas, copied into the one the clouds read when done), once the atlas
-   * has been drawn whole (default); false redraws the whole atlas when a tile is out of date.
+   * has been drawn whole (default), and the air table in bands likewise; false redraws the
+   * whole atlas when a tile is out of date, and the whole table.
    */
   cascadeRotation: boolean;
-  /** Redraw the air table (the sky and the air in front of the clouds) on the next frame. */
+  /**
+   * Redraw the air table (the sky and the air in front of the clouds) from the next frame:
+   * whole, or in bands with `cascadeRotation` once it has been drawn.
+   */
   airDirty: boolean;
   /** Linear radiance is scaled by this before the tone curve. */
   exposure: number;
@@ -138,14 +148,22 @@ export declare class NimbusHost {
   /**
    * What the shadow pass draws this frame, with the block's `shadow.lookup` written for the
    * tiles as they will be read: call before the blocks are uploaded. The pass draws each of
-   * `rects` (`[x, y, width, height]` in atlas texels) alone, from `shadowBlock`, into the back
-   * atlas when `back`; then `copy`, when not null, is copied from the back atlas into the
-   * atlas the clouds read.
+   * `rects` (`[x, y, width, height]` in atlas texels) alone, from `passBlocks.shadow`, into
+   * the back atlas when `back`; then `copy`, when not null, is copied from the back atlas into
+   * the atlas the clouds read.
    */
-  shadowTiles(): ShadowPlan;
-  /** The block bytes the shadow pass draws from (bind them as its cloud block). */
-  readonly shadowBlock: Uint8Array;
-  readonly shadowFloats: Float32Array;
+  shadowTiles(): BandPlan;
+  /**
+   * What the air pass draws this frame, as `shadowTiles` for the shadow pass: the whole table,
+   * or with `cascadeRotation` (once drawn whole) a band of it into the back table, the table
+   * copied in with the last band; drawn from `passBlocks.air`.
+   */
+  airBands(): BandPlan;
+  /**
+   * The block bytes the shadow and air passes draw from (bind them as their cloud block): the
+   * pair block as it was when the tile or table in progress began.
+   */
+  readonly passBlocks: { shadow: BlockCopy; air: BlockCopy };
   /**
    * Whether the bake (a pair of a baked path: slices, impostor, blob2d) must be redrawn this frame: a member
    * of the block outside the package's `cloud_bake.ignores` changed since it was drawn.

@@ -201,6 +201,18 @@ function wordsOutside(block, ignores) {
 }
 
 /**
+ * The draw of one frame's band (`band_redraw`) of tiles `width` × `height`: its rows into the
+ * back target, and with the tile's last band the tile copied into the target the clouds read.
+ */
+function bandPlan(step, width, height) {
+  return {
+    rects: step.height ? [[step.x, step.y + step.top, width, step.height]] : [],
+    back: step.height > 0,
+    copy: step.last ? [step.x, step.y, width, height] : null,
+  };
+}
+
+/**
  * What a host of one package pair keeps between frames and writes into its blocks: no
  * graphics API. Engine hosts extend it with their passes, targets and textures.
  */
@@ -220,26 +232,34 @@ export class NimbusHost {
     this.shadowDirty = true;
     // Cascades in rotation (`shadowTiles`): with a sun, camera or wind that moves every frame,
     // the shadow atlas's out-of-date tiles are redrawn one after another, each in bands of rows
-    // over several frames, each tile read through the transform it was drawn with; off, every
-    // tile is redrawn whenever anything it shows moved.
+    // over several frames, each tile read through the transform it was drawn with, and the
+    // air table in bands likewise (`airBands`); off, every tile is redrawn whenever anything
+    // it shows moved, and the whole table.
     this.cascadeRotation = true;
     // The tiles as drawn, relative to the clouds' anchor (null: none drawn yet), where the
     // redraw in rotation stands (`band_redraw`), and the tiles of the sun as it is now.
     this.tiles = null;
     this.redraw = { stale: 0, tile: 0, band: 0, next: 0 };
-    // The block the shadow pass draws from: the pair block as it was when the tile in
-    // progress began (its bands all drawn from it), or as it is for a whole redraw; with the
-    // sun's lookup and the clouds' anchor of that moment, which the tile keeps once done.
-    this.shadowBlock = new Uint8Array(blocks.pair.bytes.length);
-    this.shadowFloats = new Float32Array(this.shadowBlock.buffer);
+    // The blocks the shadow and air passes draw from (`passBlocks`, by pass): the pair block
+    // as it was when the tile in progress began (its bands all drawn from it), or as it is
+    // for a whole redraw; for the shadow tile, with the sun's lookup and the clouds' anchor of
+    // that moment, which the tile keeps once done.
+    const copy = () => {
+      const bytes = new Uint8Array(blocks.pair.bytes.length);
+      return { bytes, floats: new Float32Array(bytes.buffer) };
+    };
+    this.passBlocks = { shadow: copy(), air: copy() };
     this.banded = null;
     const columns = (v) => [0, 4, 8, 12].map((i) => v.slice(i, i + 4));
     this.currentTiles = {
       u: columns(blocks.pair.vector('shadow.lookup.u', 16)),
       v: columns(blocks.pair.vector('shadow.lookup.v', 16)),
     };
-    // The air table follows the sun and the camera's altitude.
+    // The air table follows the sun and the camera's altitude (`airBands`): drawn whole
+    // first, then with `cascadeRotation` in bands as a shadow tile is.
     this.airDirty = true;
+    this.airRedraw = { stale: 0, tile: 0, band: 0, next: 0 };
+    this.airDrawn = false;
     // The bake (pairs of a baked path: slices, impostor, mesh, blob2d) follows every member of the block but
     // those the package says it ignores: the words it depends on, and those it was last drawn
     // from.
@@ -384,7 +404,7 @@ export class NimbusHost {
    * tiles as they will be read: call it before the blocks are uploaded. Returns `rects`, the
    * rectangles `[x, y, width, height]` to draw the shadow pass over (atlas texels, its
    * frag-coord space: WebGPU's from the top, WebGL's from the bottom, as the pass reads them),
-   * each alone, from `shadowBlock`; into the back atlas when `back`, and then, when `copy` is
+   * each alone, from `passBlocks.shadow`; into the back atlas when `back`, and then, when `copy` is
    * a rectangle, that rectangle copied from the back atlas into the atlas the clouds read.
    *
    * `shadowDirty` makes every tile out of date. A tile redrawn takes the sun's transform as it
@@ -400,6 +420,7 @@ export class NimbusHost {
    */
   shadowTiles() {
     const u = this.blocks.pair;
+    const block = this.passBlocks.shadow.bytes;
     const count = u.uint('shadow.cascade_count');
     const side = u.float('shadow.map_size');
     if (this.shadowDirty) {
@@ -407,7 +428,7 @@ export class NimbusHost {
       this.shadowDirty = false;
     }
     const anchor = shadow_anchor(u.vector('camera_offset', 3), u.float('camera_altitude'), u.vector('media.wind_drift', 2));
-    const plan = { rects: [], back: false, copy: null };
+    let plan = { rects: [], back: false, copy: null };
     if (!this.cascadeRotation || !this.tiles) {
       if (this.redraw.stale !== 0) {
         // The whole atlas in one draw (its empty corner draws nothing), every tile for the
@@ -417,18 +438,14 @@ export class NimbusHost {
         plan.rects.push([0, 0, side * atlas_columns(count), side * atlas_rows(count)]);
       }
     } else {
-      const step = band_redraw(this.redraw, count, side);
+      const step = band_redraw(this.redraw, count, side, side);
       this.redraw = step.state;
       if (step.first) {
-        this.shadowBlock.set(u.bytes);
+        block.set(u.bytes);
         this.banded = { current: this.currentTiles, anchor };
       }
-      if (step.height) {
-        plan.rects.push([step.x, step.y + step.top, side, step.height]);
-        plan.back = true;
-      }
+      plan = bandPlan(step, side, side);
       if (step.last) {
-        plan.copy = [step.x, step.y, side, side];
         // Lanes past the cascade count hold no tile: they follow the sun, as a whole
         // redraw's do.
         const mask = [0, 1, 2, 3].map((k) => (k >= count || k === step.tile ? 1 : 0));
@@ -438,8 +455,36 @@ export class NimbusHost {
     const lookup = anchored_tiles(this.tiles ?? this.currentTiles, anchor);
     u.setFloats('shadow.lookup.u', lookup.u.flat());
     u.setFloats('shadow.lookup.v', lookup.v.flat());
-    if (plan.rects.length && !plan.back) this.shadowBlock.set(u.bytes);
+    if (plan.rects.length && !plan.back) block.set(u.bytes);
     return plan;
+  }
+
+  /**
+   * What the air pass draws this frame, as `shadowTiles` gives it for the shadow pass (drawn
+   * from `passBlocks.air`): the whole table the first time and whenever it is out of date
+   * without `cascadeRotation`; with it, in bands (`band_redraw`, one tile) into the back
+   * table, from a copy of the block taken at the first band, the whole table copied in with
+   * the last. `airDirty` makes it out of date.
+   */
+  airBands() {
+    const u = this.blocks.pair;
+    const block = this.passBlocks.air.bytes;
+    const { width, height } = this.pair.air_table;
+    if (this.airDirty) {
+      this.airRedraw = tiles_out_of_date(this.airRedraw, 1);
+      this.airDirty = false;
+    }
+    if (!this.cascadeRotation || !this.airDrawn) {
+      if (!this.airRedraw.stale) return { rects: [], back: false, copy: null };
+      this.airRedraw = { stale: 0, tile: 0, band: 0, next: 0 };
+      this.airDrawn = true;
+      block.set(u.bytes);
+      return { rects: [[0, 0, width, height]], back: false, copy: null };
+    }
+    const step = band_redraw(this.airRedraw, 1, width, height);
+    this.airRedraw = step.state;
+    if (step.first) block.set(u.bytes);
+    return bandPlan(step, width, height);
   }
 
   /**

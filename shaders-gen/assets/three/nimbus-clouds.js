@@ -127,9 +127,9 @@ export class NimbusClouds extends NimbusHost {
     this.shadowTarget = pair.shadow_atlas
       ? hdrTarget(pair.shadow_atlas.width, pair.shadow_atlas.height, THREE.RepeatWrapping)
       : null;
-    // Cascades in rotation draw a tile's bands here, copied into the atlas when done (made
-    // with the first band).
-    this.shadowBack = null;
+    // Drawn in bands (cascades in rotation), a shadow tile or the air table is drawn into a
+    // back target of the same size, made with the first band, then copied in (`drawPlan`).
+    this.backs = {};
     this.airTarget = pair.air_table
       ? hdrTarget(pair.air_table.width, pair.air_table.height, THREE.RepeatWrapping)
       : null;
@@ -218,8 +218,9 @@ export class NimbusClouds extends NimbusHost {
           const group = new THREE.UniformsGroup();
           group.setName(named.name);
           // The block's bytes as they are: three writes a typed array into the buffer verbatim.
-          // The shadow pass draws from the host's copy of the cloud block (`shadowTiles`).
-          group.add(new THREE.Uniform(pass.pass === 'shadow' ? this.shadowFloats : resource.floats));
+          // The shadow and air passes draw from the host's copies of the cloud block
+          // (`passBlocks`: `shadowTiles`, `airBands`).
+          group.add(new THREE.Uniform(this.passBlocks[pass.pass]?.floats ?? resource.floats));
           group.setUsage(THREE.DynamicDrawUsage);
           groups.push(group);
         } else if (named.combined_sampler) {
@@ -374,11 +375,33 @@ export class NimbusClouds extends NimbusHost {
     }
   }
 
-  /** Redraws the air table when the sun or the camera's altitude changed. */
+  /** Redraws the air table, or a band of it, when the sun or the camera's altitude changed. */
   drawAirTable(renderer) {
-    if (this.passes.air && this.airDirty) {
-      this.draw(renderer, this.passes.air, this.airTarget);
-      this.airDirty = false;
+    if (this.passes.air) this.drawPlan(renderer, 'air', this.airTarget, this.airBands());
+  }
+
+  /**
+   * Draws pass `name` as `plan` says (`shadowTiles`, `airBands`): over each of its rectangles
+   * into `target`, or into the pass's back target when `plan.back`; then `plan.copy` copied
+   * from the back target into `target`.
+   */
+  drawPlan(renderer, name, target, plan) {
+    if (plan.back && !this.backs[name]) {
+      this.backs[name] = hdrTarget(target.width, target.height, THREE.RepeatWrapping);
+    }
+    const into = plan.back ? this.backs[name] : target;
+    for (const [x, y, width, height] of plan.rects) {
+      // WebGL's scissor counts rows from the bottom, as the pass's frag coords do.
+      into.scissor.set(x, y, width, height);
+      into.scissorTest = true;
+      this.draw(renderer, this.passes[name], into);
+    }
+    into.scissorTest = false;
+    if (plan.copy) {
+      const [x, y, width, height] = plan.copy;
+      // Texel rows counted from the first, as the scissor's.
+      const region = new THREE.Box2(new THREE.Vector2(x, y), new THREE.Vector2(x + width, y + height));
+      renderer.copyTextureToTexture(this.backs[name].texture, target.texture, region, new THREE.Vector2(x, y));
     }
   }
 
@@ -395,26 +418,7 @@ export class NimbusClouds extends NimbusHost {
    * back atlas and copied into the atlas when the tile is done (`shadowTiles`).
    */
   drawShadowAtlas(renderer) {
-    if (!this.passes.shadow) return;
-    const plan = this.shadowTiles();
-    if (plan.back && !this.shadowBack) {
-      const { width, height } = this.pair.shadow_atlas;
-      this.shadowBack = hdrTarget(width, height, THREE.RepeatWrapping);
-    }
-    const target = plan.back ? this.shadowBack : this.shadowTarget;
-    for (const [x, y, width, height] of plan.rects) {
-      // WebGL's scissor counts rows from the bottom, as the pass's frag coords do.
-      target.scissor.set(x, y, width, height);
-      target.scissorTest = true;
-      this.draw(renderer, this.passes.shadow, target);
-    }
-    target.scissorTest = false;
-    if (plan.copy) {
-      const [x, y, width, height] = plan.copy;
-      // Texel rows counted from the first, as the scissor's.
-      const region = new THREE.Box2(new THREE.Vector2(x, y), new THREE.Vector2(x + width, y + height));
-      renderer.copyTextureToTexture(this.shadowBack.texture, this.shadowTarget.texture, region, new THREE.Vector2(x, y));
-    }
+    if (this.passes.shadow) this.drawPlan(renderer, 'shadow', this.shadowTarget, this.shadowTiles());
   }
 
   /**
@@ -490,7 +494,7 @@ export class NimbusClouds extends NimbusHost {
     this.cloudTarget.dispose();
     for (const h of this.history) h.dispose();
     if (this.shadowTarget) this.shadowTarget.dispose();
-    if (this.shadowBack) this.shadowBack.dispose();
+    for (const t of Object.values(this.backs)) t.dispose();
     if (this.airTarget) this.airTarget.dispose();
     if (this.bakeTarget) this.bakeTarget.dispose();
     for (const p of Object.values(this.passes)) p.material.dispose();

@@ -131,19 +131,23 @@ export class NimbusWebGPU extends NimbusHost {
         usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
       });
     }
-    // The shadow pass draws from the host's copy of the cloud block (`shadowTiles`).
-    this.shadowBuffer = device.createBuffer({
-      label: 'shadow block',
-      size: Math.ceil(this.shadowBlock.length / 16) * 16,
-      usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
-    });
+    // The shadow and air passes draw from the host's copies of the cloud block (`passBlocks`:
+    // `shadowTiles`, `airBands`), each in a buffer of its own.
+    this.passBuffers = {};
+    for (const [name, block] of Object.entries(this.passBlocks)) {
+      this.passBuffers[name] = device.createBuffer({
+        label: `${name} block`,
+        size: Math.ceil(block.bytes.length / 16) * 16,
+        usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
+      });
+    }
     const atlas = pair.shadow_atlas;
     this.shadowTarget = atlas ? this.target('shadow atlas', atlas.width, atlas.height, GPUTextureUsage.COPY_DST) : null;
-    // Cascades in rotation draw a tile's bands here, copied into the atlas when done (made
-    // with the first band).
-    this.shadowBack = null;
     const air = this.pair.air_table;
-    this.airTarget = air ? this.target('air table', air.width, air.height) : null;
+    this.airTarget = air ? this.target('air table', air.width, air.height, GPUTextureUsage.COPY_DST) : null;
+    // Drawn in bands (cascades in rotation), a shadow tile or the air table is drawn into a
+    // back target of the same size, made with the first band, then copied in (`drawPlan`).
+    this.backs = {};
     // The bake of a baked path (slices, impostor, mesh, blob2d), redrawn when the block members it depends on
     // change (NimbusHost.bakeOutOfDate).
     const bake = this.pair.cloud_bake;
@@ -247,11 +251,34 @@ export class NimbusWebGPU extends NimbusHost {
     return this.sceneShadowTarget;
   }
 
-  /** Redraws the air table when the sun or the camera's altitude changed. */
-  drawAirTable(encoder) {
-    if (this.passes.air && this.airDirty) {
-      this.draw(encoder, 'air', this.airTarget.createView());
-      this.airDirty = false;
+  /**
+   * Redraws the air table, or a band of it, when the sun or the camera's altitude changed
+   * (`airBands`, called before the blocks were written).
+   */
+  drawAirTable(encoder, plan) {
+    this.drawPlan(encoder, 'air', this.airTarget, plan);
+  }
+
+  /**
+   * Draws pass `name` as `plan` says (`shadowTiles`, `airBands`) from its copy of the block:
+   * over each of its rectangles into `target`, or into the pass's back target when
+   * `plan.back`; then `plan.copy` copied from the back target into `target`.
+   */
+  drawPlan(encoder, name, target, plan) {
+    if (!plan || !plan.rects.length) return;
+    this.device.queue.writeBuffer(this.passBuffers[name], 0, this.passBlocks[name].bytes);
+    if (plan.back && !this.backs[name]) {
+      this.backs[name] = this.target(`${name} back`, target.width, target.height, GPUTextureUsage.COPY_SRC);
+    }
+    const into = plan.back ? this.backs[name] : target;
+    for (const rect of plan.rects) this.draw(encoder, name, into.createView(), null, null, rect);
+    if (plan.copy) {
+      const [x, y, width, height] = plan.copy;
+      encoder.copyTextureToTexture(
+        { texture: this.backs[name], origin: [x, y] },
+        { texture: target, origin: [x, y] },
+        [width, height],
+      );
     }
   }
 
@@ -268,22 +295,7 @@ export class NimbusWebGPU extends NimbusHost {
    * atlas, copied into the atlas when the tile is done.
    */
   drawShadowAtlas(encoder, plan) {
-    if (!plan || !plan.rects.length) return;
-    this.device.queue.writeBuffer(this.shadowBuffer, 0, this.shadowBlock);
-    if (plan.back && !this.shadowBack) {
-      const { width, height } = this.pair.shadow_atlas;
-      this.shadowBack = this.target('shadow back atlas', width, height, GPUTextureUsage.COPY_SRC);
-    }
-    const target = plan.back ? this.shadowBack : this.shadowTarget;
-    for (const rect of plan.rects) this.draw(encoder, 'shadow', target.createView(), null, null, rect);
-    if (plan.copy) {
-      const [x, y, width, height] = plan.copy;
-      encoder.copyTextureToTexture(
-        { texture: this.shadowBack, origin: [x, y] },
-        { texture: this.shadowTarget, origin: [x, y] },
-        [width, height],
-      );
-    }
+    this.drawPlan(encoder, 'shadow', this.shadowTarget, plan);
   }
 
   /** A sampler as the pass's layout describes it, made once. */
@@ -311,7 +323,7 @@ export class NimbusWebGPU extends NimbusHost {
       const { id, kind } = b.holds;
       let resource;
       if (kind === 'sampler') resource = this.sampler(layoutEntry);
-      else if (kind === 'uniform block' && pass.pass === 'shadow') resource = { buffer: this.shadowBuffer };
+      else if (kind === 'uniform block' && this.passBuffers[pass.pass]) resource = { buffer: this.passBuffers[pass.pass] };
       else if (kind === 'uniform block' && this.buffers[id]) resource = { buffer: this.buffers[id] };
       else if (kind === 'texture' && this.textures[id]) resource = this.textures[id].createView();
       else if (kind === 'target' && targets[id]) resource = targets[id].createView();
@@ -356,9 +368,10 @@ export class NimbusWebGPU extends NimbusHost {
       shown = this.history[1 - this.latest];
     }
     const plan = this.passes.shadow ? this.shadowTiles() : null;
+    const air = this.passes.air ? this.airBands() : null;
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
     this.drawShadowAtlas(encoder, plan);
-    this.drawAirTable(encoder);
+    this.drawAirTable(encoder, air);
     this.drawBake(encoder);
     this.draw(encoder, 'clouds', this.cloudTarget.createView());
     if (this.temporal) {
@@ -371,9 +384,9 @@ export class NimbusWebGPU extends NimbusHost {
   }
 
   dispose() {
-    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, this.shadowBack, this.airTarget, this.bakeTarget, this.sceneShadowTarget]) t?.destroy();
+    for (const t of [this.cloudTarget, ...this.history, this.shadowTarget, ...Object.values(this.backs), this.airTarget, this.bakeTarget, this.sceneShadowTarget]) t?.destroy();
     for (const t of Object.values(this.textures)) t.destroy();
     for (const b of Object.values(this.buffers)) b.destroy();
-    this.shadowBuffer.destroy();
+    for (const b of Object.values(this.passBuffers)) b.destroy();
   }
 }

@@ -3,7 +3,8 @@
 //! bands of rows over as many frames, so a frame's share of the atlas is bounded whatever the
 //! preset: [`BAND_TEXELS`] texels (`low`'s 256-texel tile in two bands, `ultra`'s 1,024-texel
 //! tile in 32), where a whole tile had cost a frame of `high` 410 ms and of `ultra` 1.5 s in
-//! the browser benchmark.
+//! the browser benchmark. The air table, which follows the sun too, is drawn the same way, as
+//! one tile (three bands).
 //!
 //! A tile in progress is drawn into a back atlas from a copy of the cloud block taken when its
 //! first band is drawn, and reaches the atlas the clouds read, with the transform of that copy,
@@ -36,36 +37,43 @@ pub struct TileRedraw {
 pub struct BandDraw {
     /// Where the redraw stands after this frame.
     pub state: TileRedraw,
-    /// The tile drawn (`count` when none is out of date), the corner of its square in the
-    /// atlas (texels, the shadow pass's frag-coord space), and the rows of it drawn this frame,
-    /// into the back atlas: `height` rows from its row `top`.
+    /// The tile drawn (`count` when none is out of date), its corner in the target (texels,
+    /// the pass's frag-coord space), and the rows of it drawn this frame, into the back
+    /// target: `height` rows from its row `top`.
     pub tile: u32,
     pub x: u32,
     pub y: u32,
     pub top: u32,
     pub height: u32,
     /// 1 when they are the tile's first band: take the copy of the block the tile's bands are
-    /// drawn from (and the sun's lookup and the anchor it is kept with) before drawing them.
+    /// drawn from (for a cascade, with the sun's lookup and the anchor it is kept with) before
+    /// drawing them.
     pub first: u32,
-    /// 1 when they are its last: copy the tile's square from the back atlas into the one the clouds
-    /// read, and keep the copied block's transform for the tile (`redrawn_tiles`).
+    /// 1 when they are its last: copy the tile from the back target into the one the clouds
+    /// read, and (cascades) keep the copied block's transform for it (`redrawn_tiles`).
     pub last: u32,
 }
 
-/// Rows of a tile of `side` texels drawn per frame: [`BAND_TEXELS`] texels, at least one row,
-/// at most the tile.
+/// Rows of a target `width` texels wide drawn per frame: [`BAND_TEXELS`] texels, at least
+/// one row, at most `height`.
 #[shader_fn]
-pub fn band_rows(side: u32) -> u32 {
-    let rows = BAND_TEXELS / select(side, 1u32, side == 0u32);
-    select(select(rows, side, rows > side), 1u32, rows == 0u32)
+pub fn band_rows(width: u32, height: u32) -> u32 {
+    let rows = BAND_TEXELS / select(width, 1u32, width == 0u32);
+    select(select(rows, height, rows > height), 1u32, rows == 0u32)
 }
 
-/// Bands a tile of `side` texels is drawn in (the last may be shorter).
+/// Bands a tile of `width` × `height` texels is drawn in (the last may be shorter).
+#[shader_fn]
+pub fn bands_of(width: u32, height: u32) -> u32 {
+    let rows = band_rows(width, height);
+    let whole = height / rows;
+    whole + select(0u32, 1u32, whole * rows < height)
+}
+
+/// Bands a square cascade tile of `side` texels is drawn in.
 #[shader_fn]
 pub fn tile_bands(side: u32) -> u32 {
-    let rows = band_rows(side);
-    let whole = side / rows;
-    whole + select(0u32, 1u32, whole * rows < side)
+    bands_of(side, side)
 }
 
 /// Every one of `count` tiles out of date (the sun, the camera's place or the clouds moved):
@@ -80,11 +88,12 @@ pub fn tiles_out_of_date(s: TileRedraw, count: u32) -> TileRedraw {
     }
 }
 
-/// This frame's band of the redraw of `count` tiles of `side` texels in rotation: the next band
-/// of the tile in progress, or the first of the first out-of-date tile from where the rotation
-/// stands.
+/// This frame's band of the redraw in rotation of `count` tiles of `width` × `height` texels
+/// (in the atlas's grid, [`atlas_columns`]): the next band of the tile in progress, or the
+/// first of the first out-of-date tile from where the rotation stands. The shadow atlas's
+/// cascades are square tiles; the air table is one tile.
 #[shader_fn]
-pub fn band_redraw(s: TileRedraw, count: u32, side: u32) -> BandDraw {
+pub fn band_redraw(s: TileRedraw, count: u32, width: u32, height: u32) -> BandDraw {
     let mut tile = s.tile;
     let mut stale = s.stale;
     let mut first = 0u32;
@@ -113,13 +122,10 @@ pub fn band_redraw(s: TileRedraw, count: u32, side: u32) -> BandDraw {
         stale -= 1u32 << found;
         first = 1u32;
     }
-    let rows = band_rows(side);
+    let rows = band_rows(width, height);
     let top = s.band * rows;
-    let height = select(rows, side - top, side - top < rows);
     let columns = atlas_columns(count);
-    let x = (tile % columns) * side;
-    let y = (tile / columns) * side;
-    let done = s.band + 1u32 >= tile_bands(side);
+    let done = s.band + 1u32 >= bands_of(width, height);
     BandDraw {
         state: TileRedraw {
             stale,
@@ -128,10 +134,10 @@ pub fn band_redraw(s: TileRedraw, count: u32, side: u32) -> BandDraw {
             next: select(s.next, (tile + 1u32) % count, done),
         },
         tile,
-        x,
-        y,
+        x: (tile % columns) * width,
+        y: (tile / columns) * height,
         top,
-        height,
+        height: select(rows, height - top, height - top < rows),
         first,
         last: select(0u32, 1u32, done),
     }
