@@ -3,7 +3,8 @@
 //! sun, is read through the transform it was drawn with, moved to where its clouds are now;
 //! a tile redrawn takes the sun's transform as it is, the others keep theirs to the bit; the
 //! JavaScript twins the engine packages run give the same transforms; and the wgpu runtime in
-//! rotation ends, a tile a frame, at the atlas and the frame a whole redraw draws.
+//! rotation ends, a band of a tile a frame (and the air table in bands), at the atlas, the
+//! table and the frame a whole redraw draws, never showing a tile half drawn.
 
 mod common;
 

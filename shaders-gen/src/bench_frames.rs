@@ -173,9 +173,10 @@ fn compare_paths(
 /// over a few minutes of frames, enough that every frame changes what the atlas shows.
 const SUN_STEP_DEG: f32 = 0.05;
 
-/// A game loop whose sun moves every frame, per preset and resolution: the shadow atlas
-/// redrawn whole every frame against cascades in rotation (one tile a frame:
-/// `Renderer::set_cascade_rotation`), and the atlas cached (the sun still) for reference.
+/// A game loop whose sun moves every frame, per preset and resolution: the shadow atlas and
+/// the air table redrawn whole every frame against cascades in rotation (a band of a tile and
+/// a band of the table a frame: `Renderer::set_cascade_rotation`), and both cached (the sun
+/// still) for reference.
 pub(crate) fn run_moving_sun(
     data: Option<&FilePath>,
     args: &RenderArgs,
@@ -193,7 +194,7 @@ pub(crate) fn run_moving_sun(
     );
     say!();
     say!(
-        "| preset | upscaling | atlas cached | whole atlas every frame | a tile a frame (rotation) | rotation ÷ whole |"
+        "| preset | upscaling | atlas cached | whole atlas every frame | a band a frame (rotation) | rotation ÷ whole |"
     );
     say!("|---|---|---:|---:|---:|---:|");
     for quality in Quality::ALL {

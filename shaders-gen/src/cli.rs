@@ -190,7 +190,8 @@ pub(crate) enum Command {
         #[arg(long, conflicts_with = "uber")]
         effect_changes: bool,
         /// Instead of the presets as they stand: a sun that moves every frame, the shadow
-        /// atlas redrawn whole each frame against cascades in rotation (a tile a frame).
+        /// atlas and air table redrawn whole each frame against cascades in rotation (a band a
+        /// frame).
         #[arg(long, conflicts_with_all = ["uber", "effect_changes"])]
         moving_sun: bool,
     },
