@@ -407,3 +407,126 @@ fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
         "the control: the frame after the move already looked whole ({first})"
     );
 }
+
+/// A tile is drawn, band by band, from the block of its first band: with the sun moving every
+/// frame while `high`'s first tile is drawn in its bands, the tile copied in is a whole
+/// redraw's for the sun of that first band, to the bit. The control: a whole redraw for the sun
+/// of its last band differs (bands drawn from the block of their own frame would mix the two).
+#[test]
+fn a_tile_drawn_in_bands_shows_the_sun_of_its_first_band() {
+    use nimbus_clouds::model::tile_bands::tile_bands;
+    use nimbus_runtime::render::{Frame, Image, Renderer};
+    let Some(gpu) = common::gpu() else { return };
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let frame = |azimuth: f32| {
+        let mut f = Frame::new(
+            lib.genus("cumulus").expect("cumulus").clone(),
+            Quality::High,
+            64,
+            36,
+        );
+        f.camera_pitch_deg = 20.0;
+        f.sun_elevation_deg = 30.0;
+        f.sun_azimuth_deg = azimuth;
+        f.frames = 1;
+        f.continue_history = false;
+        f
+    };
+    let side = Quality::High.settings().shadow_map_size as usize;
+    let bands = tile_bands(side as u32);
+    let tile0 = |a: &Image, b: &Image| {
+        let mut d = 0.0f32;
+        for y in 0..side {
+            for x in 0..side {
+                let (p, q) = (
+                    a.pixels[y * a.width as usize + x],
+                    b.pixels[y * b.width as usize + x],
+                );
+                d = (0..4).map(|c| (p[c] - q[c]).abs()).fold(d, f32::max);
+            }
+        }
+        d
+    };
+    let whole = |azimuth: f32| {
+        let mut r = Renderer::new(gpu, common::SMALL_TEXTURES);
+        r.render(&frame(azimuth)).expect("render");
+        r.shadow_atlas().expect("readback").expect("atlas")
+    };
+    let mut rotating = Renderer::new(gpu, common::SMALL_TEXTURES);
+    rotating.set_cascade_rotation(true);
+    rotating.render(&frame(150.0)).expect("render");
+    // The sun moves 3° of azimuth every frame while tile 0's bands are drawn.
+    let azimuth = |i: u32| 153.0 + 3.0 * i as f32;
+    for i in 0..bands {
+        rotating.render(&frame(azimuth(i))).expect("render");
+    }
+    let atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
+    let first = tile0(&atlas, &whole(azimuth(0)));
+    let last = tile0(&atlas, &whole(azimuth(bands - 1)));
+    println!(
+        "tile 0 drawn in {bands} bands with the sun moving 3° a frame: {first} from a whole \
+         redraw for its first band's sun, {last} from one for its last band's"
+    );
+    assert!(first == 0.0, "tile 0 is not its first band's sun: {first}");
+    assert!(
+        last > 1e-3,
+        "the control: the sun's move changed nothing ({last})"
+    );
+}
+
+/// Switching the rotation off while a tile is half drawn redraws the whole atlas on the next
+/// frame (a half-drawn tile, or tiles read through the sun as it is, would put shadows out of
+/// place): the atlas is then a whole redraw's to the bit. The control: the atlas a frame into
+/// the rotation is still the old sun's.
+#[test]
+fn switching_the_rotation_off_mid_tile_redraws_the_atlas_whole() {
+    use nimbus_runtime::render::{Frame, Image, Renderer};
+    let Some(gpu) = common::gpu() else { return };
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let frame = |elevation: f32| {
+        let mut f = Frame::new(
+            lib.genus("cumulus").expect("cumulus").clone(),
+            Quality::High,
+            64,
+            36,
+        );
+        f.camera_pitch_deg = 20.0;
+        f.sun_elevation_deg = elevation;
+        f.frames = 1;
+        f.continue_history = false;
+        f
+    };
+    let largest = |a: &Image, b: &Image| {
+        a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs()))
+            .fold(0.0f32, f32::max)
+    };
+    let mut whole = Renderer::new(gpu, common::SMALL_TEXTURES);
+    whole.render(&frame(20.0)).expect("render");
+    let want = whole.shadow_atlas().expect("readback").expect("atlas");
+    let mut r = Renderer::new(gpu, common::SMALL_TEXTURES);
+    r.set_cascade_rotation(true);
+    r.render(&frame(35.0)).expect("render");
+    let old = r.shadow_atlas().expect("readback").expect("atlas");
+    // One band drawn into the back atlas, then the rotation switched off.
+    r.render(&frame(20.0)).expect("render");
+    let mid = r.shadow_atlas().expect("readback").expect("atlas");
+    r.set_cascade_rotation(false);
+    r.render(&frame(20.0)).expect("render");
+    let after = r.shadow_atlas().expect("readback").expect("atlas");
+    let (d, control) = (largest(&after, &want), largest(&mid, &old));
+    println!(
+        "rotation off mid-tile: the next atlas {d} from a whole redraw (a frame into the \
+         rotation it was the old one's: {control} from it; the old against the new: {})",
+        largest(&old, &want)
+    );
+    assert!(
+        d == 0.0,
+        "the atlas after switching the rotation off differs by {d}"
+    );
+    assert!(control == 0.0 && largest(&old, &want) > 1e-2);
+}

@@ -41,8 +41,8 @@ async function run(result) {
     clouds.setWeather(coverage, { at, over });
   }
   if (q.has('time')) clouds.setTime(number('time', 0));
-  // `rotation=0` redraws every out-of-date cascade tile at once; by default one a frame, and
-  // `settle=N` draws N frames first (a tile each) so that the published frame's atlas is whole.
+  // `rotation=0` redraws every out-of-date cascade tile at once; by default a band of one a
+  // frame, and `settle=N` draws N frames first (a band each) before the published one.
   if (q.get('rotation') === '0') clouds.cascadeRotation = false;
   for (let i = 0; i < number('settle', 0); i++) clouds.render(renderer);
   const gl = renderer.getContext();

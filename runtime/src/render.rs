@@ -28,7 +28,7 @@ use nimbus_clouds::model::resolve::ResolveParams;
 use nimbus_clouds::model::shadow::{
     CascadeLookup, anchored_tiles, atlas_columns, redrawn_tiles, shadow_anchor,
 };
-use nimbus_clouds::model::tile_bands::{TileRedraw, band_redraw, tiles_out_of_date};
+use nimbus_clouds::model::tile_bands::{BandDraw, TileRedraw, band_redraw, tiles_out_of_date};
 use nimbus_clouds::wind::Drift;
 use nimbus_codegen::{BindingInfo, BindingKind};
 use nimbus_dsl::ShaderVariant;
@@ -171,6 +171,7 @@ struct ShadowPass {
 /// it stood, with the sun's lookup and the clouds' anchor of that frame, which the tile keeps
 /// once its last band is drawn.
 struct BandedTile {
+    key: ShaderKey,
     block: CloudUniforms,
     current: CascadeLookup,
     anchor: Vec3,
@@ -218,7 +219,10 @@ struct AirBands {
 /// The bake pass (the baked paths: the slice stack, the 2D map), redrawn when its key or what
 /// the bake depends on changes (the sun, the camera's place, the layers, the weather; not the
 /// view).
-type BakePass = CachedPass<(ShaderKey, nimbus_dsl::layout::Members)>;
+/// The bake's inputs: its key, the block members it depends on, and the air table's
+/// generation (the renderer's `air_generation`: a table drawn in bands reaches the bake frames
+/// after the block's sun moved).
+type BakePass = CachedPass<(ShaderKey, nimbus_dsl::layout::Members, u64)>;
 
 /// The cloud pass: its uniform buffer, bind group and low-resolution target.
 struct CloudPass {
@@ -274,6 +278,9 @@ pub struct Renderer<'g> {
     shadow: Option<ShadowPass>,
     air: Option<AirPass>,
     air_bands: Option<AirBands>,
+    /// Bumped whenever the air table the passes read changes (drawn whole, or a table drawn
+    /// in bands copied in).
+    air_generation: u64,
     bake: Option<BakePass>,
     clouds: Option<CloudPass>,
     resolve: Option<ResolvePass>,
@@ -404,6 +411,7 @@ impl<'g> Renderer<'g> {
             shadow: None,
             air: None,
             air_bands: None,
+            air_generation: 0,
             bake: None,
             clouds: None,
             resolve: None,
@@ -448,6 +456,19 @@ impl<'g> Renderer<'g> {
     /// old, in the right place. The air table, once drawn whole, is redrawn in bands likewise.
     /// Off by default: an image rendered once is drawn with its whole atlas and table.
     pub fn set_cascade_rotation(&mut self, on: bool) {
+        if !on {
+            // Tiles left out of date or half drawn by the rotation are redrawn whole on the next
+            // frame (read through the sun as it is, they would show shadows out of place); a
+            // table in progress is dropped (the air table is redrawn whole when out of date).
+            if let Some(p) = &mut self.shadow
+                && (p.redraw.stale != 0 || p.redraw.band != 0)
+            {
+                p.inputs = None;
+                p.redraw = TileRedraw::default();
+                p.banded = None;
+            }
+            self.air_bands = None;
+        }
         self.cascade_rotation = on;
     }
 
@@ -801,10 +822,12 @@ impl<'g> Renderer<'g> {
             return Ok(());
         };
         let key = ShaderKey::Bake(clouds);
+        let generation = self.air_generation;
         let drawn = bake_inputs(u, &clouds)
             .map_err(RuntimeError::from)
             .and_then(|inputs| {
-                self.draw_cached(&mut pass, key, (key, inputs), u, encoder, timer, "bake")
+                let inputs = (key, inputs, generation);
+                self.draw_cached(&mut pass, key, inputs, u, encoder, timer, "bake")
             });
         self.bake = Some(pass);
         drawn
@@ -871,11 +894,16 @@ impl<'g> Renderer<'g> {
     /// back atlas from the block as it stood at that tile's first band; with its last band the
     /// tile is copied into the atlas and keeps that block's transform. Writes every tile's
     /// transform, moved to where its clouds are now, into the frame's block.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the pass's key, the frame's block, anchor and switch, encoder and timer"
+    )]
     fn rotate_cascades(
         &mut self,
         key: ShaderKey,
         u: &mut CloudUniforms,
         anchor: Vec3,
+        draw_band: bool,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut Option<PassTimer>,
     ) -> Result<(), RuntimeError> {
@@ -884,10 +912,41 @@ impl<'g> Renderer<'g> {
         };
         let count = u.shadow.cascade_count;
         let side = u.shadow.map_size as u32;
-        let step = band_redraw(p.redraw, count, side, side);
+        // The key or the tiles' layout changed under a tile in progress (the atlas kept its
+        // size): that tile is dropped and redrawn in its turn, all of it by one key.
+        if p.banded.as_ref().is_some_and(|b| {
+            b.key != key
+                || b.block.shadow.map_size != u.shadow.map_size
+                || b.block.shadow.cascade_count != count
+        }) {
+            p.redraw = tiles_out_of_date(
+                TileRedraw {
+                    band: 0,
+                    ..p.redraw
+                },
+                count,
+            );
+            p.banded = None;
+        }
+        let step = if draw_band {
+            band_redraw(p.redraw, count, side, side)
+        } else {
+            // Nothing drawn, the redraw where it stands.
+            BandDraw {
+                state: p.redraw,
+                tile: count,
+                x: 0,
+                y: 0,
+                top: 0,
+                height: 0,
+                first: 0,
+                last: 0,
+            }
+        };
         p.redraw = step.state;
         if step.first == 1 {
             p.banded = Some(BandedTile {
+                key,
                 block: *u,
                 current: u.shadow.lookup,
                 anchor,
@@ -968,7 +1027,8 @@ impl<'g> Renderer<'g> {
             _ => {
                 // Drawn whole: a table in progress is dropped.
                 self.air_bands = None;
-                self.draw_cached(
+                let before = pass.inputs;
+                let drawn = self.draw_cached(
                     &mut pass,
                     ShaderKey::AirTable,
                     inputs,
@@ -976,7 +1036,11 @@ impl<'g> Renderer<'g> {
                     encoder,
                     timer,
                     "air",
-                )
+                );
+                if pass.inputs != before {
+                    self.air_generation += 1;
+                }
+                drawn
             }
         };
         self.air = Some(pass);
@@ -1041,6 +1105,7 @@ impl<'g> Renderer<'g> {
         if step.last == 1 {
             copy_region(encoder, &bands.back, &pass.target, [0, 0, w, h]);
             pass.inputs = Some(from);
+            self.air_generation += 1;
         }
         Ok(())
     }
@@ -1348,6 +1413,9 @@ impl<'g> Renderer<'g> {
                 .as_ref()
                 .is_some_and(|p| p.inputs.as_ref() != Some(&inputs));
             let mut continue_refresh = false;
+            // A band of a key change drawn this frame (no-stall): the rotation draws none, the
+            // two sharing the shadow pass's uniform buffer.
+            let mut refreshed = false;
             if stale {
                 let rebuild = !matches!(&self.shadow, Some(ShadowPass { group: Some(g), .. })
                     if g.key == key && g.epoch == self.epoch);
@@ -1405,6 +1473,18 @@ impl<'g> Renderer<'g> {
                     self.passes.push("shadow");
                 }
                 if let Some(p) = &mut self.shadow {
+                    if tile.is_some() && p.redraw.band != 0 {
+                        // A band of the new key over a tile in progress (drawn by the old key
+                        // into the back atlas): that tile is dropped and redrawn in its turn,
+                        // so its copy cannot undo the refresh.
+                        p.redraw = TileRedraw {
+                            stale: p.redraw.stale | (1 << p.redraw.tile),
+                            band: 0,
+                            ..p.redraw
+                        };
+                        p.banded = None;
+                    }
+                    refreshed = tile.is_some();
                     match tile {
                         Some(k) if k + 1 < regions => {
                             p.refreshing = Some((key, k + 1));
@@ -1434,7 +1514,7 @@ impl<'g> Renderer<'g> {
                 }
             }
             if self.cascade_rotation {
-                self.rotate_cascades(key, &mut u, anchor, &mut encoder, &mut timer)?;
+                self.rotate_cascades(key, &mut u, anchor, !refreshed, &mut encoder, &mut timer)?;
             }
         } else if self.shadow.take().is_some() {
             // No shadows in this key: the atlas of an earlier one is not kept.

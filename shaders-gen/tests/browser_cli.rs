@@ -526,8 +526,8 @@ fn timeline_scene(dir: &Path, name: &str, wind: bool, weather: bool) -> PathBuf 
 /// after a frame drawn at second 0 (so a shadow atlas left stale by the clock's move fails).
 /// Controls: the same scene at second 0 (neither the drift nor the thinning applied), and at
 /// the same time without its wind (the thinning alone) or without its weather state (the
-/// drift alone), must each fail the comparison. The atlas is redrawn a cascade tile per frame
-/// (`cascadeRotation`), each tile in bands: once every band is redrawn the frame is the one a
+/// drift alone), must each fail the comparison. The atlas is redrawn a band of a tile per frame
+/// (`cascadeRotation`): once every band is redrawn the frame is the one a
 /// whole redraw draws, and the frame right after the clock's move (a band drawn into the back
 /// atlas, none copied yet) is not.
 #[test]
@@ -924,4 +924,69 @@ fn the_impostor_follows_a_moved_sun_through_rotating_cascades() {
         before > 0.3,
         "the control: one tile redrawn already looked whole ({before})"
     );
+}
+
+/// Cascades in rotation at `high`, in both JavaScript hosts: three 512-texel tiles in a 2 × 2
+/// grid, each in eight bands, so bands land in the atlas's second row of tiles and the copies
+/// come from it too (WebGL counts rows from the bottom, WebGPU from the top). After a frame at
+/// the package's sun, the sun moved: once every band is drawn the frame is the one a whole
+/// redraw gives; a frame short (the last tile's last band not drawn) it is not.
+#[test]
+fn both_hosts_rotate_high_cascades_in_bands_to_the_whole_redraw() {
+    if !browser_tools_present("the browser test of high's bands", missing()) {
+        return;
+    }
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("browser-high-bands");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).expect("folder");
+    let v = View {
+        name: "high-bands",
+        quality: "high",
+        ..VIEWS[0]
+    };
+    let moved = &VIEWS[1];
+    let scene_file = scene(&out, &v);
+    let frames = rotation_frames(nimbus_clouds::Quality::High);
+    let sun = format!("sun={},{}", moved.sun_elevation, moved.sun_azimuth);
+    for engine in ["three", "webgpu"] {
+        let package = out.join(engine);
+        let o = nimbus(&[
+            "emit",
+            "--engine",
+            engine,
+            "--scene",
+            scene_file.to_str().expect("utf8"),
+            "-o",
+            package.to_str().expect("utf8"),
+        ]);
+        assert!(o.status.success(), "emit {engine}: {}", text(&o.stderr));
+        let page = |name: &str, extra: &[String]| {
+            let mut args = view_args(160, 90, &v);
+            if engine == "webgpu" {
+                args.push("page=webgpu".to_string());
+            }
+            args.extend(["first=1".to_string(), sun.clone()]);
+            args.extend(extra.iter().cloned());
+            browser_frame(&package, &out.join(format!("{engine}-{name}.png")), &args)
+        };
+        let whole = page("whole", &["rotation=0".to_string()]);
+        let settled = page("settled", &[format!("settle={}", frames - 1)]);
+        let short = page("short", &[format!("settle={}", frames - 2)]);
+        let (after, before) = (
+            mean_difference(&whole, &settled),
+            mean_difference(&whole, &short),
+        );
+        println!(
+            "{engine}, high in bands ({frames} frames): {after:.3}/255 from a whole redraw once \
+             every band is drawn, {before:.3}/255 a frame short"
+        );
+        assert!(
+            after <= 0.1,
+            "{engine}: the rotation did not end at the whole atlas: {after}"
+        );
+        assert!(
+            before > 0.1,
+            "{engine}: the control: a frame short already looked whole ({before})"
+        );
+    }
 }

@@ -160,6 +160,11 @@ export declare class NimbusHost {
    */
   airBands(): BandPlan;
   /**
+   * `shadowTiles` for a pass drawn before the frame's `render` (the scene's shadow): the
+   * frame's band is drawn then, and `render`'s own call draws none.
+   */
+  shadowTilesAhead(): BandPlan;
+  /**
    * The block bytes the shadow and air passes draw from (bind them as their cloud block): the
    * pair block as it was when the tile or table in progress began.
    */

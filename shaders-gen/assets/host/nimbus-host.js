@@ -240,6 +240,7 @@ export class NimbusHost {
     // redraw in rotation stands (`band_redraw`), and the tiles of the sun as it is now.
     this.tiles = null;
     this.redraw = { stale: 0, tile: 0, band: 0, next: 0 };
+    this.shadowAhead = false;
     // The blocks the shadow and air passes draw from (`passBlocks`, by pass): the pair block
     // as it was when the tile in progress began (its bands all drawn from it), or as it is
     // for a whole redraw; for the shadow tile, with the sun's lookup and the clouds' anchor of
@@ -429,8 +430,14 @@ export class NimbusHost {
     }
     const anchor = shadow_anchor(u.vector('camera_offset', 3), u.float('camera_altitude'), u.vector('media.wind_drift', 2));
     let plan = { rects: [], back: false, copy: null };
+    if (this.shadowAhead) {
+      // Planned already this frame (`renderSceneShadow` before `render`): one band a frame.
+      this.shadowAhead = false;
+      return plan;
+    }
     if (!this.cascadeRotation || !this.tiles) {
-      if (this.redraw.stale !== 0) {
+      // Out of date, or left half drawn by a rotation since switched off.
+      if (this.redraw.stale !== 0 || this.redraw.band !== 0) {
         // The whole atlas in one draw (its empty corner draws nothing), every tile for the
         // sun as it is, around the camera; a tile in progress is dropped.
         this.tiles = redrawn_tiles(this.currentTiles, this.currentTiles, anchor, [1, 1, 1, 1]);
@@ -475,16 +482,33 @@ export class NimbusHost {
       this.airDirty = false;
     }
     if (!this.cascadeRotation || !this.airDrawn) {
-      if (!this.airRedraw.stale) return { rects: [], back: false, copy: null };
+      // Out of date, or left half drawn by a rotation since switched off.
+      if (!this.airRedraw.stale && !this.airRedraw.band) return { rects: [], back: false, copy: null };
       this.airRedraw = { stale: 0, tile: 0, band: 0, next: 0 };
       this.airDrawn = true;
       block.set(u.bytes);
+      // A bake reads the table too: a new one bakes it again.
+      this.bakeDrawn = null;
       return { rects: [[0, 0, width, height]], back: false, copy: null };
     }
     const step = band_redraw(this.airRedraw, 1, width, height);
     this.airRedraw = step.state;
     if (step.first) block.set(u.bytes);
+    // The table copied in reaches the passes frames after the block's sun moved: a bake
+    // that reads it is baked again.
+    if (step.last) this.bakeDrawn = null;
     return bandPlan(step, width, height);
+  }
+
+  /**
+   * `shadowTiles` for a pass drawn before the frame's `render` (the scene's shadow): the
+   * frame's band is drawn then, and `render`'s own call draws none.
+   */
+  shadowTilesAhead() {
+    this.shadowAhead = false;
+    const plan = this.shadowTiles();
+    this.shadowAhead = true;
+    return plan;
   }
 
   /**

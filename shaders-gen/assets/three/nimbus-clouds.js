@@ -442,7 +442,7 @@ export class NimbusClouds extends NimbusHost {
       this.sceneShadowTarget.setSize(width, height);
     }
     const previous = renderer.getRenderTarget();
-    this.drawShadowAtlas(renderer);
+    this.drawPlan(renderer, 'shadow', this.shadowTarget, this.shadowTilesAhead());
     this.draw(renderer, this.passes.scene_shadow, this.sceneShadowTarget);
     renderer.setRenderTarget(previous);
     return this.sceneShadowTarget.texture;

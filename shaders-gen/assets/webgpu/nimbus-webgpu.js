@@ -243,7 +243,7 @@ export class NimbusWebGPU extends NimbusHost {
     }
     const queue = this.device.queue;
     const encoder = this.device.createCommandEncoder({ label: 'nimbus scene shadow' });
-    const plan = this.passes.shadow ? this.shadowTiles() : null;
+    const plan = this.passes.shadow ? this.shadowTilesAhead() : null;
     for (const [name, block] of Object.entries(this.blocks)) queue.writeBuffer(this.buffers[name], 0, block.bytes);
     this.drawShadowAtlas(encoder, plan);
     this.draw(encoder, 'scene_shadow', this.sceneShadowTarget.createView());

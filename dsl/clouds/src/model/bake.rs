@@ -36,9 +36,10 @@ pub const BAKE_IGNORES: [&str; 11] = [
 /// The member of [`BAKE_IGNORES`] the bake of a key that samples the shadow map
 /// ([`CloudKey::uses_shadow_map`]) does depend on: each bake lights its texels as the volume's
 /// march does at its key, and that reads the map through the cascades' transforms. With
-/// cascades in rotation (the JavaScript hosts' default) a moved sun redraws one tile a frame,
-/// each redraw moves its transform, and the bake is drawn again until every tile is the new
-/// sun's: a bake made with the first tile alone would keep the old sun's shadows for good.
+/// cascades in rotation (the JavaScript hosts' default) a moved sun redraws the tiles in turn,
+/// each in bands ([`super::tile_bands`]); each tile copied in moves its transform, and the bake
+/// is drawn again until every tile is the new sun's: a bake made with the first tile alone
+/// would keep the old sun's shadows for good.
 pub const MAP_READS: &str = "shadow.lookup";
 
 /// The members of [`BAKE_IGNORES`] an impostor that bakes the whole view
