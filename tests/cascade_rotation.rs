@@ -63,6 +63,48 @@ fn cloud_point(p: Vec3, camera_offset: Vec3, camera_altitude: f32, drift: Vec2) 
     )
 }
 
+/// A `high` frame of cumulus at 64 × 36, the sun at `elevation` and `azimuth`, one frame
+/// drawn on its own: what the runtime tests below render.
+fn high_frame(lib: &CloudLibrary, elevation: f32, azimuth: f32) -> nimbus_runtime::render::Frame {
+    let mut f = nimbus_runtime::render::Frame::new(
+        lib.genus("cumulus").expect("cumulus").clone(),
+        Quality::High,
+        64,
+        36,
+    );
+    f.camera_pitch_deg = 20.0;
+    f.sun_elevation_deg = elevation;
+    f.sun_azimuth_deg = azimuth;
+    f.frames = 1;
+    f.continue_history = false;
+    f
+}
+
+/// The largest difference between two images, every channel.
+fn largest(a: &nimbus_runtime::render::Image, b: &nimbus_runtime::render::Image) -> f32 {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0f32, f32::max)
+}
+
+/// The largest difference between two atlases over their first tile (the top-left square of
+/// `side` texels).
+fn tile0(a: &nimbus_runtime::render::Image, b: &nimbus_runtime::render::Image, side: usize) -> f32 {
+    let mut d = 0.0f32;
+    for y in 0..side {
+        for x in 0..side {
+            let (p, q) = (
+                a.pixels[y * a.width as usize + x],
+                b.pixels[y * b.width as usize + x],
+            );
+            d = (0..4).map(|c| (p[c] - q[c]).abs()).fold(d, f32::max);
+        }
+    }
+    d
+}
+
 #[test]
 fn a_kept_tile_is_read_where_its_clouds_are_now() {
     for quality in [Quality::Low, Quality::High] {
@@ -257,44 +299,12 @@ fn the_javascript_twins_keep_and_read_the_tiles_as_the_cpu_twins() {
 fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
     use nimbus_clouds::model::air_table::air_table_size;
     use nimbus_clouds::model::tile_bands::{bands_of, tile_bands};
-    use nimbus_runtime::render::{Frame, Image, Renderer};
+    use nimbus_runtime::render::Renderer;
     let Some(gpu) = common::gpu() else { return };
     let lib =
         CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
-    let frame = |elevation: f32| {
-        let mut f = Frame::new(
-            lib.genus("cumulus").expect("cumulus").clone(),
-            Quality::High,
-            64,
-            36,
-        );
-        f.camera_pitch_deg = 20.0;
-        f.sun_elevation_deg = elevation;
-        f.frames = 1;
-        f.continue_history = false;
-        f
-    };
-    let largest = |a: &Image, b: &Image| {
-        a.pixels
-            .iter()
-            .zip(&b.pixels)
-            .flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs()))
-            .fold(0.0f32, f32::max)
-    };
+    let frame = |elevation: f32| high_frame(&lib, elevation, 150.0);
     // The atlas's first tile (its top-left square of `side` texels) against another's.
-    let tile0 = |a: &Image, b: &Image, side: usize| {
-        let mut d = 0.0f32;
-        for y in 0..side {
-            for x in 0..side {
-                let (p, q) = (
-                    a.pixels[y * a.width as usize + x],
-                    b.pixels[y * b.width as usize + x],
-                );
-                d = (0..4).map(|c| (p[c] - q[c]).abs()).fold(d, f32::max);
-            }
-        }
-        d
-    };
     let settings = Quality::High.settings();
     let (count, side) = (settings.shadow_cascade_count, settings.shadow_map_size);
     let bands = tile_bands(side);
@@ -415,39 +425,13 @@ fn the_runtime_redraws_a_band_a_frame_and_ends_at_the_whole_atlas() {
 #[test]
 fn a_tile_drawn_in_bands_shows_the_sun_of_its_first_band() {
     use nimbus_clouds::model::tile_bands::tile_bands;
-    use nimbus_runtime::render::{Frame, Image, Renderer};
+    use nimbus_runtime::render::Renderer;
     let Some(gpu) = common::gpu() else { return };
     let lib =
         CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
-    let frame = |azimuth: f32| {
-        let mut f = Frame::new(
-            lib.genus("cumulus").expect("cumulus").clone(),
-            Quality::High,
-            64,
-            36,
-        );
-        f.camera_pitch_deg = 20.0;
-        f.sun_elevation_deg = 30.0;
-        f.sun_azimuth_deg = azimuth;
-        f.frames = 1;
-        f.continue_history = false;
-        f
-    };
+    let frame = |azimuth: f32| high_frame(&lib, 30.0, azimuth);
     let side = Quality::High.settings().shadow_map_size as usize;
     let bands = tile_bands(side as u32);
-    let tile0 = |a: &Image, b: &Image| {
-        let mut d = 0.0f32;
-        for y in 0..side {
-            for x in 0..side {
-                let (p, q) = (
-                    a.pixels[y * a.width as usize + x],
-                    b.pixels[y * b.width as usize + x],
-                );
-                d = (0..4).map(|c| (p[c] - q[c]).abs()).fold(d, f32::max);
-            }
-        }
-        d
-    };
     let whole = |azimuth: f32| {
         let mut r = Renderer::new(gpu, common::SMALL_TEXTURES);
         r.render(&frame(azimuth)).expect("render");
@@ -462,8 +446,8 @@ fn a_tile_drawn_in_bands_shows_the_sun_of_its_first_band() {
         rotating.render(&frame(azimuth(i))).expect("render");
     }
     let atlas = rotating.shadow_atlas().expect("readback").expect("atlas");
-    let first = tile0(&atlas, &whole(azimuth(0)));
-    let last = tile0(&atlas, &whole(azimuth(bands - 1)));
+    let first = tile0(&atlas, &whole(azimuth(0)), side);
+    let last = tile0(&atlas, &whole(azimuth(bands - 1)), side);
     println!(
         "tile 0 drawn in {bands} bands with the sun moving 3° a frame: {first} from a whole \
          redraw for its first band's sun, {last} from one for its last band's"
@@ -481,30 +465,11 @@ fn a_tile_drawn_in_bands_shows_the_sun_of_its_first_band() {
 /// the rotation is still the old sun's.
 #[test]
 fn switching_the_rotation_off_mid_tile_redraws_the_atlas_whole() {
-    use nimbus_runtime::render::{Frame, Image, Renderer};
+    use nimbus_runtime::render::Renderer;
     let Some(gpu) = common::gpu() else { return };
     let lib =
         CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
-    let frame = |elevation: f32| {
-        let mut f = Frame::new(
-            lib.genus("cumulus").expect("cumulus").clone(),
-            Quality::High,
-            64,
-            36,
-        );
-        f.camera_pitch_deg = 20.0;
-        f.sun_elevation_deg = elevation;
-        f.frames = 1;
-        f.continue_history = false;
-        f
-    };
-    let largest = |a: &Image, b: &Image| {
-        a.pixels
-            .iter()
-            .zip(&b.pixels)
-            .flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs()))
-            .fold(0.0f32, f32::max)
-    };
+    let frame = |elevation: f32| high_frame(&lib, elevation, 150.0);
     let mut whole = Renderer::new(gpu, common::SMALL_TEXTURES);
     whole.render(&frame(20.0)).expect("render");
     let want = whole.shadow_atlas().expect("readback").expect("atlas");
