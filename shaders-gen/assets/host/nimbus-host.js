@@ -431,11 +431,10 @@ export class NimbusHost {
     const anchor = shadow_anchor(u.vector('camera_offset', 3), u.float('camera_altitude'), u.vector('media.wind_drift', 2));
     let plan = { rects: [], back: false, copy: null };
     if (this.shadowAhead) {
-      // Planned already this frame (`renderSceneShadow` before `render`): one band a frame.
+      // Planned already this frame (`renderSceneShadow` before `render`): one band a frame,
+      // the lookup written again below for the camera as it is now.
       this.shadowAhead = false;
-      return plan;
-    }
-    if (!this.cascadeRotation || !this.tiles) {
+    } else if (!this.cascadeRotation || !this.tiles) {
       // Out of date, or left half drawn by a rotation since switched off.
       if (this.redraw.stale !== 0 || this.redraw.band !== 0) {
         // The whole atlas in one draw (its empty corner draws nothing), every tile for the
