@@ -880,13 +880,21 @@ impl<'g> Renderer<'g> {
     /// The bake as last drawn (the slice stack or the 2D map), or `None` when the last frame's
     /// key has none.
     pub fn baked(&mut self) -> Result<Option<Image>, RuntimeError> {
-        let Some(p) = self.bake.as_ref() else {
+        self.read_kept(|r| r.bake.as_ref().map(|p| &p.target))
+    }
+
+    /// A target the renderer keeps across frames (`target` picks it, `None` when the last
+    /// key had none), read back.
+    fn read_kept(
+        &mut self,
+        target: impl Fn(&Self) -> Option<&Target>,
+    ) -> Result<Option<Image>, RuntimeError> {
+        let Some((w, h)) = target(self).map(size_of) else {
             return Ok(None);
         };
-        let (w, h) = size_of(&p.target);
         self.ensure_readback(w, h);
-        let p = self.bake.as_ref().ok_or_else(missing)?;
-        self.read_back(&p.target).map(Some)
+        let t = target(self).ok_or_else(missing)?;
+        self.read_back(t).map(Some)
     }
 
     /// Cascades in rotation ([`Self::set_cascade_rotation`]): draws this frame's band of the
@@ -1714,29 +1722,13 @@ impl<'g> Renderer<'g> {
     /// The shadow atlas of the last frame (front depth, mean extinction, max optical depth,
     /// tail per texel), if the last key had one.
     pub fn shadow_atlas(&mut self) -> Result<Option<Image>, RuntimeError> {
-        match &self.shadow {
-            Some(p) => {
-                let (w, h) = size_of(&p.atlas);
-                self.ensure_readback(w, h);
-                let p = self.shadow.as_ref().ok_or_else(missing)?;
-                Ok(Some(self.read_back(&p.atlas)?))
-            }
-            None => Ok(None),
-        }
+        self.read_kept(|r| r.shadow.as_ref().map(|p| &p.atlas))
     }
 
     /// The air table the last frame read (Rayleigh, Mie and optical-depth bands), if its key
     /// reads one.
     pub fn air_table(&mut self) -> Result<Option<Image>, RuntimeError> {
-        match &self.air {
-            Some(p) => {
-                let (w, h) = size_of(&p.target);
-                self.ensure_readback(w, h);
-                let p = self.air.as_ref().ok_or_else(missing)?;
-                Ok(Some(self.read_back(&p.target)?))
-            }
-            None => Ok(None),
-        }
+        self.read_kept(|r| r.air.as_ref().map(|p| &p.target))
     }
 
     /// The clouds' shadow on the scene of the last frame (the `scene_shadow` pass): per pixel of

@@ -950,16 +950,7 @@ fn both_hosts_rotate_high_cascades_in_bands_to_the_whole_redraw() {
     let sun = format!("sun={},{}", moved.sun_elevation, moved.sun_azimuth);
     for engine in ["three", "webgpu"] {
         let package = out.join(engine);
-        let o = nimbus(&[
-            "emit",
-            "--engine",
-            engine,
-            "--scene",
-            scene_file.to_str().expect("utf8"),
-            "-o",
-            package.to_str().expect("utf8"),
-        ]);
-        assert!(o.status.success(), "emit {engine}: {}", text(&o.stderr));
+        common::emit_scene(engine, &scene_file, &package);
         let page = |name: &str, extra: &[String]| {
             let mut args = view_args(160, 90, &v);
             if engine == "webgpu" {

@@ -72,16 +72,7 @@ fn scene(dir: &Path, v: &View) -> PathBuf {
 /// Emits `engine`'s package for `scene_file` into `dir/package-<name>-<engine>`.
 fn emit(dir: &Path, scene_file: &Path, name: &str, engine: &str) -> PathBuf {
     let package = dir.join(format!("package-{name}-{engine}"));
-    let o = nimbus(&[
-        "emit",
-        "--engine",
-        engine,
-        "--scene",
-        scene_file.to_str().expect("utf8"),
-        "-o",
-        package.to_str().expect("utf8"),
-    ]);
-    assert!(o.status.success(), "emit {engine}: {}", text(&o.stderr));
+    common::emit_scene(engine, scene_file, &package);
     package
 }
 

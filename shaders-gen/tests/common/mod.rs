@@ -186,3 +186,18 @@ pub fn render_page(package: &Path, png: &Path, args: &[String]) -> String {
     println!("{}: {}", png.display(), text(&o.stdout).trim());
     log
 }
+
+/// Emits `engine`'s package for `scene_file` into `package`, failing the test with nimbus's
+/// message when it cannot.
+pub fn emit_scene(engine: &str, scene_file: &Path, package: &Path) {
+    let o = nimbus(&[
+        "emit",
+        "--engine",
+        engine,
+        "--scene",
+        scene_file.to_str().expect("utf8"),
+        "-o",
+        package.to_str().expect("utf8"),
+    ]);
+    assert!(o.status.success(), "emit {engine}: {}", text(&o.stderr));
+}
