@@ -465,3 +465,44 @@ fn erosion_and_coverage_match_cpu() {
         tol,
     );
 }
+
+/// `lane_of` (the shadow atlas's tile picked by a mask, not an index) is the lane itself on
+/// both sides (as a value: a lane of −0 reads +0), each of the four lanes whatever the others
+/// hold (huge, tiny, negative), so the mask leaks nothing of the lanes it does not pick.
+#[test]
+fn lane_of_is_the_lane_on_both_sides() {
+    use nimbus_clouds::model::shadow::lane_of;
+    let mut rng = Rng::new(47);
+    let mut inputs = Vec::new();
+    let extremes = [0.0, -0.0, 1.0, -1.0, 1e30, -1e30, 1e-30, 65_504.0];
+    for k in 0..4 {
+        for (i, &x) in extremes.iter().enumerate() {
+            let mut v = [extremes[(i + 3) % 8]; 4];
+            v[k] = x;
+            inputs.push(vec![f(v[0]), f(v[1]), f(v[2]), f(v[3]), f(k as f32)]);
+        }
+    }
+    while inputs.len() < MIN_INPUTS {
+        let k = (rng.range(0.0, 4.0) as u32).min(3) as f32;
+        let v: Vec<u32> = (0..4).map(|_| f(rng.range(-2e4, 2e4))).collect();
+        inputs.push([v, vec![f(k)]].concat());
+    }
+    for w in &inputs {
+        let k = a(w, 4) as usize;
+        assert_eq!(
+            lane_of(v4(w, 0), a(w, 4)),
+            v4(w, 0)[k],
+            "lane {k} of {:?}",
+            v4(w, 0)
+        );
+    }
+    compare(
+        "lane_of",
+        lane_of::PARAMS.iter().map(|p| p.1).collect(),
+        lane_of::RESULT,
+        &lane_of::call_ids,
+        &inputs,
+        |w| vec![lane_of(v4(w, 0), a(w, 4)).to_bits()],
+        Tolerance { abs: 0.0, rel: 0.0 },
+    );
+}

@@ -1154,13 +1154,44 @@ pub fn overhead_optical_depth(ground: Vec3, jitter: f32, #[spec] key: CloudKey) 
 #[shader_fn]
 pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key: CloudKey) -> Vec4 {
     let u = CLOUDS.get();
-    let sun = u.light.sun_direction;
-    let radius = u.march.radius;
-    let cos_theta = direction.dot(sun);
     // Behind the clouds: the ground (negative distance) or the top of the atmosphere.
-    let behind = sky_distance(u.camera_altitude, direction.y, u.sky.top_height, radius);
-    let air = air_along(direction, behind.abs(), key);
+    let behind = sky_distance(
+        u.camera_altitude,
+        direction.y,
+        u.sky.top_height,
+        u.march.radius,
+    );
     let switches = u.composite;
+    // What lies behind the clouds shows only through them: a ray the march ended in cloud
+    // (transmittance exactly 0, `march_clouds`' early termination) skips the sky, the ground,
+    // the air in front of them and its shadows, which it would multiply by 0.
+    let mut background = Vec3::ZERO;
+    if clouds.transmittance > 0.0 {
+        background = sky_or_ground(direction, behind, jitter, key);
+    }
+    let mut color = background * clouds.transmittance;
+    if clouds.front_depth > 0.0 {
+        color += clouds_through_air(direction, clouds, switches.aerial_perspective, jitter, key);
+    }
+    if gate(key, HAZE) {
+        // Haze and shafts end at the clouds' front, the ground, or the march's reach.
+        let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
+        let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
+        let opacity = haze_opacity(direction.y, distance);
+        color = color + (haze_light(direction, distance, jitter, key) - color) * opacity;
+    }
+    color.extend(1.0 - clouds.transmittance)
+}
+
+/// What a view ray `direction` would show with no clouds: the sky and the sun's disc above the
+/// horizon, else the ground `-behind` metres away lit by the sun and the sky through the
+/// clouds' shadows ([`sky_distance`]'s sign), each seen through the air in front of it.
+#[shader_fn]
+pub fn sky_or_ground(direction: Vec3, behind: f32, jitter: f32, #[spec] key: CloudKey) -> Vec3 {
+    let u = CLOUDS.get();
+    let sun = u.light.sun_direction;
+    let switches = u.composite;
+    let air = air_along(direction, behind.abs(), key);
     let mut background = air.inscatter * switches.sky;
     if behind < 0.0 {
         // The air over the ground lies in the clouds' shadow as the ground does.
@@ -1175,12 +1206,8 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
             // The sky's light comes from the whole dome: what dims it is the cloud overhead,
             // not the cloud on the way to the sun. With the sun's path for both, the ground in
             // the shadow of a storm tower 20 km away went black.
-            // Only where the ground shows through the clouds in front: four density samples
-            // per pixel are not spent on ground nobody sees.
-            if clouds.transmittance > 0.0 {
-                let overhead = overhead_optical_depth(ground, jitter, key);
-                sky_through = slab_diffuse_transmittance(overhead, DROPLET_ASYMMETRY);
-            }
+            let overhead = overhead_optical_depth(ground, jitter, key);
+            sky_through = slab_diffuse_transmittance(overhead, DROPLET_ASYMMETRY);
         }
         background += air.transmittance
             * ground_radiance(
@@ -1193,21 +1220,11 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     } else {
         // A map of the view draws the disc per pixel (`impostor_view`): its texels are wider.
         if !key.bakes_view() {
-            background += sun_disc(cos_theta, air.transmittance, u.sky) * switches.sun_disc;
+            background +=
+                sun_disc(direction.dot(sun), air.transmittance, u.sky) * switches.sun_disc;
         }
     }
-    let mut color = background * clouds.transmittance;
-    if clouds.front_depth > 0.0 {
-        color += clouds_through_air(direction, clouds, switches.aerial_perspective, jitter, key);
-    }
-    if gate(key, HAZE) {
-        // Haze and shafts end at the clouds' front, the ground, or the march's reach.
-        let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
-        let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
-        let opacity = haze_opacity(direction.y, distance);
-        color = color + (haze_light(direction, distance, jitter, key) - color) * opacity;
-    }
-    color.extend(1.0 - clouds.transmittance)
+    background
 }
 
 /// The clouds' light as it reaches the camera along `direction` (aerial perspective): the air

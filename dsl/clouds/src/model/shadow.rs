@@ -132,7 +132,7 @@ pub fn shadow_read(p: Vec3) -> ShadowRead {
             held: 0.0,
         };
     }
-    let local = vec2(u[k as u32 as usize], v[k as u32 as usize]) + Vec2::splat(0.5);
+    let local = vec2(lane_of(u, k), lane_of(v, k)) + Vec2::splat(0.5);
     let columns = atlas_columns(s.cascade_count) as f32;
     let rows = atlas_rows(s.cascade_count) as f32;
     let row = (k / columns).floor();
@@ -145,12 +145,24 @@ pub fn shadow_read(p: Vec3) -> ShadowRead {
     // Fade the optical depth out over the outer fifth of the last cascade: beyond it nothing
     // is known and nothing shadows, and a shadow cut off there was a straight-edged wedge on
     // the ground (and a jump in the light shafts) wherever the map's coverage ended.
-    let last = extent[(count as u32 - 1u32) as usize] / margin;
+    let last = lane_of(extent, count - 1.0) / margin;
     let fade = 1.0 - smoothstep(0.8, 1.0, last);
     ShadowRead {
         texel: vec4(texel.x, texel.y * fade, texel.z * fade, texel.w * fade),
         held: fade,
     }
+}
+
+/// Lane `k` of `v`, for a whole number `k` in 0..=3 held in a float, picked by a mask, not by
+/// an index: a vector indexed by a value known only per pixel is spilled to memory and read
+/// back by compilers that keep vectors in registers otherwise (SwiftShader: 3 % of `low`'s
+/// frame in the browser benchmark, for the two such reads of [`shadow_read`]).
+#[shader_fn]
+pub fn lane_of(v: Vec4, k: f32) -> f32 {
+    v.dot(step(
+        (vec4(0.0, 1.0, 2.0, 3.0) - Vec4::splat(k)).abs(),
+        Vec4::splat(0.5),
+    ))
 }
 
 /// The largest front depth (m) the shadow atlas stores: half floats end at 65,504.
@@ -177,7 +189,7 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
         frag_coord.y - row * s.map_size,
     ) / s.map_size
         - Vec2::splat(0.5);
-    let base = local * s.cascade_scales[k as u32 as usize] + Vec2::splat(0.5);
+    let base = local * lane_of(s.cascade_scales, k) + Vec2::splat(0.5);
     let top = (s.inverse_matrix * vec4(base.x, base.y, 0.0, 1.0)).xyz();
     let sigma_ratio = u.light.scattering_coefficient + u.light.absorption_coefficient;
     // Through the whole slab of shadow-casting layers, however low the sun.
@@ -186,7 +198,7 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
     // What one texel stands for across (m): the detail finer than that is its mean here, or
     // each texel picks one noise value and the map is a blocky mosaic when magnified.
     let footprint = (s.inverse_matrix * vec4(1.0, 0.0, 0.0, 0.0)).xyz().length()
-        * s.cascade_scales[k as u32 as usize]
+        * lane_of(s.cascade_scales, k)
         / s.map_size;
     let mut t = step_size * 0.5;
     let mut transmittance = 1.0f32;
