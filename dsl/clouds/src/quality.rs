@@ -90,7 +90,8 @@ impl Quality {
         super::features::preset_features(self)
     }
 
-    /// March settings (high = the reference library's defaults but for one ground step).
+    /// March settings (high = the reference library's defaults but for one ground step and a
+    /// ray's end at a transmittance of 0.1).
     pub fn settings(self) -> MarchSettings {
         let high = MarchSettings {
             max_iteration_count: 500,

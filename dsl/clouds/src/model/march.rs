@@ -1162,9 +1162,9 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         u.march.radius,
     );
     let switches = u.composite;
-    // What lies behind the clouds shows only through them: a ray the march ended in cloud
-    // (transmittance exactly 0, `march_clouds`' early termination) skips the sky, the ground,
-    // the air in front of them and its shadows, which it would multiply by 0.
+    // What lies behind the clouds shows only through them: an opaque ray (transmittance
+    // exactly 0: `march_clouds`' early termination, a map's opaque texel, underflow) skips the
+    // sky, the ground, the air in front of them and its shadows, which it would multiply by 0.
     let mut background = Vec3::ZERO;
     if clouds.transmittance > 0.0 {
         background = sky_or_ground(direction, behind, jitter, key);

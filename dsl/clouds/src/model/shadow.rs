@@ -156,7 +156,8 @@ pub fn shadow_read(p: Vec3) -> ShadowRead {
 /// Lane `k` of `v`, for a whole number `k` in 0..=3 held in a float, picked by a mask, not by
 /// an index: a vector indexed by a value known only per pixel is spilled to memory and read
 /// back by compilers that keep vectors in registers otherwise (SwiftShader: 3 % of `low`'s
-/// frame in the browser benchmark, for the two such reads of [`shadow_read`]).
+/// frame in the browser benchmark, for the two such reads of [`shadow_read`]). A whole `k`
+/// outside 0..=3 reads 0; every lane must be finite (an infinite lane not picked is ∞·0).
 #[shader_fn]
 pub fn lane_of(v: Vec4, k: f32) -> f32 {
     v.dot(step(
