@@ -566,12 +566,16 @@ fn nimbostratus_is_dark_grey_with_rain_under_it() {
         "the control passes: {thin_base:.3}"
     );
     // Rain under the base: the distance, seen through kilometres of it, darker than without.
+    // The line lies between the rain (0.71 of the dry deck's) and a drizzle a tenth as dense
+    // (0.84): since the march ends a ray at a transmittance of 0.1 and takes its last tenth as
+    // more of the same medium, a drizzle's long path to the horizon reads that much darker
+    // (the line was 0.85 while rays went on to 0.01).
     assert!(
-        distance < 0.85 * dry_distance,
+        distance < 0.8 * dry_distance,
         "no rain: {distance:.3} against {dry_distance:.3}"
     );
     assert!(
-        drizzle_distance >= 0.85 * dry_distance,
+        drizzle_distance >= 0.8 * dry_distance,
         "the control passes: {drizzle_distance:.3} against {dry_distance:.3}"
     );
 }
