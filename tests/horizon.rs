@@ -52,3 +52,56 @@ fn haze_does_not_darken_the_horizon_into_a_band() {
         "the haze darkens the horizon into a band: {hazy}"
     );
 }
+
+/// Without light shafts the haze lies in the clouds' shadows as the air does (`air_sunlit`'s
+/// share, read once for both): lit everywhere, the haze of `medium` drew the sunset under a
+/// broken deck 44 % brighter than the reference in the accuracy study, where `high`'s light
+/// shafts march the shadows. The accuracy study's sunset view: the mean light of `medium`
+/// (no shafts) against `medium` with the light-shaft march, and against `medium` without
+/// cloud shadows (the control: the haze lit everywhere, as before, and the clouds too).
+#[test]
+fn haze_without_light_shafts_lies_in_the_clouds_shadows() {
+    let Some(gpu) = common::gpu() else { return };
+    println!("adapter: {}", gpu.info());
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    let mut genus = lib.genus("stratocumulus").expect("genus").clone();
+    genus.coverage = 0.33;
+    let mut renderer = Renderer::new(gpu, TextureSizes::default());
+    let mut mean = |quality: Quality, shafts: bool, shadows: bool| {
+        let mut f = Frame::new(genus.clone(), quality, 128, 72);
+        f.frames = 4;
+        f.sun_elevation_deg = 2.0;
+        f.sun_azimuth_deg = 270.0;
+        f.camera_altitude = 2.0;
+        f.camera_pitch_deg = 4.0;
+        f.camera_yaw_deg = 260.0;
+        f.fov_deg = 50.0;
+        f.weather_offset = glam::Vec2::new(0.1, 0.1);
+        f.features.light_shafts = shafts;
+        f.features.shadows = shadows;
+        let im = renderer.render(&f).expect("render");
+        im.pixels
+            .iter()
+            .map(|p| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])
+            .sum::<f32>()
+            / im.pixels.len() as f32
+    };
+    let shafts = mean(Quality::Medium, true, true);
+    let medium = mean(Quality::Medium, false, true);
+    let unshadowed = mean(Quality::Medium, false, false);
+    println!(
+        "mean luminance: medium with light shafts {shafts:.4}, medium {medium:.4} ({:.3}×), \
+         medium without cloud shadows {unshadowed:.4} ({:.3}×)",
+        medium / shafts,
+        unshadowed / shafts
+    );
+    assert!(
+        (medium / shafts - 1.0).abs() < 0.1,
+        "medium's haze is not in the clouds' shadows: {medium} against {shafts} with light shafts"
+    );
+    assert!(
+        unshadowed / shafts > 1.2,
+        "the control, the haze lit everywhere, reads as the shadowed haze: {unshadowed} against {shafts}"
+    );
+}

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use crate::key::{CloudKey, PixelOutput};
 use nimbus_dsl::prelude::*;
 
-use super::air_shadow::air_sunlit;
+use super::air_shadow::{air_sunlit, near_air_sunlit};
 use super::air_table::air_along;
 use super::bindings::CLOUDS;
 use super::blob2d::{blob2d_clouds, blob2d_overhead};
@@ -1162,32 +1162,53 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         u.march.radius,
     );
     let switches = u.composite;
+    // The air in front ends at the clouds' front, else at the ground, else at the march's
+    // reach; so does the haze.
+    let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
+    let near = select(open, clouds.front_depth, clouds.front_depth > 0.0);
+    // The sun's share of that air, read once for the air's light and the haze's.
+    let sunlit = near_air_sunlit(
+        direction,
+        near,
+        clouds.front_depth > 0.0 || behind < 0.0,
+        jitter,
+        key,
+    );
     // What lies behind the clouds shows only through them: an opaque ray (transmittance
     // exactly 0: `march_clouds`' early termination, a map's opaque texel, underflow) skips the
     // sky, the ground, the air in front of them and its shadows, which it would multiply by 0.
     let mut background = Vec3::ZERO;
     if clouds.transmittance > 0.0 {
-        background = sky_or_ground(direction, behind, jitter, key);
+        // The ground behind a cloud has air of its own in front of it.
+        let mut ground_sunlit = sunlit;
+        if clouds.front_depth > 0.0 && behind < 0.0 {
+            ground_sunlit = air_sunlit(direction, -behind, jitter, key);
+        }
+        background = sky_or_ground(direction, behind, ground_sunlit, jitter, key);
     }
     let mut color = background * clouds.transmittance;
     if clouds.front_depth > 0.0 {
-        color += clouds_through_air(direction, clouds, switches.aerial_perspective, jitter, key);
+        color += clouds_through_air(direction, clouds, switches.aerial_perspective, sunlit, key);
     }
     if gate(key, HAZE) {
-        // Haze and shafts end at the clouds' front, the ground, or the march's reach.
-        let open = select(u.march.max_ray_distance, -behind, behind < 0.0);
-        let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
-        let opacity = haze_opacity(direction.y, distance);
-        color = color + (haze_light(direction, distance, jitter, key) - color) * opacity;
+        let opacity = haze_opacity(direction.y, near);
+        color = color + (haze_light(direction, near, jitter, sunlit, key) - color) * opacity;
     }
     color.extend(1.0 - clouds.transmittance)
 }
 
 /// What a view ray `direction` would show with no clouds: the sky and the sun's disc above the
 /// horizon, else the ground `-behind` metres away lit by the sun and the sky through the
-/// clouds' shadows ([`sky_distance`]'s sign), each seen through the air in front of it.
+/// clouds' shadows ([`sky_distance`]'s sign), each seen through the air in front of it; the
+/// sun reaches `sunlit` of the air in front of the ground ([`air_sunlit`]).
 #[shader_fn]
-pub fn sky_or_ground(direction: Vec3, behind: f32, jitter: f32, #[spec] key: CloudKey) -> Vec3 {
+pub fn sky_or_ground(
+    direction: Vec3,
+    behind: f32,
+    sunlit: f32,
+    jitter: f32,
+    #[spec] key: CloudKey,
+) -> Vec3 {
     let u = CLOUDS.get();
     let sun = u.light.sun_direction;
     let switches = u.composite;
@@ -1195,7 +1216,7 @@ pub fn sky_or_ground(direction: Vec3, behind: f32, jitter: f32, #[spec] key: Clo
     let mut background = air.inscatter * switches.sky;
     if behind < 0.0 {
         // The air over the ground lies in the clouds' shadow as the ground does.
-        background *= air_sunlit(direction, -behind, jitter, key);
+        background *= sunlit;
         // Under a cloud the ground gets the light the cloud scatters down as well as the
         // direct beam, and the sky's light through it (see `transmission`).
         let mut sun_through = 1.0f32;
@@ -1228,30 +1249,36 @@ pub fn sky_or_ground(direction: Vec3, behind: f32, jitter: f32, #[spec] key: Clo
 }
 
 /// The clouds' light as it reaches the camera along `direction` (aerial perspective): the air
-/// in front of them dims them and adds its own light where the sun reaches it
-/// ([`air_sunlit`]), weighted by `air` (1: all of it, 0: the clouds' own light alone).
+/// in front of them dims them and adds its own light where the sun reaches it (`sunlit` of it:
+/// [`air_sunlit`] over the clouds' front depth), weighted by `air` (1: all of it, 0: the
+/// clouds' own light alone).
 #[shader_fn]
 pub fn clouds_through_air(
     direction: Vec3,
     clouds: MarchResult,
     air: f32,
-    jitter: f32,
+    sunlit: f32,
     #[spec] key: CloudKey,
 ) -> Vec3 {
     let near = air_along(direction, clouds.front_depth, key);
-    let sunlit = air_sunlit(direction, clouds.front_depth, jitter, key);
     near.inscatter * ((1.0 - clouds.transmittance) * air * sunlit)
         + clouds.radiance * (Vec3::ONE + (near.transmittance - Vec3::ONE) * air)
 }
 
 /// The light the haze scatters towards the camera along `direction` over its first
-/// `distance` metres: the sun's, where the light-shaft march finds no cloud shadow, and the
-/// sky's.
+/// `distance` metres: the sun's, where the light-shaft march finds no cloud shadow (without
+/// light shafts, on `air_share` of the way: the air's, [`air_sunlit`]), and the sky's.
 #[shader_fn]
-pub fn haze_light(direction: Vec3, distance: f32, jitter: f32, #[spec] key: CloudKey) -> Vec3 {
+pub fn haze_light(
+    direction: Vec3,
+    distance: f32,
+    jitter: f32,
+    air_share: f32,
+    #[spec] key: CloudKey,
+) -> Vec3 {
     let u = CLOUDS.get();
     let sun = u.light.sun_direction;
-    let mut sunlit = 1.0f32;
+    let mut sunlit = air_share;
     if gate(key, LIGHT_SHAFTS) {
         sunlit = 1.0 - (shadow_length(direction, distance, jitter) / distance.max(1.0)).saturate();
     }

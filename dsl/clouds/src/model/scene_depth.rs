@@ -15,7 +15,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4, ivec2};
 
 use nimbus_dsl::prelude::*;
 
-use super::air_shadow::air_sunlit;
+use super::air_shadow::{air_sunlit, near_air_sunlit};
 use super::air_table::air_along;
 use super::bindings::{CLOUDS, SCENE, SCENE_DEPTH};
 use super::choices::{HAZE, ORTHOGRAPHIC, gate};
@@ -180,24 +180,37 @@ pub fn composite_over_scene(
             .extend(1.0);
     }
     let air_weight = switches.aerial_perspective;
+    // The air in front ends at the clouds' front, else at the engine's surface, else at the
+    // march's reach; so does the haze. The sun's share of it is read once for both
+    // (`composite`).
+    let open = select(u.march.max_ray_distance, surface, has_surface);
+    let near = select(open, clouds.front_depth, clouds.front_depth > 0.0);
+    let sunlit = near_air_sunlit(
+        direction,
+        near,
+        clouds.front_depth > 0.0 || has_surface,
+        jitter,
+        key,
+    );
     // The engine's pixel shows through the clouds and, in front of its surface, the air.
     let mut color = Vec3::ZERO;
     let mut through = clouds.transmittance;
     if has_surface {
         let air = air_along(direction, surface, key);
-        color = air.inscatter
-            * (clouds.transmittance * air_weight * air_sunlit(direction, surface, jitter, key));
+        let mut surface_sunlit = sunlit;
+        if clouds.front_depth > 0.0 {
+            surface_sunlit = air_sunlit(direction, surface, jitter, key);
+        }
+        color = air.inscatter * (clouds.transmittance * air_weight * surface_sunlit);
         through *= 1.0 + (air.transmittance.dot(Vec3::splat(1.0 / 3.0)) - 1.0) * air_weight;
     }
     if clouds.front_depth > 0.0 {
         // Aerial perspective on the clouds, as over Nimbus's own sky.
-        color += clouds_through_air(direction, clouds, air_weight, jitter, key);
+        color += clouds_through_air(direction, clouds, air_weight, sunlit, key);
     }
     if gate(key, HAZE) {
-        let open = select(u.march.max_ray_distance, surface, has_surface);
-        let distance = select(open, clouds.front_depth, clouds.front_depth > 0.0);
-        let opacity = haze_opacity(direction.y, distance);
-        color = color + (haze_light(direction, distance, jitter, key) - color) * opacity;
+        let opacity = haze_opacity(direction.y, near);
+        color = color + (haze_light(direction, near, jitter, sunlit, key) - color) * opacity;
         through *= 1.0 - opacity;
     }
     color.extend(1.0 - through)
