@@ -3,8 +3,9 @@
 //! Upscaled, the cloud pass shades one pixel of every 4×4 block per frame (a Bayer order of
 //! offsets, so 16 frames visit every pixel); the other fifteen come from the history,
 //! reprojected and clipped to the box of the current neighbourhood (mean ± γσ, Salvi 2016) so
-//! stale colours cannot linger. At full resolution every pixel is current and the history is
-//! an accumulation of jittered frames.
+//! stale colours cannot linger, unless the block's one shaded pixel finds the history it lands
+//! on still good: a box of samples a block apart misses what is thinner than a block. At full
+//! resolution every pixel is current and the history is an accumulation of jittered frames.
 //!
 //! Reprojection finds where what a pixel sees was a frame ago. The camera's turn moves every
 //! direction; the wind moves the clouds: a pixel's ray meets the clouds at their
@@ -82,6 +83,43 @@ pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {
     if r.history_valid < 0.5 {
         return current;
     }
+    let at = history_uv(pixel);
+    if at.z < 0.5 {
+        return current;
+    }
+    let history = HISTORY.get().sample_level(&LINEAR_CLAMP.get(), at.xy(), 0.0);
+    let mut clipped = history;
+    if r.variance_gamma > 0.0 {
+        let half = sigma * r.variance_gamma;
+        clipped = history.clamp(mean - half, mean + half);
+        if !is_current {
+            // Nine samples a block apart miss what is thinner than a block (the horizon's
+            // line between the ground and the clouds): the box would clip it every frame. So
+            // the block's own shaded pixel says whether the history here is still good: where
+            // this frame's sample agrees with the history it lands on, to within the box's
+            // half-width, the history is kept as it is; where they differ, it is clipped.
+            let shaded = block * r.pixel_scale + r.pixel_offset;
+            let there = history_uv(shaded);
+            let before = HISTORY
+                .get()
+                .sample_level(&LINEAR_CLAMP.get(), there.xy(), 0.0);
+            let change = (current - before).abs() / half.max(Vec4::splat(1e-6));
+            let worst = change.x.max(change.y).max(change.z.max(change.w));
+            let kept = select(0.0, 1.0 - worst.saturate(), there.z > 0.5);
+            clipped += (history - clipped) * kept;
+        }
+    }
+    if is_current {
+        return clipped + (current - clipped) * r.current_weight;
+    }
+    clipped
+}
+
+/// Where the history holds what the full-resolution `pixel` (its corner) shows this frame:
+/// its texture coordinates in x and y, and in z 1 when that lies on the screen (0 otherwise).
+#[shader_fn]
+pub fn history_uv(pixel: Vec2) -> Vec3 {
+    let r = RESOLVE.get();
     let ndc = vec2(
         (pixel.x + 0.5) / r.resolution.x * 2.0 - 1.0,
         1.0 - (pixel.y + 0.5) / r.resolution.y * 2.0,
@@ -99,21 +137,7 @@ pub fn resolve_fragment(frag_coord: Vec4) -> Vec4 {
     let previous_ndc = vec2(previous.x, previous.y) / previous.w;
     let uv = vec2(previous_ndc.x * 0.5 + 0.5, 0.5 - previous_ndc.y * 0.5);
     let on_screen = previous.w > 0.0 && uv.x >= 0.0 && uv.x <= 1.0 && uv.y >= 0.0 && uv.y <= 1.0;
-    if !on_screen {
-        return current;
-    }
-    let history = HISTORY.get().sample_level(&LINEAR_CLAMP.get(), uv, 0.0);
-    let mut clipped = history;
-    if r.variance_gamma > 0.0 {
-        clipped = history.clamp(
-            mean - sigma * r.variance_gamma,
-            mean + sigma * r.variance_gamma,
-        );
-    }
-    if is_current {
-        return clipped + (current - clipped) * r.current_weight;
-    }
-    clipped
+    uv.extend(select(0.0, 1.0, on_screen))
 }
 
 /// The altitude where a view ray first meets a cloud slab from `bottom` to `top` (m): its base
