@@ -51,11 +51,18 @@ fn sixteen_upscaled_frames_rebuild_the_full_image() {
     let one = r.render(&up).expect("one upscaled frame");
     up.frames = 16;
     let sixteen = r.render(&up).expect("16 upscaled frames");
-    let (s1, s16) = (
+    let mut single = frame();
+    single.frames = 1;
+    let full_one = r.render(&single).expect("one full-resolution frame");
+    let (s1, s16, s_full) = (
         similarity(&one, &reference),
         similarity(&sixteen, &reference),
+        similarity(&full_one, &reference),
     );
-    println!("similarity to the full-resolution image: 1 frame {s1:.4}, 16 frames {s16:.4}");
+    println!(
+        "similarity to the converged full-resolution image: 1 upscaled frame {s1:.4}, 16 \
+         upscaled frames {s16:.4}, 1 full-resolution frame {s_full:.4}"
+    );
     // Clipping against the coarse neighbourhood softens the finest detail a little; what is
     // asserted is that 16 frames recover the image that one frame only hints at.
     assert!(s16 > 0.85, "16 upscaled frames differ: {s16}");
@@ -105,6 +112,37 @@ fn reprojection_follows_a_turning_camera() {
     assert!(
         reprojected > stale + 0.02,
         "reprojection did not follow the camera: stale {stale}, reprojected {reprojected}"
+    );
+}
+
+/// With the camera and the wind still, the history stays where it is, and only the block's
+/// shaded pixel can tell that the clouds changed (a genus' coverage, a weather change, a moving
+/// sun): the history kept where that pixel agrees with it must not outlive a change.
+#[test]
+fn a_still_view_follows_the_clouds_changing() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut r = Renderer::new(gpu, SIZES);
+    let mut f = frame();
+    f.upscale = true;
+    f.frames = 16;
+    let before = r.render(&f).expect("converged");
+    f.genus.coverage = 0.45;
+    f.frames = 2;
+    f.continue_history = true;
+    let after = r.render(&f).expect("changed");
+    let mut truth = f.clone();
+    truth.upscale = false;
+    truth.frames = 16;
+    truth.continue_history = false;
+    let truth = Renderer::new(gpu, SIZES).render(&truth).expect("truth");
+    let (stale, followed) = (similarity(&before, &truth), similarity(&after, &truth));
+    println!(
+        "similarity to the clouds at coverage 0.45, two upscaled frames after 0.6: stale \
+         {stale:.4}, followed {followed:.4}"
+    );
+    assert!(
+        followed > stale + 0.1,
+        "the history outlived the change: stale {stale}, after two frames {followed}"
     );
 }
 

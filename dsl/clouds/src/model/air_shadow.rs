@@ -12,10 +12,6 @@
 //!
 //! Without light shafts the haze takes the same share ([`super::march::haze_light`]): lit
 //! everywhere, it drew the sunset under a broken deck 44 % too bright in the accuracy study.
-//! The haze's share runs over the ray's whole way (to the ground or the march's reach), not to
-//! the clouds' front: that depth jumps at cloud edges and with the march's jitter, and the
-//! haze's light with it, speckle that the upscaled history could not settle
-//! (`tests/temporal.rs`: 16 upscaled frames 0.82 similar to the full image, bound 0.85).
 
 use glam::Vec3;
 
@@ -75,8 +71,8 @@ pub fn open_air_sunlit(direction: Vec3, distance: f32, jitter: f32, #[spec] key:
 /// The sun's share of the air in front of what a view ray shows, its first `near` metres:
 /// the clouds' front, else the ground or an engine's surface (`ends`: something ends the ray
 /// there), else the march's reach. Read once for the air's light and for the haze's, which
-/// takes the share of the whole way when there are no light shafts; an open sky's air, whose
-/// light is all sky light, needs it for that haze alone.
+/// takes it when there are no light shafts; an open sky's air, whose light is all sky light,
+/// needs it for that haze alone.
 #[shader_fn]
 pub fn near_air_sunlit(
     direction: Vec3,

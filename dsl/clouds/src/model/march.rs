@@ -11,7 +11,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use crate::key::{CloudKey, PixelOutput};
 use nimbus_dsl::prelude::*;
 
-use super::air_shadow::near_air_sunlit;
+use super::air_shadow::{air_sunlit, near_air_sunlit};
 use super::air_table::air_along;
 use super::bindings::CLOUDS;
 use super::blob2d::{blob2d_clouds, blob2d_overhead};
@@ -1174,21 +1174,17 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
         jitter,
         key,
     );
-    // The way past the clouds (to the ground, or an open sky's) has a share of its own: the
-    // ground's air behind them takes it, and so does the haze in front of them. The haze's
-    // light read to the clouds' front changed with it, a depth that jumps at cloud edges and
-    // with the march's jitter: speckle that the upscaled history could not settle. Where the
-    // two ways differ much the cloud is near and the haze in front of it thin.
-    let mut behind_sunlit = sunlit;
-    if clouds.front_depth > 0.0 {
-        behind_sunlit = near_air_sunlit(direction, open, behind < 0.0, jitter, key);
-    }
     // What lies behind the clouds shows only through them: an opaque ray (transmittance
     // exactly 0: `march_clouds`' early termination, a map's opaque texel, underflow) skips the
     // sky, the ground, the air in front of them and its shadows, which it would multiply by 0.
     let mut background = Vec3::ZERO;
     if clouds.transmittance > 0.0 {
-        background = sky_or_ground(direction, behind, behind_sunlit, jitter, key);
+        // The ground behind a cloud has air of its own in front of it.
+        let mut ground_sunlit = sunlit;
+        if clouds.front_depth > 0.0 && behind < 0.0 {
+            ground_sunlit = air_sunlit(direction, -behind, jitter, key);
+        }
+        background = sky_or_ground(direction, behind, ground_sunlit, jitter, key);
     }
     let mut color = background * clouds.transmittance;
     if clouds.front_depth > 0.0 {
@@ -1196,8 +1192,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
     }
     if gate(key, HAZE) {
         let opacity = haze_opacity(direction.y, near);
-        let light = haze_light(direction, near, jitter, behind_sunlit, key);
-        color = color + (light - color) * opacity;
+        color = color + (haze_light(direction, near, jitter, sunlit, key) - color) * opacity;
     }
     color.extend(1.0 - clouds.transmittance)
 }
@@ -1205,7 +1200,7 @@ pub fn composite(direction: Vec3, jitter: f32, clouds: MarchResult, #[spec] key:
 /// What a view ray `direction` would show with no clouds: the sky and the sun's disc above the
 /// horizon, else the ground `-behind` metres away lit by the sun and the sky through the
 /// clouds' shadows ([`sky_distance`]'s sign), each seen through the air in front of it; the
-/// sun reaches `sunlit` of the air in front of the ground (`air_sunlit`).
+/// sun reaches `sunlit` of the air in front of the ground ([`air_sunlit`]).
 #[shader_fn]
 pub fn sky_or_ground(
     direction: Vec3,
@@ -1255,8 +1250,8 @@ pub fn sky_or_ground(
 
 /// The clouds' light as it reaches the camera along `direction` (aerial perspective): the air
 /// in front of them dims them and adds its own light where the sun reaches it (`sunlit` of it:
-/// `air_sunlit` over the clouds' front depth), weighted by `air` (1: all of it, 0: the clouds'
-/// own light alone).
+/// [`air_sunlit`] over the clouds' front depth), weighted by `air` (1: all of it, 0: the
+/// clouds' own light alone).
 #[shader_fn]
 pub fn clouds_through_air(
     direction: Vec3,
@@ -1272,7 +1267,7 @@ pub fn clouds_through_air(
 
 /// The light the haze scatters towards the camera along `direction` over its first
 /// `distance` metres: the sun's, where the light-shaft march finds no cloud shadow (without
-/// light shafts, on `air_share` of the way: the air's, `air_sunlit`), and the sky's.
+/// light shafts, on `air_share` of the way: the air's, [`air_sunlit`]), and the sky's.
 #[shader_fn]
 pub fn haze_light(
     direction: Vec3,

@@ -15,7 +15,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4, ivec2};
 
 use nimbus_dsl::prelude::*;
 
-use super::air_shadow::near_air_sunlit;
+use super::air_shadow::{air_sunlit, near_air_sunlit};
 use super::air_table::air_along;
 use super::bindings::{CLOUDS, SCENE, SCENE_DEPTH};
 use super::choices::{HAZE, ORTHOGRAPHIC, gate};
@@ -192,18 +192,16 @@ pub fn composite_over_scene(
         jitter,
         key,
     );
-    // The way past the clouds, to the engine's surface or an open sky, has a share of its
-    // own, for the surface's air and for the haze (`composite`).
-    let mut behind_sunlit = sunlit;
-    if clouds.front_depth > 0.0 {
-        behind_sunlit = near_air_sunlit(direction, open, has_surface, jitter, key);
-    }
     // The engine's pixel shows through the clouds and, in front of its surface, the air.
     let mut color = Vec3::ZERO;
     let mut through = clouds.transmittance;
     if has_surface {
         let air = air_along(direction, surface, key);
-        color = air.inscatter * (clouds.transmittance * air_weight * behind_sunlit);
+        let mut surface_sunlit = sunlit;
+        if clouds.front_depth > 0.0 {
+            surface_sunlit = air_sunlit(direction, surface, jitter, key);
+        }
+        color = air.inscatter * (clouds.transmittance * air_weight * surface_sunlit);
         through *= 1.0 + (air.transmittance.dot(Vec3::splat(1.0 / 3.0)) - 1.0) * air_weight;
     }
     if clouds.front_depth > 0.0 {
@@ -212,8 +210,7 @@ pub fn composite_over_scene(
     }
     if gate(key, HAZE) {
         let opacity = haze_opacity(direction.y, near);
-        let light = haze_light(direction, near, jitter, behind_sunlit, key);
-        color = color + (light - color) * opacity;
+        color = color + (haze_light(direction, near, jitter, sunlit, key) - color) * opacity;
         through *= 1.0 - opacity;
     }
     color.extend(1.0 - through)
