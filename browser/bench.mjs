@@ -1,7 +1,7 @@
 // The browser benchmark (not a test): Nimbus's three.js package and @takram/three-clouds
 // (page/takram.mjs) at each quality preset, with temporal upscaling off and on, in the same
 // headless Chromium as the browser test and in one run, 640×360, the same camera and sun and
-// the same cloud fraction (matched below), median ms/frame over timed frames after warm-up;
+// the same clouds' opacity (matched below), median ms/frame over timed frames after warm-up;
 // Nimbus's shadow atlas and air table drawn every frame (as for a sun that moves each frame;
 // takram redraws its shadow map every frame) and cached. Writes a Markdown table to stdout.
 //
@@ -21,12 +21,16 @@ const nimbus = process.env.NIMBUS ?? resolve(here, '../target/release/nimbus');
 const work = mkdtempSync(join(tmpdir(), 'nimbus-bench-'));
 const frames = Number(process.env.BENCH_FRAMES ?? 5);
 // The scenes match: the same camera and sun, and Nimbus's `takram-default` genus, which is
-// takram's four default layers. The two libraries' coverages do not mean the same sky (Nimbus's
-// 0.6 is an overcast where takram's is broken cloud), so the bench matches them itself before it
+// takram's four default layers. The two libraries' coverages do not mean the same sky (takram's
+// 0.6 is a thin overcast, Nimbus's a thick one), so the bench matches them itself before it
 // times anything: takram keeps its own default, 0.6, and Nimbus's coverage is bisected until its
-// cloud fraction (the share of the pixels above the horizon that differ by more than 12/255 from
-// a coverage-0 render of the same view, `low`, 640×360) is takram's. NIMBUS_COVERAGE skips the
-// search.
+// clouds hide as much of what lies behind them as takram's do: the mean opacity of the clouds
+// (1 − transmittance, the alpha of the target each library draws its clouds into; takram's
+// without its haze) over the pixels above the horizon, `low`, 640×360 (`output=opacity` on both
+// pages, page/opacity.mjs). NIMBUS_COVERAGE skips the search. It used to count the pixels that
+// differ from a clear render by more than 12/255: that saturated (0.998 in both libraries) once
+// the clouds' shadows dimmed the clear air between them, so the bisection found the lowest
+// coverage that saturated it, and moved whenever the air's light changed.
 const takramCoverage = 0.6;
 const view = { width: 640, height: 360, pitch: 10, fov: 60 };
 const rows = [];
@@ -78,68 +82,59 @@ function decodePng(bytes) {
   return { width, height, channels, data: out };
 }
 
-/** The share of the pixels above the horizon where `cloudy` differs from `clear` by > 12/255. */
-function cloudFraction(cloudyPng, clearPng) {
-  const a = decodePng(readFileSync(cloudyPng));
-  const b = decodePng(readFileSync(clearPng));
+/** The mean of an `output=opacity` picture's grey over the pixels above the horizon (0–1). */
+function meanOpacity(png) {
+  const a = decodePng(readFileSync(png));
   // The horizon's row: the camera pitched up `pitch` with a vertical field of view `fov`.
   const tan = (deg) => Math.tan((deg * Math.PI) / 180);
   const horizon = Math.floor((a.height / 2) * (1 + tan(view.pitch) / tan(view.fov / 2)));
-  let differ = 0;
+  let sum = 0;
   for (let y = 0; y < horizon; y++) {
-    for (let x = 0; x < a.width; x++) {
-      const i = (y * a.width + x) * a.channels;
-      const j = (y * b.width + x) * b.channels;
-      if ([0, 1, 2].some((k) => Math.abs(a.data[i + k] - b.data[j + k]) > 12)) differ += 1;
-    }
+    for (let x = 0; x < a.width; x++) sum += a.data[(y * a.width + x) * a.channels];
   }
-  return differ / (horizon * a.width);
+  return sum / (255 * horizon * a.width);
 }
 
 const size = [`width=${view.width}`, `height=${view.height}`, `pitch=${view.pitch}`, `fov=${view.fov}`];
 const takramAt = (out, c) => execFileSync('node', ['takram.mjs', out, ...size, 'quality=low', `coverage=${c}`,
-  'sun=35,150', 'altitude=2', 'yaw=0', 'upscale=0'], { cwd: here, encoding: 'utf8' });
+  'sun=35,150', 'altitude=2', 'yaw=0', 'upscale=0', 'output=opacity'], { cwd: here, encoding: 'utf8' });
 
-/** takram's cloud fraction at its coverage, and Nimbus's coverage of the same fraction. */
+/** takram's clouds' mean opacity at its coverage, and Nimbus's coverage of the same opacity. */
 function matchedNimbusCoverage() {
-  const [takramCloudy, takramClear] = [join(work, 'takram-cloudy.png'), join(work, 'takram-clear.png')];
-  takramAt(takramCloudy, takramCoverage);
-  takramAt(takramClear, 0);
-  const target = cloudFraction(takramCloudy, takramClear);
-  const scene = join(work, 'fraction.toml');
+  const takramOpacity = join(work, 'takram-opacity.png');
+  takramAt(takramOpacity, takramCoverage);
+  const target = meanOpacity(takramOpacity);
+  const scene = join(work, 'opacity.toml');
   writeFileSync(scene, [
-    'name = "fraction"', 'description = "The browser benchmark\'s cloud fraction."',
+    'name = "opacity"', 'description = "The browser benchmark\'s cloud match."',
     'genus = "takram-default"', 'quality = "low"', 'sun_elevation_deg = 35.0',
     'sun_azimuth_deg = 150.0', 'camera_altitude = 2.0', `camera_pitch_deg = ${view.pitch}.0`, '',
   ].join('\n'));
-  const pkg = join(work, 'package-fraction');
+  const pkg = join(work, 'package-opacity');
   execFileSync(nimbus, ['emit', '--engine', 'three', '--scene', scene, '-o', pkg], { stdio: ['ignore', 'ignore', 'inherit'] });
   // The package's own weather control sets the coverage (`setWeather`).
-  const nimbusAt = (out, c) => execFileSync('node', ['render.mjs', pkg, out, ...size, `weather=${c}`],
-    { cwd: here, encoding: 'utf8' });
-  const clear = join(work, 'nimbus-clear.png');
-  nimbusAt(clear, 0);
-  const fractionAt = (c) => {
-    const out = join(work, `nimbus-${c.toFixed(4)}.png`);
-    nimbusAt(out, c);
-    return cloudFraction(out, clear);
+  const opacityAt = (c) => {
+    const out = join(work, `nimbus-opacity-${c.toFixed(4)}.png`);
+    execFileSync('node', ['render.mjs', pkg, out, ...size, `weather=${c}`, 'output=opacity'],
+      { cwd: here, encoding: 'utf8' });
+    return meanOpacity(out);
   };
   let [lo, hi] = [0.0, 1.0];
-  for (let i = 0; i < 8; i++) {
+  for (let i = 0; i < 10; i++) {
     const mid = (lo + hi) / 2;
-    if (fractionAt(mid) < target) lo = mid;
+    if (opacityAt(mid) < target) lo = mid;
     else hi = mid;
   }
   const matched = (lo + hi) / 2;
-  return { target, matched, reached: fractionAt(matched) };
+  return { target, matched, reached: opacityAt(matched) };
 }
 
 let coverage = process.env.NIMBUS_COVERAGE;
 if (coverage === undefined) {
   const m = matchedNimbusCoverage();
   coverage = m.matched.toFixed(4);
-  console.error(`cloud fraction above the horizon: takram ${m.target.toFixed(3)} at coverage ${takramCoverage}; `
-    + `Nimbus ${m.reached.toFixed(3)} at coverage ${coverage} (bisected)`);
+  console.error(`the clouds' mean opacity above the horizon: takram ${m.target.toFixed(3)} at coverage `
+    + `${takramCoverage}; Nimbus ${m.reached.toFixed(3)} at coverage ${coverage} (bisected)`);
 }
 
 for (const quality of presets) {

@@ -1,6 +1,7 @@
 // Renders a Nimbus three.js package once, from the camera the query string describes, and
 // publishes the result (a PNG data URL) and every shader message three logged on `window`.
 import * as THREE from 'three';
+import { drawOpacity } from './opacity.mjs';
 import { publish } from './publish.mjs';
 import { canvasRenderer } from './renderer.mjs';
 import { height, number, placeCamera, q, width } from './query.mjs';
@@ -63,6 +64,9 @@ async function run(result) {
   } else {
     for (let i = 0; i < number('frames', 1); i++) clouds.render(renderer);
   }
+  // `output=opacity`: the clouds' opacity in place of the picture (opacity.mjs); the cloud
+  // target holds it at full resolution (upscaling and accumulation off).
+  if (q.get('output') === 'opacity') drawOpacity(renderer, clouds.cloudTarget.texture, { flipY: true });
   return { gl, canvas };
 }
 

@@ -9,8 +9,10 @@
 // pitch (up from the horizon), yaw (clockwise from north), fov (vertical, degrees), lat, lon
 // (degrees; Tokyo by default), upscale (1/0: takram's temporal upscaling, off by default), frames (drawn before
 // the screenshot), bench=N and warmup=M (time N frames after M), exposure, stbn (URL), ground=0
-// (no ground disc), albedo=R,G,B (the ground's), clouds=0 (no CloudsEffect: a diagnostic).
+// (no ground disc), albedo=R,G,B (the ground's), clouds=0 (no CloudsEffect: a diagnostic),
+// output=opacity (the clouds' opacity as grey, haze off: opacity.mjs).
 import * as THREE from 'three';
+import { drawOpacity } from './opacity.mjs';
 import { publish } from './publish.mjs';
 import { canvasRenderer } from './renderer.mjs';
 import { timeFrames } from './timing.mjs';
@@ -119,6 +121,11 @@ async function run(result) {
   clouds.qualityPreset = quality;
   clouds.coverage = number('coverage', 0.4);
   clouds.temporalUpscale = q.get('upscale') === '1'; // Off unless upscale=1, as in main.mjs.
+  // `output=opacity`: the clouds' opacity in place of the picture (opacity.mjs). The clouds
+  // buffer's alpha holds the haze's too, so the haze is off for it (Nimbus's holds the clouds'
+  // alone).
+  const opacity = q.get('output') === 'opacity';
+  if (opacity) clouds.haze = false;
   // CloudsEffect hands its buffers to AerialPerspectiveEffect through 'change' events.
   clouds.events.addEventListener('change', (event) => {
     if (event.property === 'atmosphereOverlay') aerialPerspective.overlay = clouds.atmosphereOverlay;
@@ -157,6 +164,7 @@ async function run(result) {
   } else {
     for (let i = 0; i < number('frames', 1); i++) frame();
   }
+  if (opacity) drawOpacity(renderer, clouds.cloudsPass.outputBuffer);
   return { gl, canvas };
 }
 
