@@ -9,6 +9,7 @@ use std::path::Path;
 use image_compare::rgb_hybrid_compare;
 use nimbus_clouds::wind::Drift;
 use nimbus_clouds::{CloudLibrary, Quality};
+use nimbus_runtime::Gpu;
 use nimbus_runtime::render::{Frame, Image, Renderer, TextureSizes};
 
 const SIZES: TextureSizes = TextureSizes {
@@ -30,6 +31,16 @@ fn frame() -> Frame {
     f.genus.coverage = 0.6;
     f.camera_pitch_deg = 25.0;
     f
+}
+
+/// `f` at full resolution, converged over 16 frames on a history of its own: the picture an
+/// upscaled history must settle to.
+fn converged(gpu: &'static Gpu, f: &Frame) -> Image {
+    let mut truth = f.clone();
+    truth.upscale = false;
+    truth.frames = 16;
+    truth.continue_history = false;
+    Renderer::new(gpu, SIZES).render(&truth).expect("truth")
 }
 
 fn similarity(a: &Image, b: &Image) -> f64 {
@@ -102,11 +113,7 @@ fn reprojection_follows_a_turning_camera() {
     f.frames = 1;
     f.continue_history = true;
     let after = r.render(&f).expect("turned");
-    let mut fresh = f.clone();
-    fresh.upscale = false;
-    fresh.frames = 16;
-    fresh.continue_history = false;
-    let truth = Renderer::new(gpu, SIZES).render(&fresh).expect("truth");
+    let truth = converged(gpu, &f);
     let (stale, reprojected) = (similarity(&before, &truth), similarity(&after, &truth));
     println!("similarity to the turned view: stale {stale:.4}, reprojected {reprojected:.4}");
     assert!(
@@ -130,11 +137,7 @@ fn a_still_view_follows_the_clouds_changing() {
     f.frames = 2;
     f.continue_history = true;
     let after = r.render(&f).expect("changed");
-    let mut truth = f.clone();
-    truth.upscale = false;
-    truth.frames = 16;
-    truth.continue_history = false;
-    let truth = Renderer::new(gpu, SIZES).render(&truth).expect("truth");
+    let truth = converged(gpu, &f);
     let (stale, followed) = (similarity(&before, &truth), similarity(&after, &truth));
     println!(
         "similarity to the clouds at coverage 0.45, two upscaled frames after 0.6: stale \
