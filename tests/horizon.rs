@@ -6,16 +6,21 @@ mod common;
 
 use std::path::Path;
 
-use nimbus_clouds::{CloudLibrary, Quality};
+use nimbus_clouds::{CloudLibrary, Genus, Quality};
 use nimbus_runtime::render::{Frame, Renderer, TextureSizes};
+
+/// A genus of the example library.
+fn genus(name: &str) -> Genus {
+    let lib =
+        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
+    lib.genus(name).expect("genus").clone()
+}
 
 #[test]
 fn haze_does_not_darken_the_horizon_into_a_band() {
     let Some(gpu) = common::gpu() else { return };
     println!("adapter: {}", gpu.info());
-    let lib =
-        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
-    let mut genus = lib.genus("cirrostratus").expect("genus").clone();
+    let mut genus = genus("cirrostratus");
     genus.coverage = 0.0;
     let mut renderer = Renderer::new(gpu, TextureSizes::default());
     let band = |haze: bool, renderer: &mut Renderer<'_>| {
@@ -63,9 +68,7 @@ fn haze_does_not_darken_the_horizon_into_a_band() {
 fn haze_without_light_shafts_lies_in_the_clouds_shadows() {
     let Some(gpu) = common::gpu() else { return };
     println!("adapter: {}", gpu.info());
-    let lib =
-        CloudLibrary::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples")).expect("data");
-    let mut genus = lib.genus("stratocumulus").expect("genus").clone();
+    let mut genus = genus("stratocumulus");
     genus.coverage = 0.33;
     let mut renderer = Renderer::new(gpu, TextureSizes::default());
     let mut mean = |quality: Quality, shafts: bool, shadows: bool| {

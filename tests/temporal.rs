@@ -43,6 +43,16 @@ fn converged(gpu: &'static Gpu, f: &Frame) -> Image {
     Renderer::new(gpu, SIZES).render(&truth).expect("truth")
 }
 
+/// The test frame upscaled, its history settled over 16 frames in `r`: the frame, to change
+/// and draw once more on that history, and its picture.
+fn settled_upscaled(r: &mut Renderer<'_>) -> (Frame, Image) {
+    let mut f = frame();
+    f.upscale = true;
+    f.frames = 16;
+    let image = r.render(&f).expect("converged");
+    (f, image)
+}
+
 fn similarity(a: &Image, b: &Image) -> f64 {
     let a = image::DynamicImage::ImageRgba8(a.to_rgba8(8.0)).to_rgb8();
     let b = image::DynamicImage::ImageRgba8(b.to_rgba8(8.0)).to_rgb8();
@@ -104,10 +114,7 @@ fn a_game_loop_of_single_frames_equals_one_call_of_many() {
 fn reprojection_follows_a_turning_camera() {
     let Some(gpu) = common::gpu() else { return };
     let mut r = Renderer::new(gpu, SIZES);
-    let mut f = frame();
-    f.upscale = true;
-    f.frames = 16;
-    let before = r.render(&f).expect("converged");
+    let (mut f, before) = settled_upscaled(&mut r);
     // Turn by 6° (about 10 pixels) and render one more upscaled frame on the old history.
     f.camera_yaw_deg = 6.0;
     f.frames = 1;
@@ -129,10 +136,7 @@ fn reprojection_follows_a_turning_camera() {
 fn a_still_view_follows_the_clouds_changing() {
     let Some(gpu) = common::gpu() else { return };
     let mut r = Renderer::new(gpu, SIZES);
-    let mut f = frame();
-    f.upscale = true;
-    f.frames = 16;
-    let before = r.render(&f).expect("converged");
+    let (mut f, before) = settled_upscaled(&mut r);
     f.genus.coverage = 0.45;
     f.frames = 2;
     f.continue_history = true;
