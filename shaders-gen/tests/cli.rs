@@ -256,7 +256,7 @@ fn emit_and_explain_agree_on_the_scene_variant() {
         "{e}"
     );
     assert!(
-        e.contains("profile-function         std  exponential_profile"),
+        e.contains("profile-function         std  linear_profile"),
         "{e}"
     );
 }

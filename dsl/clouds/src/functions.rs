@@ -22,6 +22,7 @@ use std::sync::{Mutex, OnceLock};
 use glam::{Vec2, Vec4};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::layer::CloudLayer;
 use crate::model::genus_fns;
 use crate::model::layers::{LayerGroup, LayerGroupShader};
 use nimbus_dsl::shader;
@@ -228,7 +229,7 @@ impl Default for GenusFunctions {
         GenusFunctions {
             weather: genus_fns::TEXTURE_WEATHER,
             shape: genus_fns::ROUNDED_SHAPE,
-            profile: genus_fns::EXPONENTIAL_PROFILE,
+            profile: genus_fns::LINEAR_PROFILE,
         }
     }
 }
@@ -252,6 +253,27 @@ impl GenusFunctions {
             out.push(("profile", self.profile.name));
         }
         out
+    }
+
+    /// These functions for a genus of `layers`, each in the cheapest form that computes the
+    /// same numbers. The reference library's profile has two: `a·e^(b·η) + c·η + d` needs the
+    /// exponential only where some layer has both `a` and `b` non-zero, and `a + c·η + d` is
+    /// the same sum for every other layer (`a·e^0 = a`, `0·e^(bη) = 0`), so either name gives
+    /// the form the layers need. A key holds what this returns, so a genus whose exponential
+    /// term matters gets a shader of its own (named `exponential_profile`) and no other pays
+    /// for it.
+    pub fn for_layers(self, layers: &[CloudLayer]) -> GenusFunctions {
+        let reference = [genus_fns::LINEAR_PROFILE, genus_fns::EXPONENTIAL_PROFILE];
+        if !reference.contains(&self.profile) {
+            return self;
+        }
+        let constant_term = layers
+            .iter()
+            .all(|l| l.density_profile.a == 0.0 || l.density_profile.b == 0.0);
+        GenusFunctions {
+            profile: reference[usize::from(!constant_term)],
+            ..self
+        }
     }
 
     /// Every slot with its function's name, path and purpose.

@@ -227,7 +227,11 @@ impl CloudKey {
             phase: PhaseKind::DualLobe,
             groups: 2,
             output: PixelOutput::Composite,
-            functions: GenusFunctions::default(),
+            // The reference profile's general form: the uber-shader draws any genus.
+            functions: GenusFunctions {
+                profile: crate::model::genus_fns::EXPONENTIAL_PROFILE,
+                ..GenusFunctions::default()
+            },
             uber: true,
         }
     }

@@ -6,7 +6,10 @@ use std::path::Path;
 use glam::Vec4;
 use nimbus_clouds::functions::{RegisterError, lookup};
 use nimbus_clouds::model::clouds::CloudVariant;
-use nimbus_clouds::model::genus_fns::{ANVIL_SHAPE, CELLULAR_WEATHER, EXPONENTIAL_PROFILE};
+use nimbus_clouds::model::genus_fns::{
+    ANVIL_SHAPE, CELLULAR_WEATHER, EXPONENTIAL_PROFILE, LINEAR_PROFILE, exponential_profile,
+    linear_profile,
+};
 use nimbus_clouds::model::layers::LayerGroup;
 use nimbus_clouds::{DataError, HeightFn, Quality, height_fn, parse_genus, register};
 use nimbus_dsl::prelude::*;
@@ -33,7 +36,7 @@ fn a_file_names_built_in_functions_and_the_key_carries_them() {
             .expect("tower");
     assert_eq!(tower.functions.shape, ANVIL_SHAPE);
     assert_eq!(tower.functions.weather, CELLULAR_WEATHER);
-    assert_eq!(tower.functions.profile, EXPONENTIAL_PROFILE);
+    assert_eq!(tower.functions.profile, LINEAR_PROFILE);
     let key = |g| CloudVariant::new(g, Quality::High, Quality::High.features()).key;
     let (a, b) = (key(&plain), key(&tower));
     assert_ne!(a, b, "different functions, different keys");
@@ -53,6 +56,81 @@ fn a_file_names_built_in_functions_and_the_key_carries_them() {
     // A height function serves as a profile too, tagged with its slot.
     let profile = genus_with(r#"functions = { profile = "anvil_shape" }"#).expect("profile");
     assert!(key(&profile).name().ends_with("-profile_anvil_shape"));
+}
+
+/// The reference profile's two forms: a genus gets the exponential one exactly where a layer
+/// needs it (its `a` and `b` both non-zero), whichever of the two its file names, and the
+/// linear one computes the same numbers, to the bit, for every layer it is chosen for.
+#[test]
+fn the_profile_needs_its_exponential_only_where_a_layer_has_one() {
+    let layer = |a: f32, b: f32| {
+        format!(
+            "[[layers]]\nchannel = \"g\"\naltitude = 500.0\nheight = 900.0\ndensity_profile = {{ a = {a:?}, b = {b:?}, c = 0.6, d = 0.4 }}\n"
+        )
+    };
+    let key = |functions: &str, layers: &str| {
+        let g = genus_with(&format!("{functions}\n{layers}")).expect("genus");
+        CloudVariant::new(&g, Quality::Low, Quality::Low.features()).key
+    };
+    for named in [
+        "",
+        r#"functions = { profile = "exponential_profile" }"#,
+        r#"functions = { profile = "linear_profile" }"#,
+    ] {
+        for (a, b) in [(0.0, 0.0), (0.0, 3.0), (0.7, 0.0)] {
+            let k = key(named, &layer(a, b));
+            assert_eq!(k.functions.profile, LINEAR_PROFILE, "{named:?} a {a} b {b}");
+            assert!(!k.name().contains("profile"), "{}", k.name());
+        }
+        let k = key(named, &format!("{}{}", layer(0.0, 3.0), layer(0.5, -2.0)));
+        assert_eq!(
+            k.functions.profile, EXPONENTIAL_PROFILE,
+            "{named:?}: the second layer's term varies"
+        );
+        assert!(k.name().ends_with("-exponential_profile"), "{}", k.name());
+    }
+    // Another profile is the genus' own choice, left as it is.
+    let own = key(
+        r#"functions = { profile = "anvil_shape" }"#,
+        &layer(0.0, 0.0),
+    );
+    assert_eq!(own.functions.profile, ANVIL_SHAPE);
+
+    // Same numbers: every height in [0, 1] and coefficients of either kind, bit for bit. The
+    // control (a layer with both terms) must tell the two forms apart.
+    let mut differs = false;
+    for i in 0..=200u32 {
+        let eta = Vec4::new(
+            i as f32 / 200.0,
+            1.0 - i as f32 / 200.0,
+            (i as f32 * 0.37).fract(),
+            0.5,
+        );
+        for (a, b) in [
+            (0.0, 0.0),
+            (0.0, 7.5),
+            (0.0, -80.0),
+            (1.3, 0.0),
+            (-0.4, 0.0),
+        ] {
+            let mut g = LayerGroup::empty();
+            g.profile_a = Vec4::new(a, 0.0, a, 0.25);
+            g.profile_b = Vec4::new(b, b, 0.0, 0.0);
+            g.profile_c = Vec4::new(0.75, -0.2, 0.3, 0.6);
+            g.profile_d = Vec4::new(0.25, 1.0, -0.1, 0.4);
+            let (e, l) = (exponential_profile(eta, g), linear_profile(eta, g));
+            assert_eq!(
+                e.to_array().map(f32::to_bits),
+                l.to_array().map(f32::to_bits),
+                "eta {eta} a {a} b {b}"
+            );
+        }
+        let mut g = LayerGroup::empty();
+        g.profile_a = Vec4::splat(0.5);
+        g.profile_b = Vec4::splat(2.0);
+        differs |= exponential_profile(eta, g) != linear_profile(eta, g);
+    }
+    assert!(differs, "the control: with both terms the forms differ");
 }
 
 #[test]

@@ -35,7 +35,7 @@ impl CloudVariant {
             genus: genus.name.clone(),
             quality,
             key: CloudKey::new(features, &genus.phase, genus.layer_groups() as u32)
-                .with_functions(genus.functions),
+                .with_functions(genus.functions.for_layers(&genus.layers)),
         }
     }
 

@@ -189,6 +189,15 @@ pub fn exponential_profile(eta: Vec4, layers: LayerGroup) -> Vec4 {
     layers.profile_a * (layers.profile_b * eta).exp() + layers.profile_c * eta + layers.profile_d
 }
 
+/// [`exponential_profile`] where every layer's exponential term is a constant (`a = 0` or
+/// `b = 0`, as in every example genus): `a + c·η + d`, the same numbers without an exponential
+/// per lane and sample. A key gets it in place of the exponential form wherever that is exact
+/// ([`crate::GenusFunctions::for_layers`]).
+#[shader_fn]
+pub fn linear_profile(eta: Vec4, layers: LayerGroup) -> Vec4 {
+    layers.profile_a + layers.profile_c * eta + layers.profile_d
+}
+
 pub const TEXTURE_WEATHER: WeatherFn = weather_fn!(
     texture_weather,
     "each layer's channel of the weather texture, raised to its weather exponent"
@@ -225,10 +234,19 @@ pub const EXPONENTIAL_PROFILE: HeightFn = height_fn!(
     exponential_profile,
     "a e^(b eta) + c eta + d with the layer's coefficients (the reference library's)"
 );
+pub const LINEAR_PROFILE: HeightFn = height_fn!(
+    linear_profile,
+    "a + c eta + d: the reference library's profile where each layer's a or b is 0 (chosen for you)"
+);
 
 /// The built-in height functions (for shapes and profiles).
 pub fn builtin_height_fns() -> Vec<HeightFn> {
-    vec![ROUNDED_SHAPE, ANVIL_SHAPE, EXPONENTIAL_PROFILE]
+    vec![
+        ROUNDED_SHAPE,
+        ANVIL_SHAPE,
+        EXPONENTIAL_PROFILE,
+        LINEAR_PROFILE,
+    ]
 }
 
 /// The built-in weather functions.
