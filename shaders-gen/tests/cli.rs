@@ -69,9 +69,9 @@ fn list_and_check_describe_and_validate_everything() {
         "preview-hg",
         "preview-dual_lobe",
         "clouds: 32 distinct shader(s)",
-        "shadow: 18 distinct shader(s)",
+        "shadow: 21 distinct shader(s)",
         "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-dual-g1 ← 2 pair(s): cumulus.high, takram-default.high",
-        "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-mie-g1 ← 3 pair(s): altostratus.high, nimbostratus.high, stratus.high",
+        "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-mie-g1-weather_exponent ← 3 pair(s): altostratus.high, nimbostratus.high, stratus.high",
         "clouds-detail-turb-shafts-haze-shadows-bounce-diffuse-powder-o1-dual-g1-sparse_weather-anvil_shape ← 1 pair(s): cumulonimbus.high",
         "glsl-es300",
         "spirv",
@@ -83,11 +83,11 @@ fn list_and_check_describe_and_validate_everything() {
     let o = nimbus(&["check", "--no-external"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let s = text(&o.stdout);
-    // 2 previews + resolve + display + sun light + scene shadow + 32 cloud keys + 18 shadow
+    // 2 previews + resolve + display + sun light + scene shadow + 32 cloud keys + 21 shadow
     // keys + the air table, for 11 genera × 4 presets (genera with their own weather or shape
     // functions, or their own phase function kind, have their own).
     assert!(
-        s.contains("57 shader(s),") && s.contains("0 failure(s)"),
+        s.contains("60 shader(s),") && s.contains("0 failure(s)"),
         "{s}"
     );
     assert!(
@@ -238,10 +238,10 @@ fn emit_and_explain_agree_on_the_scene_variant() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     // 6.5 km above the deck the view holds three weather tiles: the analysis untiles them.
     let name = "stratocumulus.high-light-shafts-ground-bounce+untiled-weather";
-    let id = "clouds-detail-turb-haze-shadows-diffuse-powder-untile-o1-dual-g1-cellular_weather";
+    let id = "clouds-detail-turb-haze-shadows-diffuse-powder-untile-o1-dual-g1-cellular_weather-weather_exponent";
     let clouds = std::fs::read_to_string(out.join(format!("{id}.wgsl"))).expect("clouds");
     assert!(
-        out.join("shadow-detail-turb-untile-g1-cellular_weather.wgsl")
+        out.join("shadow-detail-turb-untile-g1-cellular_weather-weather_exponent.wgsl")
             .is_file()
     );
     // Shafts and ground bounce are out: their code is not in the shader.

@@ -222,6 +222,14 @@ pub struct GenusFunctions {
     pub weather: WeatherFn,
     pub shape: HeightFn,
     pub profile: HeightFn,
+    /// The weather exponent's form, applied to the weather function's signal: not a file's
+    /// choice, but the cheapest exact one for the genus' layers ([`GenusFunctions::for_layers`]).
+    #[serde(skip, default = "unit_exponent")]
+    pub exponent: HeightFn,
+}
+
+fn unit_exponent() -> HeightFn {
+    genus_fns::UNIT_EXPONENT
 }
 
 impl Default for GenusFunctions {
@@ -230,6 +238,7 @@ impl Default for GenusFunctions {
             weather: genus_fns::TEXTURE_WEATHER,
             shape: genus_fns::ROUNDED_SHAPE,
             profile: genus_fns::LINEAR_PROFILE,
+            exponent: genus_fns::UNIT_EXPONENT,
         }
     }
 }
@@ -252,11 +261,15 @@ impl GenusFunctions {
         if self.profile != d.profile {
             out.push(("profile", self.profile.name));
         }
+        if self.exponent != d.exponent {
+            out.push(("exponent", self.exponent.name));
+        }
         out
     }
 
     /// These functions for a genus of `layers`, each in the cheapest form that computes the
-    /// same numbers. The reference library's profile has two: `a·e^(b·η) + c·η + d` needs the
+    /// same numbers. The weather exponent has two forms (the power, or none where every
+    /// layer's is 1); the reference library's profile has two: `a·e^(b·η) + c·η + d` needs the
     /// exponential only where some layer has both `a` and `b` non-zero, and `a + c·η + d` is
     /// the same sum for every other layer (`a·e^0 = a`, `0·e^(bη) = 0`), so either name gives
     /// the form the layers need. A key holds what this returns, so a genus whose exponential
@@ -264,20 +277,31 @@ impl GenusFunctions {
     /// for it.
     pub fn for_layers(self, layers: &[CloudLayer]) -> GenusFunctions {
         let reference = [genus_fns::LINEAR_PROFILE, genus_fns::EXPONENTIAL_PROFILE];
-        if !reference.contains(&self.profile) {
-            return self;
-        }
         let constant_term = layers
             .iter()
             .all(|l| l.density_profile.a == 0.0 || l.density_profile.b == 0.0);
+        let profile = if reference.contains(&self.profile) {
+            reference[usize::from(!constant_term)]
+        } else {
+            self.profile
+        };
+        // Likewise the weather exponent: `x¹ = x`, so only a layer whose exponent is not 1
+        // needs the power.
+        let unit = layers.iter().all(|l| l.weather_exponent == 1.0);
+        let exponent = if unit {
+            genus_fns::UNIT_EXPONENT
+        } else {
+            genus_fns::WEATHER_EXPONENT
+        };
         GenusFunctions {
-            profile: reference[usize::from(!constant_term)],
+            profile,
+            exponent,
             ..self
         }
     }
 
     /// Every slot with its function's name, path and purpose.
-    pub fn slots(&self) -> [(&'static str, &'static str, &'static str, &'static str); 3] {
+    pub fn slots(&self) -> [(&'static str, &'static str, &'static str, &'static str); 4] {
         [
             (
                 "weather",
@@ -291,6 +315,12 @@ impl GenusFunctions {
                 self.profile.name,
                 self.profile.path,
                 self.profile.about,
+            ),
+            (
+                "exponent",
+                self.exponent.name,
+                self.exponent.path,
+                self.exponent.about,
             ),
         ]
     }

@@ -227,9 +227,10 @@ impl CloudKey {
             phase: PhaseKind::DualLobe,
             groups: 2,
             output: PixelOutput::Composite,
-            // The reference profile's general form: the uber-shader draws any genus.
+            // The general forms of the profile and the exponent: the uber-shader draws any genus.
             functions: GenusFunctions {
                 profile: crate::model::genus_fns::EXPONENTIAL_PROFILE,
+                exponent: crate::model::genus_fns::WEATHER_EXPONENT,
                 ..GenusFunctions::default()
             },
             uber: true,

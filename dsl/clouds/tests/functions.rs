@@ -7,8 +7,8 @@ use glam::Vec4;
 use nimbus_clouds::functions::{RegisterError, lookup};
 use nimbus_clouds::model::clouds::CloudVariant;
 use nimbus_clouds::model::genus_fns::{
-    ANVIL_SHAPE, CELLULAR_WEATHER, EXPONENTIAL_PROFILE, LINEAR_PROFILE, exponential_profile,
-    linear_profile,
+    ANVIL_SHAPE, CELLULAR_WEATHER, EXPONENTIAL_PROFILE, LINEAR_PROFILE, UNIT_EXPONENT,
+    WEATHER_EXPONENT, exponential_profile, linear_profile,
 };
 use nimbus_clouds::model::layers::LayerGroup;
 use nimbus_clouds::{DataError, HeightFn, Quality, height_fn, parse_genus, register};
@@ -60,9 +60,10 @@ fn a_file_names_built_in_functions_and_the_key_carries_them() {
 
 /// The reference profile's two forms: a genus gets the exponential one exactly where a layer
 /// needs it (its `a` and `b` both non-zero), whichever of the two its file names, and the
-/// linear one computes the same numbers, to the bit, for every layer it is chosen for.
+/// linear one computes the same numbers, to the bit, for every layer it is chosen for. The
+/// weather exponent's power likewise only where a layer's exponent is not 1.
 #[test]
-fn the_profile_needs_its_exponential_only_where_a_layer_has_one() {
+fn the_profile_and_the_weather_exponent_take_their_general_form_only_where_a_layer_needs_it() {
     let layer = |a: f32, b: f32| {
         format!(
             "[[layers]]\nchannel = \"g\"\naltitude = 500.0\nheight = 900.0\ndensity_profile = {{ a = {a:?}, b = {b:?}, c = 0.6, d = 0.4 }}\n"
@@ -89,6 +90,30 @@ fn the_profile_needs_its_exponential_only_where_a_layer_has_one() {
         );
         assert!(k.name().ends_with("-exponential_profile"), "{}", k.name());
     }
+    // The weather exponent likewise: the power only where a layer's exponent is not 1.
+    let exponent = |e: f32| {
+        format!(
+            "[[layers]]\nchannel = \"b\"\naltitude = 500.0\nheight = 900.0\nweather_exponent = {e:?}\n"
+        )
+    };
+    let unit = key("", &exponent(1.0));
+    assert_eq!(unit.functions.exponent, UNIT_EXPONENT);
+    assert!(!unit.name().contains("exponent"), "{}", unit.name());
+    let powered = key("", &exponent(0.8));
+    assert_eq!(powered.functions.exponent, WEATHER_EXPONENT);
+    assert!(
+        powered.name().ends_with("-weather_exponent"),
+        "{}",
+        powered.name()
+    );
+    assert_eq!(
+        powered.shadow_key().map(|k| k.functions.exponent),
+        Some(WEATHER_EXPONENT),
+        "the shadow pass raises the weather alike"
+    );
+    // A file cannot choose it: it follows from the layers.
+    assert!(genus_with(r#"functions = { exponent = "unit_exponent" }"#).is_err());
+
     // Another profile is the genus' own choice, left as it is.
     let own = key(
         r#"functions = { profile = "anvil_shape" }"#,

@@ -18,14 +18,12 @@ use crate::functions::{HeightFn, WeatherFn};
 use crate::key::CloudKey;
 use crate::{height_fn, weather_fn};
 
-/// The reference library's weather: each layer reads its channel of the weather texture,
-/// raised to its weather exponent.
+/// The reference library's weather: each layer reads its channel of the weather texture (the
+/// model raises it to the layer's weather exponent: [`weather_exponent`]).
 #[shader_fn]
 pub fn texture_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
     let rgba = WEATHER.get().sample_level(&LINEAR_REPEAT.get(), uv, 0.0);
-    (layers.channel_matrix * rgba)
-        .saturate()
-        .pow(layers.weather_exponent)
+    (layers.channel_matrix * rgba).saturate()
 }
 
 /// Fibres: the weather texture stretched 12× along the wind (x) and squeezed 3× across it, so
@@ -38,9 +36,7 @@ pub fn streak_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
     let rgba = WEATHER
         .get()
         .sample_level(&LINEAR_REPEAT.get(), uv * vec2(1.0 / 12.0, 3.0), 0.0);
-    (layers.channel_matrix * rgba)
-        .saturate()
-        .pow(layers.weather_exponent)
+    (layers.channel_matrix * rgba).saturate()
 }
 
 /// Few, large cells: the weather texture at a fifth of its frequency, so a 100 km tile holds a
@@ -51,9 +47,7 @@ pub fn sparse_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
     let rgba = WEATHER
         .get()
         .sample_level(&LINEAR_REPEAT.get(), uv * 0.2, 0.0);
-    (layers.channel_matrix * rgba)
-        .saturate()
-        .pow(layers.weather_exponent)
+    (layers.channel_matrix * rgba).saturate()
 }
 
 /// Cells within patches: the weather texture at its own scale decides where the deck is, the
@@ -73,9 +67,7 @@ pub fn cellular_weather(_xz: Vec2, uv: Vec2, layers: LayerGroup) -> Vec4 {
     let cell = (layers.channel_matrix * cells).saturate();
     // Inside a patch the cells decide; the product keeps gaps between cells even where the
     // patch is full.
-    (patch.pow(Vec4::splat(0.5)) * cell)
-        .saturate()
-        .pow(layers.weather_exponent)
+    (patch.pow(Vec4::splat(0.5)) * cell).saturate()
 }
 
 /// Distance (in lattice units) from `p` to the nearest of the feature points, one per lattice
@@ -137,9 +129,23 @@ pub fn elements_in_rows(
     let camera = vec2(u.camera_offset.x, u.camera_offset.z);
     let far = smoothstep(0.5 * fade, fade, (xz - camera).length());
     let detail = mix(element * row, level, far);
-    (patch.pow(Vec4::splat(0.5)) * detail)
-        .saturate()
-        .pow(layers.weather_exponent)
+    (patch.pow(Vec4::splat(0.5)) * detail).saturate()
+}
+
+/// The reference library's weather exponent: each layer's signal, whatever the genus' weather
+/// function made it, raised to the layer's `weather_exponent`. The model applies it after the
+/// weather function ([`genus_exponent`]), so no weather function repeats it.
+#[shader_fn]
+pub fn weather_exponent(signal: Vec4, layers: LayerGroup) -> Vec4 {
+    signal.pow(layers.weather_exponent)
+}
+
+/// [`weather_exponent`] where every layer's exponent is 1: the signal as it is, without a
+/// power per lane and sample (4 of a density sample's transcendentals). A key gets it wherever
+/// that is exact ([`crate::GenusFunctions::for_layers`]).
+#[shader_fn]
+pub fn unit_exponent(signal: Vec4, _layers: LayerGroup) -> Vec4 {
+    signal
 }
 
 /// A whole turn, for the rows' phase.
@@ -234,6 +240,14 @@ pub const EXPONENTIAL_PROFILE: HeightFn = height_fn!(
     exponential_profile,
     "a e^(b eta) + c eta + d with the layer's coefficients (the reference library's)"
 );
+pub const WEATHER_EXPONENT: HeightFn = height_fn!(
+    weather_exponent,
+    "signal^exponent with each layer's weather exponent (the reference library's)"
+);
+pub const UNIT_EXPONENT: HeightFn = height_fn!(
+    unit_exponent,
+    "the weather signal as it is: the weather exponent where every layer's is 1 (chosen for you)"
+);
 pub const LINEAR_PROFILE: HeightFn = height_fn!(
     linear_profile,
     "a + c eta + d: the reference library's profile where each layer's a or b is 0 (chosen for you)"
@@ -316,6 +330,11 @@ pub mod genus_weather {
 genus_slot!(
     /// The coverage shape of the key's genus at height fractions `eta` (CPU twin).
     genus_shape, __shader_twin_genus_shape, shape, eta: Vec4 => shader::Vec4
+);
+genus_slot!(
+    /// The key's weather exponent applied to the weather `signal` of each layer (CPU twin):
+    /// [`weather_exponent`], or [`unit_exponent`] where every exponent is 1.
+    genus_exponent, __shader_twin_genus_exponent, exponent, signal: Vec4 => shader::Vec4
 );
 genus_slot!(
     /// The density profile of the key's genus at height fractions `eta` (CPU twin).
