@@ -9,6 +9,11 @@
 //!   sets the silhouette (rounded tops, a tower's anvil);
 //! - `profile` ([`HeightFn`]): how density varies with height in each layer.
 //!
+//! A fourth, the weather exponent's form, is not a file's choice: the model raises the weather
+//! signal to each layer's `weather_exponent` after the weather function, and the key holds the
+//! power only where an exponent is not 1 ([`GenusFunctions::for_layers`], which likewise picks
+//! the reference profile's form without its exponential where no layer needs it).
+//!
 //! Each is a pair of twins made from one `#[shader_fn]` by [`height_fn!`](crate::height_fn)
 //! or [`weather_fn!`](crate::weather_fn): the CPU twin runs in the stability catalogue and the
 //! parity tests, the shader twin is recorded into the genus' shaders. The functions are part of
@@ -41,7 +46,8 @@ pub struct HeightFn {
     pub shader: fn(shader::Vec4, LayerGroupShader) -> shader::Vec4,
 }
 
-/// The weather signal of four layers at a point: `(xz, uv, layers) → signal per lane`, with
+/// The weather signal of four layers at a point, before the layers' weather exponents (which the
+/// model applies): `(xz, uv, layers) → signal per lane`, with
 /// `xz` the point's ground-plane position in metres (noise space: camera offset included) and
 /// `uv` where it reads the weather tile (`xz · weather_repeat + weather_offset`, shifted where
 /// the key breaks up the tile's repetition: `model::untiled_weather`). Read the weather texture
