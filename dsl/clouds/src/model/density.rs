@@ -9,7 +9,7 @@ use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, DETAIL, LINEAR_REPEAT, SHAPE, TURBULENCE, WEATHER};
 use super::choices::{SHAPE_DETAIL, TURBULENCE as TURBULENCE_ON, UNTILED_WEATHER, gate};
-use super::genus_fns::{genus_exponent, genus_profile, genus_shape, genus_weather};
+use super::genus_fns::{genus_profile, genus_shape, raised_weather};
 use super::layers::LayerGroup;
 use super::noise::{DETAIL_MOMENTS, DETAIL_SIZE};
 use super::untiled_weather::untiled_weather;
@@ -152,7 +152,7 @@ pub fn weather_density(position: Vec3, altitude: f32, group: u32, #[spec] key: C
     let weather = if gate(key, UNTILED_WEATHER) {
         untiled_weather(xz, uv, layers, key)
     } else {
-        genus_exponent(key, genus_weather(key, xz, uv, layers), layers)
+        raised_weather(xz, uv, layers, key)
     };
     let eta = height_fraction(altitude, layers);
     let shape = genus_shape(key, eta, layers);

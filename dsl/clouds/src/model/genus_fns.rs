@@ -148,6 +148,14 @@ pub fn unit_exponent(signal: Vec4, _layers: LayerGroup) -> Vec4 {
     signal
 }
 
+/// The key's genus weather at `xz` (tile coordinates `uv`) raised to the layers' weather
+/// exponents: the signal the coverage remap reads. The untiled weather blends several of these,
+/// each raised before the blend, as the tiled weather is.
+#[shader_fn]
+pub fn raised_weather(xz: Vec2, uv: Vec2, layers: LayerGroup, #[spec] key: CloudKey) -> Vec4 {
+    genus_exponent(key, genus_weather(key, xz, uv, layers), layers)
+}
+
 /// A whole turn, for the rows' phase.
 const TAU: f32 = core::f32::consts::TAU;
 

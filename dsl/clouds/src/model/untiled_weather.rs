@@ -22,7 +22,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use nimbus_dsl::prelude::*;
 
-use super::genus_fns::{genus_exponent, genus_weather};
+use super::genus_fns::raised_weather;
 use super::layers::LayerGroup;
 use crate::key::CloudKey;
 
@@ -90,22 +90,15 @@ pub fn untiled_weather(xz: Vec2, uv: Vec2, layers: LayerGroup, #[spec] key: Clou
     let w = h.weights;
     let mut weather = Vec4::ZERO;
     if w.x > 0.0 {
-        weather += read_weather(xz, uv + vertex_offset(h.v1), layers, key) * w.x;
+        weather += raised_weather(xz, uv + vertex_offset(h.v1), layers, key) * w.x;
     }
     if w.y > 0.0 {
-        weather += read_weather(xz, uv + vertex_offset(h.v2), layers, key) * w.y;
+        weather += raised_weather(xz, uv + vertex_offset(h.v2), layers, key) * w.y;
     }
     if w.z > 0.0 {
-        weather += read_weather(xz, uv + vertex_offset(h.v3), layers, key) * w.z;
+        weather += raised_weather(xz, uv + vertex_offset(h.v3), layers, key) * w.z;
     }
     weather
-}
-
-/// One read of the blend: the key's genus weather at `uv`, raised to the layers' exponents
-/// before the blend, as the tiled weather is.
-#[shader_fn]
-pub fn read_weather(xz: Vec2, uv: Vec2, layers: LayerGroup, #[spec] key: CloudKey) -> Vec4 {
-    genus_exponent(key, genus_weather(key, xz, uv, layers), layers)
 }
 
 /// The offset (tiles, in [0, 1)²) at which lattice vertex `vertex` reads the weather: a hash of
