@@ -42,14 +42,14 @@ pub fn air_sunlit(direction: Vec3, distance: f32, jitter: f32, #[spec] key: Clou
     sunlit
 }
 
-/// [`air_sunlit`] over an open ray: `distance` (the march's reach, 100–200 km) ends far above
-/// every cloud, and the sun reaches all of the way above the top of the shadow-casting layers
-/// (there the atlas reads no optical depth), so the shadow map is read only below it, where a
-/// ray from a camera under the layers spends its first kilometres (all of its way, near the
-/// horizon), and the rest counts as sunlit. Spread over the whole reach, the four reads had
-/// mostly landed above the layers.
+/// How much of an open ray [`air_sunlit`] reads: `distance` (the march's reach, 100–200 km)
+/// ends far above every cloud, and the sun reaches all of the way above the top of the
+/// shadow-casting layers (there the atlas reads no optical depth), so the shadow map is read
+/// only below it, where a ray from a camera under the layers spends its first kilometres (all
+/// of its way, near the horizon), and the rest counts as sunlit. Spread over the whole reach,
+/// the four reads had mostly landed above the layers.
 #[shader_fn]
-pub fn open_air_sunlit(direction: Vec3, distance: f32, jitter: f32, #[spec] key: CloudKey) -> f32 {
+pub fn open_air_reach(direction: Vec3, distance: f32) -> f32 {
     let u = CLOUDS.get();
     let m = u.march;
     let exit = ray_shell(
@@ -59,13 +59,11 @@ pub fn open_air_sunlit(direction: Vec3, distance: f32, jitter: f32, #[spec] key:
         m.radius,
     )
     .y;
-    let below = select(
+    select(
         distance,
         exit.clamp(0.0, distance),
         u.camera_altitude < m.shadow_top_height && direction.y > 0.0,
-    );
-    let shaded = below / distance.max(1.0);
-    1.0 - shaded * (1.0 - air_sunlit(direction, below, jitter, key))
+    )
 }
 
 /// The sun's share of the air in front of what a view ray shows, its first `near` metres:
@@ -82,15 +80,23 @@ pub fn near_air_sunlit(
     #[spec] key: CloudKey,
 ) -> f32 {
     let mut sunlit = 1.0f32;
-    if ends {
-        sunlit = air_sunlit(direction, near, jitter, key);
-    } else if gate(key, HAZE) {
-        // The light-shaft march reads the shadows itself.
+    if gate(key, HAZE) {
         if gate(key, LIGHT_SHAFTS) {
-            sunlit = 1.0;
+            // The light-shaft march reads the open air's shadows itself.
+            if ends {
+                sunlit = air_sunlit(direction, near, jitter, key);
+            }
         } else {
-            sunlit = open_air_sunlit(direction, near, jitter, key);
+            // One read serves an ended ray (all of its way) and an open one (its way below
+            // the layers, the rest sunlit): as two, SwiftShader, which runs both sides of a
+            // branch, paid for both at every pixel.
+            let below = select(open_air_reach(direction, near), near, ends);
+            let read = air_sunlit(direction, below, jitter, key);
+            let shaded = below / near.max(1.0);
+            sunlit = select(1.0 - shaded * (1.0 - read), read, ends);
         }
+    } else if ends {
+        sunlit = air_sunlit(direction, near, jitter, key);
     }
     sunlit
 }
