@@ -31,6 +31,7 @@ use super::orthographic::orthographic_fragment;
 use super::phase::{
     approximate_mie, dual_lobe_hg, henyey_greenstein, ice_crystal_phase, isotropic_phase,
 };
+use super::ray_light::{RayLight, ground_samples, lit_sample};
 use super::scene_depth::{composite_over_scene, scene_distance};
 use super::scene_shadow::sun_through_clouds;
 use super::shadow::{ShadowParams, shadow_read, shadow_texel};
@@ -824,11 +825,6 @@ pub fn sample_source(
 /// metres across (0: every sample a point).
 #[shader_fn]
 #[expect(
-    clippy::if_same_then_else,
-    reason = "the march down runs once for either of two key gates: one `if` per gate is how a \
-              shader function branches on the key"
-)]
-#[expect(
     clippy::collapsible_if,
     reason = "the outer `if` is a generation-time choice (the path), the inner one a gate or a \
               shader value: `&&` cannot join a Rust `bool` to a shader `Bool`"
@@ -858,10 +854,12 @@ pub fn march_clouds(
     let cos_theta = direction.dot(l.sun_direction);
     let phases = octave_phases(cos_theta, key);
     let sigma_ratio = l.scattering_coefficient + l.absorption_coefficient;
-    let mut radiance = Vec3::ZERO;
-    let mut transmittance = 1.0f32;
-    let mut depth_sum = 0.0f32;
-    let mut weight_sum = 0.0f32;
+    let mut gathered: RayLight = RayLight {
+        radiance: Vec3::ZERO,
+        transmittance: 1.0,
+        depth_sum: 0.0,
+        weight_sum: 0.0,
+    };
     let mut samples = 0.0f32;
     let start = range.x.max(0.0);
     let mut step = layer_step(mu, start, key);
@@ -876,9 +874,17 @@ pub fn march_clouds(
     // samples together. The steps, their order and the sums are the same. SwiftShader, `low`
     // at the bench's view: 385 → 352 ms a frame; llvmpipe, the default scene at 640 × 360:
     // `medium` 387 → 211 ms, `high` 709 → 420. The slices path reads its light with its
-    // density (one texture read), so there is nothing to gather: its inner loop takes one step
-    // and hands back, the single loop it was (llvmpipe: split, its `low` took 64 → 90 ms).
-    for _lit in 0u32..m.max_iterations {
+    // density (one texture read), so there is nothing to gather: it lights each sample where
+    // its inner loop finds it, which is then the single loop it was, and its outer loop runs
+    // once (llvmpipe: split, its `low` took 64 → 90 ms).
+    // The slices path's samples are lit where the inner loop finds them: one pass of the
+    // outer loop, a bound the compiler sees.
+    let passes = if key.reads_slices() {
+        1u32
+    } else {
+        m.max_iterations
+    };
+    for _lit in 0u32..passes {
         let mut lit = false;
         let mut ended = false;
         let mut h = 0.0f32;
@@ -886,12 +892,7 @@ pub fn march_clouds(
         let mut first = Vec4::ZERO;
         let mut rho = 0.0f32;
         let mut footprint = 0.0f32;
-        let walk_end = if key.reads_slices() {
-            (taken + 1u32).min(m.max_iterations)
-        } else {
-            m.max_iterations
-        };
-        for i in taken..walk_end {
+        for i in taken..m.max_iterations {
             taken = i + 1u32;
             if t > range.y {
                 ended = true;
@@ -963,8 +964,30 @@ pub fn march_clouds(
             }
             samples += 1.0;
             if rho * sigma_ratio > m.min_extinction {
-                lit = true;
-                break;
+                if key.reads_slices() {
+                    gathered = lit_sample(
+                        gathered,
+                        rho,
+                        p,
+                        h,
+                        first,
+                        t,
+                        step,
+                        0.5,
+                        footprint,
+                        cos_theta,
+                        phases,
+                        direction.y,
+                        key,
+                    );
+                    if gathered.transmittance <= 0.0 {
+                        ended = true;
+                        break;
+                    }
+                } else {
+                    lit = true;
+                    break;
+                }
             }
             t += step;
             step = march_step(t);
@@ -973,82 +996,49 @@ pub fn march_clouds(
             break;
         }
         if !lit {
-            // Every iteration spent, or the slices path's one step taken.
-            if taken >= m.max_iterations {
-                break;
-            }
-            continue;
-        }
-        let sigma_t = rho * sigma_ratio;
-        if !key.reads_slices() {
-            samples += m.sun_steps as f32;
-        }
-        // Midpoints in real time; in the reference a stratified offset per sample,
-        // decorrelated from the primary jitter and from the previous sample's.
-        let offset = select(
-            0.5,
-            (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
-            m.secondary_full_path > 0u32,
-        );
-        let tau_sun = if key.reads_slices() {
-            first.y
-        } else {
-            sun_optical_depth(p, h, offset, footprint, key)
-        };
-        // The optical depth down to the base: the ground's light comes through it, and the
-        // diffusion's slab ends there.
-        let mut tau_ground = if key.reads_slices() { first.z } else { 0.0f32 };
-        if !key.reads_slices() {
-            if gate(key, GROUND_BOUNCE) {
-                samples += m.ground_steps as f32;
-                tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
-            } else if gate(key, DIFFUSION) {
-                samples += m.ground_steps as f32;
-                tau_ground = vertical_optical_depth(p, h, -1.0, offset, footprint, key);
-            }
-        }
-        let mut tau_up = if key.reads_slices() { first.w } else { 0.0f32 };
-        if !key.reads_slices() {
-            if gate(key, DIFFUSION) {
-                samples += m.ground_steps as f32;
-                tau_up = vertical_optical_depth(p, h, 1.0, offset, footprint, key);
-            }
-        }
-        let source = sample_source(
-            rho,
-            h,
-            tau_sun,
-            tau_up,
-            tau_ground,
-            cos_theta,
-            phases,
-            direction.y,
-            key,
-        );
-        // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
-        // S·(1 − e^(−σt·Δ))/σt, written as S·Δ·f(σt·Δ) so thin media stay exact.
-        let step_transmittance = (-sigma_t * step).exp();
-        let integral = source * (step * one_minus_exp_over(sigma_t * step));
-        radiance += integral * transmittance;
-        depth_sum += t * transmittance;
-        weight_sum += transmittance;
-        transmittance *= step_transmittance;
-        if transmittance <= m.min_transmittance {
-            // Early termination treats the rest of the ray as more of the same cloud: its
-            // light is extrapolated (the radiance so far is 1 − T of the total) and nothing
-            // behind shows through. Cutting the ray at T = 0.1 and compositing the sky behind
-            // at 10 % made `low` 64 % too bright inside a cloud (the study).
-            radiance *= 1.0 / (1.0 - transmittance).max(1e-6);
-            transmittance = 0.0;
+            // Every iteration spent (the slices path always ends here, its samples lit).
             break;
         }
-        t += step;
-        step = march_step(t);
+        if !key.reads_slices() {
+            samples += m.sun_steps as f32;
+            // Midpoints in real time; in the reference a stratified offset per sample,
+            // decorrelated from the primary jitter and from the previous sample's.
+            let offset = select(
+                0.5,
+                (jitter * 257.0 + 0.618_034 * samples).fract_gl(),
+                m.secondary_full_path > 0u32,
+            );
+            gathered = lit_sample(
+                gathered,
+                rho,
+                p,
+                h,
+                first,
+                t,
+                step,
+                offset,
+                footprint,
+                cos_theta,
+                phases,
+                direction.y,
+                key,
+            );
+            samples += ground_samples(key);
+            if gathered.transmittance <= 0.0 {
+                break;
+            }
+            t += step;
+            step = march_step(t);
+        }
     }
     MarchResult {
-        radiance,
-        transmittance,
-        front_depth: select(-1.0, depth_sum / weight_sum.max(1e-20), weight_sum > 0.0),
+        radiance: gathered.radiance,
+        transmittance: gathered.transmittance,
+        front_depth: select(
+            -1.0,
+            gathered.depth_sum / gathered.weight_sum.max(1e-20),
+            gathered.weight_sum > 0.0,
+        ),
         samples,
     }
 }

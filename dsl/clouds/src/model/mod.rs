@@ -23,6 +23,7 @@ pub mod orthographic;
 pub mod phase;
 pub mod preview;
 pub mod profile;
+pub mod ray_light;
 pub mod resolve;
 pub mod resource;
 pub mod scene_depth;
