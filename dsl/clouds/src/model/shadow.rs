@@ -16,7 +16,8 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use nimbus_dsl::prelude::*;
 
 use super::bindings::{CLOUDS, LINEAR_REPEAT, SHADOW_MAP};
-use super::march::total_density;
+use super::choices::{GROUPS, key_count};
+use super::density::{eroded_density, weather_density};
 use crate::key::CloudKey;
 
 /// Cascades and the shadow march (uniforms: changing them needs no new pipeline).
@@ -169,6 +170,33 @@ pub fn lane_of(v: Vec4, k: f32) -> f32 {
 /// The largest front depth (m) the shadow atlas stores: half floats end at 65,504.
 pub const SHADOW_DEPTH_LIMIT: f32 = 65_000.0;
 
+/// Density at `position` (camera-relative; a sample `footprint` metres across) of the layers
+/// that cast shadows: what the shadow map holds. A layer whose genus says it casts none (the
+/// nimbostratus' scud under its deck) is left out here, as @takram/three-clouds leaves out the
+/// layers its `shadowLayerMask` clears, and drawn as usual by the view march. As in
+/// [`super::march::total_density`], the erosion is not run where no casting layer has weather.
+#[shader_fn]
+pub fn shadow_casting_density(
+    position: Vec3,
+    altitude: f32,
+    footprint: f32,
+    #[spec] key: CloudKey,
+) -> f32 {
+    let u = CLOUDS.get();
+    let p = position + u.camera_offset;
+    let mut sum = 0.0f32;
+    for group in 0u32..key_count(key, GROUPS) {
+        let casts = u.groups[group as usize].shadow_mask;
+        // Eroded as the view march erodes them (the turbulence's push follows all the cloud
+        // there), then only the casting lanes kept.
+        let coverage = weather_density(p, altitude, group, key);
+        if coverage.dot(casts) > 0.0 {
+            sum += eroded_density(p, altitude, group, coverage, footprint, key).dot(casts);
+        }
+    }
+    sum
+}
+
 /// One texel of the shadow atlas: march along the sun's rays, down from the top of the
 /// shadow-casting layers, and store front depth (transmittance-weighted mean distance, m),
 /// mean extinction, maximum optical depth and the tail beyond an early termination.
@@ -215,7 +243,7 @@ pub fn shadow_fragment(frag_coord: Vec4, #[spec] key: CloudKey) -> Vec4 {
         }
         let p = top - sun * t;
         let h = altitude_at(p, u.camera_altitude, m.radius);
-        let sigma_t = total_density(p, h, footprint, key) * sigma_ratio;
+        let sigma_t = shadow_casting_density(p, h, footprint, key) * sigma_ratio;
         if sigma_t > s.min_extinction {
             extinction_sum += sigma_t;
             samples += 1.0;
