@@ -30,9 +30,10 @@ use nimbus_dsl::prelude::*;
 use super::bindings::{BAKE, CLOUDS, LINEAR_REPEAT};
 use super::choices::{DIFFUSION, GROUND_BOUNCE, GROUPS, gate, key_count};
 use super::march::{
-    MarchResult, altitude_along, octave_phases, one_minus_exp_over, sample_source, shell_range,
-    sun_optical_depth, total_density,
+    MarchResult, altitude_along, octave_phases, sample_source, shell_range, sun_optical_depth,
+    total_density,
 };
+use super::ray_light::{RayLight, add_step, gathered_result};
 use super::shell::{ground_hit, ray_shell};
 use super::slices::{curved_height, slice_coordinate, slice_offset};
 use crate::key::CloudKey;
@@ -240,10 +241,12 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
     let lower_near = select(1e30, lower.x, lower.y > lower.x);
     let upper_near = select(1e30, upper.x, upper.y > upper.x);
     let first_band = select(1.0, 0.0, lower_near <= upper_near);
-    let mut radiance = Vec3::ZERO;
-    let mut transmittance = 1.0f32;
-    let mut depth_sum = 0.0f32;
-    let mut weight_sum = 0.0f32;
+    let mut gathered: RayLight = RayLight {
+        radiance: Vec3::ZERO,
+        transmittance: 1.0,
+        depth_sum: 0.0,
+        weight_sum: 0.0,
+    };
     // Samples taken (each a column read standing for a density sample, as the march counts).
     let mut samples = 0.0f32;
     for b in 0u32..BLOB_BANDS {
@@ -262,7 +265,7 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
             let s = (h - column.y) / spread;
             // The column's optical depth as a normal bell in altitude.
             let sigma_t = column.x * INV_SQRT_TWO_PI / spread * (-0.5 * s * s).exp();
-            if sigma_t > m.min_extinction && transmittance > 0.0 {
+            if sigma_t > m.min_extinction && gathered.transmittance > 0.0 {
                 let above = fraction_above(h, column.y, spread);
                 // The other band's column lies wholly above (band 0) or below (band 1); only
                 // the ground's and the sky's light through the slab need it.
@@ -286,24 +289,12 @@ pub fn blob2d_clouds(direction: Vec3, jitter: f32, #[spec] key: CloudKey) -> Mar
                     mu,
                     key,
                 );
-                radiance += source * (step * one_minus_exp_over(sigma_t * step)) * transmittance;
-                depth_sum += t * transmittance;
-                weight_sum += transmittance;
-                transmittance *= (-sigma_t * step).exp();
-                if transmittance <= m.min_transmittance {
-                    // As the march ends a ray: the rest is more of the same cloud.
-                    radiance *= 1.0 / (1.0 - transmittance).max(1e-6);
-                    transmittance = 0.0;
-                }
+                // Integrated as the march integrates a step, and ended as it ends a ray.
+                gathered = add_step(gathered, source, sigma_t, step, t);
             }
         }
     }
-    MarchResult {
-        radiance,
-        transmittance,
-        front_depth: select(-1.0, depth_sum / weight_sum.max(1e-20), weight_sum > 0.0),
-        samples,
-    }
+    gathered_result(gathered, samples)
 }
 
 /// The optical depth of the clouds above the ground point (`x`, `z`) (camera-relative): both

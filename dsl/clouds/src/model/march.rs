@@ -31,7 +31,7 @@ use super::orthographic::orthographic_fragment;
 use super::phase::{
     approximate_mie, dual_lobe_hg, henyey_greenstein, ice_crystal_phase, isotropic_phase,
 };
-use super::ray_light::{RayLight, ground_samples, lit_sample};
+use super::ray_light::{RayLight, gathered_result, ground_samples, lit_sample};
 use super::scene_depth::{composite_over_scene, scene_distance};
 use super::scene_shadow::sun_through_clouds;
 use super::shadow::{ShadowParams, shadow_read, shadow_texel};
@@ -1031,16 +1031,7 @@ pub fn march_clouds(
             step = march_step(t);
         }
     }
-    MarchResult {
-        radiance: gathered.radiance,
-        transmittance: gathered.transmittance,
-        front_depth: select(
-            -1.0,
-            gathered.depth_sum / gathered.weight_sum.max(1e-20),
-            gathered.weight_sum > 0.0,
-        ),
-        samples,
-    }
+    gathered_result(gathered, samples)
 }
 
 /// Unit direction (local frame) of the view ray through `pixel` (output pixels, y down; the

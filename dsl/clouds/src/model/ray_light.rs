@@ -12,7 +12,8 @@ use nimbus_dsl::prelude::*;
 use super::bindings::CLOUDS;
 use super::choices::{DIFFUSION, GROUND_BOUNCE, gate};
 use super::march::{
-    OctavePhases, one_minus_exp_over, sample_source, sun_optical_depth, vertical_optical_depth,
+    MarchResult, OctavePhases, one_minus_exp_over, sample_source, sun_optical_depth,
+    vertical_optical_depth,
 };
 
 /// What a view ray has gathered so far.
@@ -33,7 +34,8 @@ pub struct RayLight {
 /// view ray, standing for a step of `step` metres and `footprint` metres across) added: its
 /// light to the sun and to the ground and sky (the secondary marches from their `offset`, or
 /// the slices' optical depths read into `first`), its source term, integrated over the step,
-/// and the early termination when the transmittance falls to the preset's minimum.
+/// and the early termination when the transmittance falls to the preset's minimum
+/// ([`add_step`]).
 #[shader_fn]
 #[expect(
     clippy::too_many_arguments,
@@ -64,7 +66,6 @@ pub fn lit_sample(
     view_up: f32,
     #[spec] key: CloudKey,
 ) -> RayLight {
-    let m = CLOUDS.get().march;
     let l = CLOUDS.get().light;
     let sigma_t = rho * (l.scattering_coefficient + l.absorption_coefficient);
     let tau_sun = if key.reads_slices() {
@@ -91,6 +92,14 @@ pub fn lit_sample(
     let source = sample_source(
         rho, h, tau_sun, tau_up, tau_ground, cos_theta, phases, view_up, key,
     );
+    add_step(gathered, source, sigma_t, step, t)
+}
+
+/// `gathered` with a step of `step` metres at distance `t`, of extinction `sigma_t` and source
+/// term `source`, added: the march's and the 2D map's samples alike.
+#[shader_fn]
+pub fn add_step(gathered: RayLight, source: Vec3, sigma_t: f32, step: f32, t: f32) -> RayLight {
+    let m = CLOUDS.get().march;
     // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
     // S·(1 − e^(−σt·Δ))/σt, written as S·Δ·f(σt·Δ) so thin media stay exact.
     let step_transmittance = (-sigma_t * step).exp();
@@ -110,6 +119,22 @@ pub fn lit_sample(
         transmittance,
         depth_sum: gathered.depth_sum + t * gathered.transmittance,
         weight_sum: gathered.weight_sum + gathered.transmittance,
+    }
+}
+
+/// The march's result from what the ray gathered and the density evaluations it made: the
+/// front depth is the transmittance-weighted mean distance of its samples (-1: none).
+#[shader_fn]
+pub fn gathered_result(gathered: RayLight, samples: f32) -> MarchResult {
+    MarchResult {
+        radiance: gathered.radiance,
+        transmittance: gathered.transmittance,
+        front_depth: select(
+            -1.0,
+            gathered.depth_sum / gathered.weight_sum.max(1e-20),
+            gathered.weight_sum > 0.0,
+        ),
+        samples,
     }
 }
 
