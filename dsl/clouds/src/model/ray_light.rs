@@ -2,7 +2,8 @@
 //! so that the march can call it from where its path wants the light: the volume from the
 //! outer loop, which lights the samples its inner loop found (a SIMD group lights its lanes'
 //! samples together), the slices path from its single loop, whose light is the texture read
-//! that came with the density (nothing to gather: two loops there only cost bookkeeping).
+//! that came with the density (nothing to gather: two loops there only cost bookkeeping). The
+//! step's integration and the early termination ([`add_step`]) serve the 2D map's march too.
 
 use glam::{Vec3, Vec4};
 
