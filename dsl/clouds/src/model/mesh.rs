@@ -64,6 +64,7 @@ use super::choices::{DIFFUSION, GROUND_BOUNCE, gate};
 use super::march::{
     MarchResult, OctavePhases, altitude_along, octave_phases, sample_source, total_density,
 };
+use super::ray_light::{RayLight, early_termination, gathered_result};
 use super::shell::ground_hit;
 use super::slices::{curved_height, slice_coordinate, slice_offset, vertical_depth};
 use crate::key::CloudKey;
@@ -777,17 +778,14 @@ pub fn mesh_clouds(direction: Vec3, #[spec] key: CloudKey) -> MarchResult {
         weight_sum += opacity * transmittance;
         transmittance *= 1.0 - opacity;
     }
-    if transmittance <= m.min_transmittance {
-        // As the march ends a ray: the rest is more of the same cloud.
-        radiance *= 1.0 / (1.0 - transmittance).max(1e-6);
-        transmittance = 0.0;
-    }
-    MarchResult {
+    // As the march ends a ray: the rest is more of the same cloud.
+    let gathered = early_termination(RayLight {
         radiance,
         transmittance,
-        front_depth: select(-1.0, depth_sum / weight_sum.max(1e-20), weight_sum > 0.0),
-        samples,
-    }
+        depth_sum,
+        weight_sum,
+    });
+    gathered_result(gathered, samples)
 }
 
 /// Distance bins of a ray's puffs: composited front to back between bins, mixed within one.

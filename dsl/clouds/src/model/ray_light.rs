@@ -25,8 +25,8 @@ pub struct RayLight {
     /// Transmittance from the camera to the last sample; exactly 0 once the ray has ended in
     /// cloud (early termination).
     pub transmittance: f32,
-    /// Transmittance-weighted sum of the samples' distances, and the weights' sum: their
-    /// quotient is the front depth.
+    /// Weighted sum of the samples' distances (a march weighs each by the transmittance in
+    /// front of it), and the weights' sum: their quotient is the front depth.
     pub depth_sum: f32,
     pub weight_sum: f32,
 }
@@ -100,13 +100,25 @@ pub fn lit_sample(
 /// term `source`, added: the march's and the 2D map's samples alike.
 #[shader_fn]
 pub fn add_step(gathered: RayLight, source: Vec3, sigma_t: f32, step: f32, t: f32) -> RayLight {
-    let m = CLOUDS.get().march;
     // Energy-conserving integration over the step (Hillaire 2016, §5.6.3):
     // S·(1 − e^(−σt·Δ))/σt, written as S·Δ·f(σt·Δ) so thin media stay exact.
     let step_transmittance = (-sigma_t * step).exp();
     let integral = source * (step * one_minus_exp_over(sigma_t * step));
-    let mut radiance = gathered.radiance + integral * gathered.transmittance;
-    let mut transmittance = gathered.transmittance * step_transmittance;
+    early_termination(RayLight {
+        radiance: gathered.radiance + integral * gathered.transmittance,
+        transmittance: gathered.transmittance * step_transmittance,
+        depth_sum: gathered.depth_sum + t * gathered.transmittance,
+        weight_sum: gathered.weight_sum + gathered.transmittance,
+    })
+}
+
+/// `gathered` ended in cloud once its transmittance has fallen to the preset's minimum: the
+/// march's, the 2D map's and the mesh's rays alike.
+#[shader_fn]
+pub fn early_termination(gathered: RayLight) -> RayLight {
+    let m = CLOUDS.get().march;
+    let mut radiance = gathered.radiance;
+    let mut transmittance = gathered.transmittance;
     if transmittance <= m.min_transmittance {
         // Early termination treats the rest of the ray as more of the same cloud: its light
         // is extrapolated (the radiance so far is 1 − T of the total) and nothing behind
@@ -118,13 +130,13 @@ pub fn add_step(gathered: RayLight, source: Vec3, sigma_t: f32, step: f32, t: f3
     RayLight {
         radiance,
         transmittance,
-        depth_sum: gathered.depth_sum + t * gathered.transmittance,
-        weight_sum: gathered.weight_sum + gathered.transmittance,
+        depth_sum: gathered.depth_sum,
+        weight_sum: gathered.weight_sum,
     }
 }
 
 /// The march's result from what the ray gathered and the density evaluations it made: the
-/// front depth is the transmittance-weighted mean distance of its samples (-1: none).
+/// front depth is the weighted mean distance of its samples (-1: none).
 #[shader_fn]
 pub fn gathered_result(gathered: RayLight, samples: f32) -> MarchResult {
     MarchResult {
