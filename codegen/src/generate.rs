@@ -3,6 +3,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use nimbus_dsl::ir::{ExprKind, Module, Stage, Stmt};
 
 use crate::backend::{self, Contents};
@@ -164,45 +166,135 @@ fn count(module: &Module) -> (usize, usize) {
     (samples, loops)
 }
 
-/// Prints a recorded module and lowers it to a validated naga module (no backends).
-pub fn print_and_validate(
-    mut module: Module,
-    variant: &str,
-) -> Result<(Module, String, SpanTable, Validated), CodegenError> {
+/// The passes over the recorded IR every target shares: constants folded and dead code gone,
+/// repeated sub-expressions bound once, names made legal everywhere.
+fn prepare(mut module: Module) -> Module {
     specialise(&mut module);
     share_repeated_subexpressions(&mut module);
     rename_for_wgsl(&mut module);
-    let (wgsl, spans) = print_module(&module, variant)?;
-    let validated = lower_and_validate(&module, &wgsl, &spans, variant)?;
+    module
+}
+
+/// Prints a prepared module as WGSL and lowers it to a validated naga module.
+fn print_then_validate(
+    module: &Module,
+    variant: &str,
+) -> Result<(String, SpanTable, Validated), CodegenError> {
+    let (wgsl, spans) = print_module(module, variant)?;
+    let validated = lower_and_validate(module, &wgsl, &spans, variant)?;
+    Ok((wgsl, spans, validated))
+}
+
+/// Prints a recorded module and lowers it to a validated naga module (no backends).
+pub fn print_and_validate(
+    module: Module,
+    variant: &str,
+) -> Result<(Module, String, SpanTable, Validated), CodegenError> {
+    let module = prepare(module);
+    let (wgsl, spans, validated) = print_then_validate(&module, variant)?;
     Ok((module, wgsl, spans, validated))
 }
 
+/// One entry point translated to one of naga's targets: the file and its manifest.
+type Translated = Result<(Contents, Option<BindingManifest>), CodegenError>;
+
 /// Generates `targets` for a recorded module.
+///
+/// After the shared passes, the work is independent per target and entry point, and runs on
+/// every core (rayon): the WGSL print and its validation, the HLSL print and each entry
+/// point's override baking side by side, then every (target, entry point) translation. Errors
+/// are reported in the order a serial run meets them: the WGSL's, the baking's by entry point,
+/// then by target and entry point.
 pub fn generate(
     module: Module,
     variant: &str,
     targets: &[Target],
 ) -> Result<Generated, CodegenError> {
-    let (module, wgsl, spans, validated) = print_and_validate(module, variant)?;
+    let module = prepare(module);
+    let translated_targets: Vec<Target> = targets
+        .iter()
+        .copied()
+        .filter(|t| !matches!(t, Target::Wgsl | Target::Hlsl))
+        .collect();
+    let bake_entry = |ep: &nimbus_dsl::ir::EntryPoint| {
+        backend::bake(&module, &ep.function).map_err(|message| CodegenError::Bake {
+            module: module.name.clone(),
+            variant: variant.to_string(),
+            entry_point: ep.function.clone(),
+            message,
+        })
+    };
+    let ((printed, hlsl), baked) =
+        if translated_targets.is_empty() && !targets.contains(&Target::Hlsl) {
+            // WGSL alone: nothing to run beside it, and a hand-off to the pool costs more than it
+            // saves.
+            ((print_then_validate(&module, variant), None), Vec::new())
+        } else {
+            rayon::join(
+                || {
+                    rayon::join(
+                        || print_then_validate(&module, variant),
+                        || {
+                            targets
+                                .contains(&Target::Hlsl)
+                                .then(|| crate::hlsl::print_module(&module, variant))
+                        },
+                    )
+                },
+                || {
+                    // Overrides are baked once per entry point and shared by every backend.
+                    if translated_targets.is_empty() {
+                        Vec::new()
+                    } else {
+                        module.entry_points.par_iter().map(bake_entry).collect()
+                    }
+                },
+            )
+        };
+    let (wgsl, spans, validated) = printed?;
+    let baked = baked.into_iter().collect::<Result<Vec<_>, _>>()?;
+    let constants = backend::default_constants(&module);
+    // Every (target, entry point) pair, in the order the files are listed. WebGL2 has no
+    // compute shaders; such entry points are skipped for GLSL ES only.
+    let jobs: Vec<(Target, usize)> = translated_targets
+        .iter()
+        .flat_map(|&target| {
+            module
+                .entry_points
+                .iter()
+                .enumerate()
+                .filter(move |(_, ep)| !(target == Target::GlslEs300 && ep.stage == Stage::Compute))
+                .map(move |(i, _)| (target, i))
+        })
+        .collect();
+    let translate = |&(target, i): &(Target, usize)| {
+        let ep = &module.entry_points[i];
+        backend::translate(
+            &baked[i],
+            &constants,
+            &module,
+            variant,
+            target,
+            ep.stage,
+            &ep.function,
+        )
+        .map_err(|message| CodegenError::Backend {
+            module: module.name.clone(),
+            variant: variant.to_string(),
+            target,
+            entry_point: ep.function.clone(),
+            message,
+        })
+    };
+    let translated: Vec<Translated> = if jobs.is_empty() {
+        Vec::new()
+    } else {
+        jobs.par_iter().map(translate).collect()
+    };
+    let mut translated = jobs.into_iter().zip(translated);
+    let mut hlsl = hlsl;
     let mut files = Vec::new();
     let mut target_bytes = BTreeMap::new();
-    // Overrides are baked once per entry point and shared by every backend.
-    let constants = backend::default_constants(&module);
-    let mut baked = Vec::new();
-    if targets
-        .iter()
-        .any(|t| !matches!(t, Target::Wgsl | Target::Hlsl))
-    {
-        for ep in &module.entry_points {
-            let b = backend::bake(&module, &ep.function).map_err(|message| CodegenError::Bake {
-                module: module.name.clone(),
-                variant: variant.to_string(),
-                entry_point: ep.function.clone(),
-                message,
-            })?;
-            baked.push(b);
-        }
-    }
     for &target in targets {
         if target == Target::Wgsl {
             files.push(OutputFile {
@@ -216,7 +308,11 @@ pub fn generate(
             continue;
         }
         if target == Target::Hlsl {
-            let (text, manifest) = crate::hlsl::print_module(&module, variant)?;
+            // Printed once above, however often the list names it.
+            let (text, manifest) = match hlsl.take() {
+                Some(printed) => printed?,
+                None => crate::hlsl::print_module(&module, variant)?,
+            };
             target_bytes.insert(target, text.len());
             files.push(OutputFile {
                 file_name: file_name(&module.name, variant, target, "", Stage::Vertex),
@@ -227,27 +323,16 @@ pub fn generate(
             });
             continue;
         }
-        for (ep, b) in module.entry_points.iter().zip(&baked) {
-            // WebGL2 has no compute shaders; such entry points are skipped for GLSL ES only.
-            if target == Target::GlslEs300 && ep.stage == Stage::Compute {
-                continue;
-            }
-            let (contents, manifest) = backend::translate(
-                b,
-                &constants,
-                &module,
-                variant,
-                target,
-                ep.stage,
-                &ep.function,
-            )
-            .map_err(|message| CodegenError::Backend {
-                module: module.name.clone(),
-                variant: variant.to_string(),
-                target,
-                entry_point: ep.function.clone(),
-                message,
-            })?;
+        // This target's entry points, in order (a target listed twice has its jobs twice).
+        let count = module
+            .entry_points
+            .iter()
+            .filter(|ep| !(target == Target::GlslEs300 && ep.stage == Stage::Compute))
+            .count();
+        for ((job_target, i), result) in translated.by_ref().take(count) {
+            debug_assert_eq!(job_target, target);
+            let ep = &module.entry_points[i];
+            let (contents, manifest) = result?;
             *target_bytes.entry(target).or_insert(0) += contents.len_bytes();
             files.push(OutputFile {
                 file_name: file_name(&module.name, variant, target, &ep.function, ep.stage),

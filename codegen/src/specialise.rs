@@ -322,9 +322,13 @@ fn propagate_literal_lets(f: &mut Function) -> bool {
     if found.is_empty() {
         return false;
     }
+    let mut values = std::collections::HashMap::new();
+    for &(local, value) in &found {
+        values.entry(local).or_insert(value);
+    }
     for e in &mut f.exprs {
         if let ExprKind::Local(l) = e.kind
-            && let Some((_, value)) = found.iter().find(|(local, _)| *local == l)
+            && let Some(value) = values.get(&l)
         {
             e.kind = ExprKind::Literal(*value);
         }
@@ -483,7 +487,19 @@ fn fold_binary(op: BinaryOp, a: Literal, b: Literal) -> Option<Literal> {
 fn fold_constants(f: &mut Function) {
     for i in 0..f.exprs.len() {
         let id = ExprId(i as u32);
-        let folded = match f.expr(id).kind.clone() {
+        // Only the kinds folded here are copied out (a call's or a built-in's arguments are a
+        // `Vec`: cloning every expression's kind each round was most of this pass's time).
+        let kind = match &f.expr(id).kind {
+            k @ (ExprKind::Unary(..)
+            | ExprKind::Binary(..)
+            | ExprKind::Convert(..)
+            | ExprKind::Select { .. }) => k.clone(),
+            k @ ExprKind::Builtin(Builtin::Max | Builtin::Min, args) if args.len() == 2 => {
+                k.clone()
+            }
+            _ => continue,
+        };
+        let folded = match kind {
             ExprKind::Unary(op, a) => match (op, lit(f, a)) {
                 (UnaryOp::Neg, Some(Literal::F32(x))) => Some(Literal::f32(-f32::from_bits(x))),
                 (UnaryOp::Neg, Some(Literal::I32(x))) if x != i32::MIN => Some(Literal::I32(-x)),

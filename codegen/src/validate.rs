@@ -71,7 +71,7 @@ fn origin_at(wgsl: &str, spans: &SpanTable, offset: usize) -> Option<Origin> {
         .find('\n')
         .map_or(wgsl.len(), |i| line_start + i);
     Some(Origin {
-        function: entry.rust_name.clone(),
+        function: entry.rust_name.to_string(),
         loc: entry.loc,
         wgsl_line: wgsl[line_start..line_end].to_string(),
     })
@@ -140,7 +140,7 @@ pub fn validate(
             };
             origin = name.and_then(|n| {
                 spans.function(&n).map(|entry| Origin {
-                    function: entry.rust_name.clone(),
+                    function: entry.rust_name.to_string(),
                     loc: entry.loc,
                     wgsl_line: format!("fn {n}(..)"),
                 })

@@ -7,6 +7,7 @@
 use crate::wgsl_spelling::{wgsl_builtin, wgsl_operator, wgsl_type};
 use std::fmt::Write as _;
 use std::ops::Range;
+use std::sync::Arc;
 
 use nimbus_dsl::ir::{
     BinaryOp, Block, ExprId, ExprKind, Function, GlobalKind, Io, Literal, Module, SampleKind,
@@ -19,10 +20,12 @@ use crate::error::CodegenError;
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpanEntry {
     pub range: Range<usize>,
-    /// WGSL name of the function (or `<module>` for declarations).
-    pub function: String,
+    /// WGSL name of the function (or `<module>` for declarations). Shared by every statement
+    /// of the function: an entry per statement, two strings copied for each, had been a
+    /// tenth of the print.
+    pub function: Arc<str>,
     /// Rust name of the `#[shader_fn]` (or entry point).
-    pub rust_name: String,
+    pub rust_name: Arc<str>,
     pub loc: SourceLoc,
 }
 
@@ -45,7 +48,7 @@ impl SpanTable {
     pub fn function(&self, name: &str) -> Option<&SpanEntry> {
         self.entries
             .iter()
-            .filter(|e| e.function == name)
+            .filter(|e| &*e.function == name)
             .max_by_key(|e| e.range.end - e.range.start)
     }
 
@@ -158,6 +161,8 @@ struct Printer<'m> {
     out: String,
     spans: Vec<SpanEntry>,
     indent: usize,
+    /// The WGSL and Rust names of the function being printed, for its spans.
+    names: (Arc<str>, Arc<str>),
 }
 
 /// Prints a specialised module as WGSL, with its span table.
@@ -167,6 +172,7 @@ pub fn print_module(module: &Module, variant: &str) -> Result<(String, SpanTable
         out: String::new(),
         spans: Vec::new(),
         indent: 0,
+        names: (Arc::from(""), Arc::from("")),
     };
     p.module_header(variant);
     for s in &module.structs {
@@ -275,6 +281,7 @@ impl Printer<'_> {
 
     fn function(&mut self, f: &Function) -> Result<(), CodegenError> {
         let start = self.out.len();
+        self.names = (Arc::from(f.name.as_str()), Arc::from(f.rust_name.as_str()));
         let entry = self.module.entry_point(&f.name);
         for d in &f.doc {
             self.line(format!("/// {d}").trim_end());
@@ -318,8 +325,8 @@ impl Printer<'_> {
         self.line("}");
         self.spans.push(SpanEntry {
             range: start..self.out.len(),
-            function: f.name.clone(),
-            rust_name: f.rust_name.clone(),
+            function: self.names.0.clone(),
+            rust_name: self.names.1.clone(),
             loc: f.loc,
         });
         self.out.push('\n');
@@ -336,11 +343,11 @@ impl Printer<'_> {
         Ok(())
     }
 
-    fn span(&mut self, f: &Function, start: usize, loc: SourceLoc) {
+    fn span(&mut self, start: usize, loc: SourceLoc) {
         self.spans.push(SpanEntry {
             range: start..self.out.len(),
-            function: f.name.clone(),
-            rust_name: f.rust_name.clone(),
+            function: self.names.0.clone(),
+            rust_name: self.names.1.clone(),
             loc,
         });
     }
@@ -412,7 +419,7 @@ impl Printer<'_> {
                 None => self.line("return;"),
             },
         }
-        self.span(f, start, stmt.loc());
+        self.span(start, stmt.loc());
         Ok(())
     }
 
@@ -440,7 +447,7 @@ impl Printer<'_> {
                 let c = self.expr(f, *cond)?;
                 self.line(&format!("}} else if {c} {{"));
                 self.if_rest(f, t2, o2)?;
-                self.span(f, start, *loc);
+                self.span(start, *loc);
             }
             _ => {
                 self.line("} else {");
@@ -453,126 +460,166 @@ impl Printer<'_> {
         Ok(())
     }
 
-    fn operand(
-        &mut self,
+    /// `id` printed as one expression (a statement's: one string per statement, not per node).
+    fn expr(&mut self, f: &Function, id: ExprId) -> Result<String, CodegenError> {
+        let mut out = String::new();
+        self.write_expr(&mut out, f, id)?;
+        Ok(out)
+    }
+
+    /// `id` in parentheses when `wrap` says so.
+    fn write_wrapped(
+        &self,
+        out: &mut String,
+        f: &Function,
+        id: ExprId,
+        wrap: bool,
+    ) -> Result<(), CodegenError> {
+        if wrap {
+            out.push('(');
+        }
+        self.write_expr(out, f, id)?;
+        if wrap {
+            out.push(')');
+        }
+        Ok(())
+    }
+
+    /// An operand of `parent`, parenthesised where precedence needs it.
+    fn write_operand(
+        &self,
+        out: &mut String,
         f: &Function,
         id: ExprId,
         parent: BinaryOp,
         right: bool,
-    ) -> Result<String, CodegenError> {
-        let s = self.expr(f, id)?;
-        Ok(match f.expr(id).kind {
-            ExprKind::Binary(op, ..) if needs_parens(parent, op, right) => format!("({s})"),
-            _ => s,
-        })
+    ) -> Result<(), CodegenError> {
+        let wrap =
+            matches!(f.expr(id).kind, ExprKind::Binary(op, ..) if needs_parens(parent, op, right));
+        self.write_wrapped(out, f, id, wrap)
     }
 
-    fn postfix_base(&mut self, f: &Function, id: ExprId) -> Result<String, CodegenError> {
-        let s = self.expr(f, id)?;
-        Ok(match f.expr(id).kind {
-            ExprKind::Binary(..) | ExprKind::Unary(..) => format!("({s})"),
-            _ => s,
-        })
+    /// The base of a swizzle, member or index, parenthesised if it is an operation.
+    fn write_postfix_base(
+        &self,
+        out: &mut String,
+        f: &Function,
+        id: ExprId,
+    ) -> Result<(), CodegenError> {
+        let wrap = matches!(f.expr(id).kind, ExprKind::Binary(..) | ExprKind::Unary(..));
+        self.write_wrapped(out, f, id, wrap)
     }
 
-    fn args(&mut self, f: &Function, args: &[ExprId]) -> Result<String, CodegenError> {
-        let mut v = Vec::with_capacity(args.len());
+    /// `name(args)`.
+    fn write_call(
+        &self,
+        out: &mut String,
+        f: &Function,
+        name: &str,
+        args: &[ExprId],
+    ) -> Result<(), CodegenError> {
+        out.push_str(name);
+        out.push('(');
         for (i, a) in args.iter().enumerate() {
-            let text = self.expr(f, *a)?;
+            if i > 0 {
+                out.push_str(", ");
+            }
             // WGSL reads `name < … , … >` as a template list: `select(a < b, a > c, s)` does
             // not parse. An argument before the last with a `<` of its own is parenthesised.
-            v.push(if i + 1 < args.len() && opens_template(f, *a) {
-                format!("({text})")
-            } else {
-                text
-            });
+            self.write_wrapped(out, f, *a, i + 1 < args.len() && opens_template(f, *a))?;
         }
-        Ok(v.join(", "))
+        out.push(')');
+        Ok(())
     }
 
-    fn expr(&mut self, f: &Function, id: ExprId) -> Result<String, CodegenError> {
+    fn write_expr(&self, out: &mut String, f: &Function, id: ExprId) -> Result<(), CodegenError> {
         let e = f.expr(id);
-        Ok(match &e.kind {
-            ExprKind::Literal(l) => literal(*l).ok_or_else(|| CodegenError::NonFiniteLiteral {
-                function: f.rust_name.clone(),
-                loc: f.loc,
-            })?,
-            ExprKind::Arg(i) => f.params[*i as usize].name.clone(),
-            ExprKind::Local(l) => f.local(*l).name.clone(),
-            ExprKind::Global(g) => self.module.globals[g.0 as usize].name.clone(),
+        match &e.kind {
+            ExprKind::Literal(l) => {
+                out.push_str(&literal(*l).ok_or_else(|| CodegenError::NonFiniteLiteral {
+                    function: f.rust_name.clone(),
+                    loc: f.loc,
+                })?);
+            }
+            ExprKind::Arg(i) => out.push_str(&f.params[*i as usize].name),
+            ExprKind::Local(l) => out.push_str(&f.local(*l).name),
+            ExprKind::Global(g) => out.push_str(&self.module.globals[g.0 as usize].name),
             ExprKind::Unary(op, a) => {
-                let inner = self.expr(f, *a)?;
-                let inner = match f.expr(*a).kind {
-                    ExprKind::Binary(..) | ExprKind::Unary(..) => format!("({inner})"),
-                    ExprKind::Literal(Literal::F32(b)) if f32::from_bits(b) < 0.0 => {
-                        format!("({inner})")
-                    }
-                    ExprKind::Literal(Literal::I32(v)) if v < 0 => format!("({inner})"),
-                    _ => inner,
-                };
-                let sym = match op {
+                out.push_str(match op {
                     UnaryOp::Neg => "-",
                     UnaryOp::Not => "!",
+                });
+                let wrap = match f.expr(*a).kind {
+                    ExprKind::Binary(..) | ExprKind::Unary(..) => true,
+                    ExprKind::Literal(Literal::F32(b)) => f32::from_bits(b) < 0.0,
+                    ExprKind::Literal(Literal::I32(v)) => v < 0,
+                    _ => false,
                 };
-                format!("{sym}{inner}")
+                self.write_wrapped(out, f, *a, wrap)?;
             }
             ExprKind::Binary(op, a, b) => {
-                let l = self.operand(f, *a, *op, false)?;
-                let r = self.operand(f, *b, *op, true)?;
-                format!("{l} {} {r}", wgsl_operator(*op))
+                self.write_operand(out, f, *a, *op, false)?;
+                out.push(' ');
+                out.push_str(wgsl_operator(*op));
+                out.push(' ');
+                self.write_operand(out, f, *b, *op, true)?;
             }
-            ExprKind::Builtin(b, args) => format!("{}({})", wgsl_builtin(*b), self.args(f, args)?),
-            ExprKind::Call(name, args) => format!("{name}({})", self.args(f, args)?),
-            ExprKind::Construct(ty, args) => format!("{}({})", wgsl_type(*ty), self.args(f, args)?),
+            ExprKind::Builtin(b, args) => self.write_call(out, f, wgsl_builtin(*b), args)?,
+            ExprKind::Call(name, args) => self.write_call(out, f, name, args)?,
+            ExprKind::Construct(ty, args) => self.write_call(out, f, &wgsl_type(*ty), args)?,
             ExprKind::Swizzle(v, idx) => {
-                let base = self.postfix_base(f, *v)?;
-                let s: String = idx.iter().map(|i| SWIZZLE[*i as usize]).collect();
-                format!("{base}.{s}")
+                self.write_postfix_base(out, f, *v)?;
+                out.push('.');
+                out.extend(idx.iter().map(|i| SWIZZLE[*i as usize]));
             }
             ExprKind::Member(v, i) => {
-                let base = self.postfix_base(f, *v)?;
-                let name = match f.expr(*v).ty {
+                self.write_postfix_base(out, f, *v)?;
+                out.push('.');
+                out.push_str(match f.expr(*v).ty {
                     Type::Struct(def) => def.fields[*i as usize].name,
                     _ => "?",
-                };
-                format!("{base}.{name}")
+                });
             }
             ExprKind::Index(a, i) => {
-                let base = self.postfix_base(f, *a)?;
-                format!("{base}[{}]", self.expr(f, *i)?)
+                self.write_postfix_base(out, f, *a)?;
+                out.push('[');
+                self.write_expr(out, f, *i)?;
+                out.push(']');
             }
-            ExprKind::Convert(_, a) => format!("{}({})", wgsl_type(e.ty), self.expr(f, *a)?),
+            ExprKind::Convert(_, a) => self.write_call(out, f, &wgsl_type(e.ty), &[*a])?,
             ExprKind::Bitcast(_, a) => {
-                format!("bitcast<{}>({})", wgsl_type(e.ty), self.expr(f, *a)?)
+                out.push_str("bitcast<");
+                out.push_str(&wgsl_type(e.ty));
+                out.push('>');
+                self.write_wrapped(out, f, *a, true)?;
             }
             ExprKind::Select {
                 if_false,
                 if_true,
                 cond,
-            } => format!("select({})", self.args(f, &[*if_false, *if_true, *cond])?),
+            } => self.write_call(out, f, "select", &[*if_false, *if_true, *cond])?,
             ExprKind::Sample {
                 texture,
                 sampler,
                 coords,
                 kind,
             } => match kind {
-                SampleKind::Level(l) => format!(
-                    "textureSampleLevel({})",
-                    self.args(f, &[*texture, *sampler, *coords, *l])?
-                ),
-                SampleKind::Implicit => format!(
-                    "textureSample({})",
-                    self.args(f, &[*texture, *sampler, *coords])?
-                ),
+                SampleKind::Level(l) => self.write_call(
+                    out,
+                    f,
+                    "textureSampleLevel",
+                    &[*texture, *sampler, *coords, *l],
+                )?,
+                SampleKind::Implicit => {
+                    self.write_call(out, f, "textureSample", &[*texture, *sampler, *coords])?
+                }
             },
             ExprKind::Load {
                 texture,
                 texel,
                 level,
-            } => format!(
-                "textureLoad({})",
-                self.args(f, &[*texture, *texel, *level])?
-            ),
-        })
+            } => self.write_call(out, f, "textureLoad", &[*texture, *texel, *level])?,
+        }
+        Ok(())
     }
 }

@@ -21,11 +21,30 @@ pub struct FieldDef {
 }
 
 /// A struct type declared once in Rust (`#[derive(ShaderStruct)]`) and printed as a WGSL struct.
-#[derive(Debug, PartialEq, Eq, Hash)]
+#[derive(Debug, Eq)]
 pub struct StructDef {
     pub name: &'static str,
     pub doc: &'static str,
     pub fields: &'static [FieldDef],
+}
+
+/// The same definition is nearly always the same static: compared by address first. Recording
+/// and lowering compare and hash types at every binding read and every value (the uniform
+/// block's type holds every member's name and doc), and a deep comparison there was a tenth
+/// of a key's generation time.
+impl PartialEq for StructDef {
+    fn eq(&self, other: &Self) -> bool {
+        core::ptr::eq(self, other)
+            || (self.name == other.name && self.doc == other.doc && self.fields == other.fields)
+    }
+}
+
+/// By name alone: equal definitions have equal names, and a struct's name is what tells two
+/// apart in any one module (the printers declare each once, by name).
+impl core::hash::Hash for StructDef {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.name.hash(state);
+    }
 }
 
 /// A shader type.
