@@ -22,19 +22,26 @@ use crate::specialise::map_nested;
 
 /// Binds, in every function of the module, what a statement computes more than once.
 pub fn share_repeated_subexpressions(module: &mut nimbus_dsl::ir::Module) {
+    let mut seen = FastHashSet::default();
     for f in &mut module.functions {
         let mut reached_by = FastHashMap::default();
-        count_statements(f, &f.body, &mut reached_by);
+        count_statements(f, &f.body, &mut reached_by, &mut seen);
         let body = std::mem::take(&mut f.body);
         f.body = share_block(f, body, &reached_by, &mut Numbering::default());
     }
 }
 
 /// How many statements reach each expression (a loop or an `if` counts for its header only).
-fn count_statements(f: &Function, block: &Block, out: &mut FastHashMap<ExprId, u32>) {
+/// `seen` is scratch space, reused from statement to statement.
+fn count_statements(
+    f: &Function,
+    block: &Block,
+    out: &mut FastHashMap<ExprId, u32>,
+    seen: &mut FastHashSet<ExprId>,
+) {
     for stmt in block {
-        let mut seen = FastHashSet::default();
-        let mut visit = |root: ExprId| reach(f, root, &mut seen);
+        seen.clear();
+        let mut visit = |root: ExprId| reach(f, root, seen);
         match stmt {
             Stmt::Let { value, .. } | Stmt::Assign { value, .. } => visit(*value),
             Stmt::Var { init, .. } => init.iter().for_each(|i| visit(*i)),
@@ -49,22 +56,31 @@ fn count_statements(f: &Function, block: &Block, out: &mut FastHashMap<ExprId, u
                 ..
             } => {
                 visit(*cond);
-                count_statements(f, then, out);
-                count_statements(f, otherwise, out);
+                count_seen(seen, out);
+                count_statements(f, then, out, seen);
+                count_statements(f, otherwise, out, seen);
+                continue;
             }
             Stmt::For {
                 start, end, body, ..
             } => {
                 visit(*start);
                 visit(*end);
-                count_statements(f, body, out);
+                count_seen(seen, out);
+                count_statements(f, body, out, seen);
+                continue;
             }
             Stmt::Return { value, .. } => value.iter().for_each(|v| visit(*v)),
             Stmt::Break { .. } | Stmt::Continue { .. } => {}
         }
-        for id in seen {
-            *out.entry(id).or_insert(0) += 1;
-        }
+        count_seen(seen, out);
+    }
+}
+
+/// One more statement reaches each expression in `seen`.
+fn count_seen(seen: &FastHashSet<ExprId>, out: &mut FastHashMap<ExprId, u32>) {
+    for &id in seen {
+        *out.entry(id).or_insert(0) += 1;
     }
 }
 
@@ -83,21 +99,34 @@ fn share_block(
     let mut out = Vec::with_capacity(block.len());
     for stmt in block {
         let stmt = map_nested(stmt, &mut |b| share_block(f, b, reached_by, numbering));
-        let (roots, base): (Vec<ExprId>, String) = match &stmt {
+        // The statement's roots, and what names the values bound for it (a local's name is
+        // looked up only when something is bound: most statements repeat nothing).
+        let none = ExprId(0);
+        let (roots, count, base): ([ExprId; 2], usize, Result<LocalId, &str>) = match &stmt {
             Stmt::Let { local, value, .. } | Stmt::Assign { local, value, .. } => {
-                (vec![*value], f.local(*local).name.clone())
+                ([*value, none], 1, Ok(*local))
             }
             Stmt::Var {
                 local,
                 init: Some(i),
                 ..
-            } => (vec![*i], f.local(*local).name.clone()),
-            Stmt::Store { target, value, .. } => (vec![*target, *value], "stored".into()),
-            Stmt::If { cond, .. } => (vec![*cond], "cond".into()),
-            Stmt::Return { value: Some(v), .. } => (vec![*v], "result".into()),
-            _ => (Vec::new(), String::new()),
+            } => ([*i, none], 1, Ok(*local)),
+            Stmt::Store { target, value, .. } => ([*target, *value], 2, Err("stored")),
+            Stmt::If { cond, .. } => ([*cond, none], 1, Err("cond")),
+            Stmt::Return { value: Some(v), .. } => ([*v, none], 1, Err("result")),
+            _ => ([none, none], 0, Err("")),
         };
-        for ids in repeated(f, &roots, reached_by, numbering) {
+        if count == 0 {
+            out.push(stmt);
+            continue;
+        }
+        let shared = repeated(f, &roots[..count], reached_by, numbering);
+        let base = match base {
+            Ok(local) if !shared.is_empty() => f.local(local).name.clone(),
+            Ok(_) => String::new(),
+            Err(name) => name.to_string(),
+        };
+        for ids in shared {
             let local = bind(f, &ids, &base);
             out.push(Stmt::Let {
                 local: local.0,

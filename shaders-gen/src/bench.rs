@@ -6,6 +6,8 @@ use std::path::Path;
 
 use nimbus_clouds::catalog::{ShaderKey, catalog, cloud_catalog};
 use nimbus_clouds::{CloudKey, ShadowKey};
+use rayon::prelude::*;
+
 use nimbus_codegen::{Target, generate_variant, lower_and_validate, print_and_validate, validate};
 
 use crate::error::CliError;
@@ -145,36 +147,26 @@ fn every_reachable_key(sample: Option<usize>) -> Result<(), CliError> {
     // An even spread: every n-th key, so each toggle set, octave count and phase kind shows.
     let step = sample.map_or(1, |n| total.div_ceil(n.max(1)));
     let keys: Vec<ShaderKey> = all.into_iter().step_by(step).collect();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    // The keys and each key's own targets share one pool (rayon), so a key's parallel work
+    // steals from the others' instead of oversubscribing the cores.
+    let threads = rayon::current_num_threads();
     for (what, targets) in [
         ("WGSL + naga validation", &[Target::Wgsl][..]),
         ("all six targets", &Target::ALL[..]),
     ] {
         let start = Instant::now();
-        let chunk = keys.len().div_ceil(threads);
-        let failures: Vec<String> = std::thread::scope(|scope| {
-            let handles: Vec<_> = keys
-                .chunks(chunk)
-                .map(|part| {
-                    scope.spawn(move || {
-                        part.iter()
-                            .filter_map(|k| {
-                                generate_variant(k, targets)
-                                    .err()
-                                    .map(|e| format!("{}: {e}", k.id()))
-                            })
-                            .collect::<Vec<_>>()
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .flat_map(|h| {
-                    h.join()
-                        .unwrap_or_else(|_| vec!["a thread panicked".into()])
-                })
-                .collect()
-        });
+        let failures: Vec<String> = keys
+            .par_iter()
+            .filter_map(|k| {
+                match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    generate_variant(k, targets)
+                })) {
+                    Ok(Ok(_)) => None,
+                    Ok(Err(e)) => Some(format!("{}: {e}", k.id())),
+                    Err(_) => Some(format!("{}: generation panicked", k.id())),
+                }
+            })
+            .collect();
         let secs = start.elapsed().as_secs_f64();
         let per_key = secs * 1e3 * threads as f64 / keys.len() as f64;
         if keys.len() == total {

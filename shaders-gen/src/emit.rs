@@ -3,6 +3,8 @@
 
 use std::path::Path;
 
+use rayon::prelude::*;
+
 use nimbus_codegen::{EmitExtras, Target, emit, generate_variant};
 use nimbus_output::{Overwrite, check_folder};
 
@@ -24,10 +26,13 @@ pub(crate) fn run(
         None => resolve(sel, &load(data)?)?,
     };
     let Resolved { entries, table, .. } = &resolved;
-    let mut generated = Vec::new();
-    for s in entries {
-        generated.push(generate_variant(s, targets)?);
-    }
+    // Every key on every core; the first failure in key order is the one reported.
+    let generated = entries
+        .par_iter()
+        .map(|s| generate_variant(s, targets))
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?;
     let mut files = Vec::new();
     if !table.is_empty() {
         files.push((KEYS_FILE.to_string(), keys_json(&resolved)?.into_bytes()));

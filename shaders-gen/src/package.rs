@@ -6,6 +6,7 @@
 //! holds, how the engine names it) and the conventions that make the first frame right.
 
 use nimbus_clouds::view_defaults::VIEW_DEFAULTS;
+use rayon::prelude::*;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -319,8 +320,9 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
         keys.push(ShaderKey::SunLight);
     }
     let target = engine.target();
+    // Every key on every core; the first failure in key order is the one reported.
     let shaders: Vec<Generated> = keys
-        .iter()
+        .par_iter()
         .map(|k| {
             let mut module = k.record()?;
             if engine.flat_uniforms() {
@@ -328,6 +330,8 @@ pub(crate) fn build(resolved: &Resolved, engine: Engine) -> Result<Package, CliE
             }
             generate(module, &k.variant(), &[target])
         })
+        .collect::<Vec<_>>()
+        .into_iter()
         .collect::<Result<_, _>>()?;
     let shader = |k: ShaderKey| keys.iter().position(|x| *x == k).map(|i| &shaders[i]);
 
