@@ -12,8 +12,8 @@ use crate::bindings::{BindingInfo, describe};
 use crate::error::CodegenError;
 use crate::manifest::BindingManifest;
 use crate::names::rename_for_wgsl;
-use crate::share::share_repeated_subexpressions;
-use crate::specialise::{specialise, walk_block};
+use crate::share::{share_on_every_core, share_repeated_subexpressions};
+use crate::specialise::{specialise, specialise_on_every_core, walk_block};
 use crate::target::Target;
 use crate::validate::{Validated, lower_and_validate};
 use crate::wgsl::{SpanTable, print_module};
@@ -167,10 +167,17 @@ fn count(module: &Module) -> (usize, usize) {
 }
 
 /// The passes over the recorded IR every target shares: constants folded and dead code gone,
-/// repeated sub-expressions bound once, names made legal everywhere.
-fn prepare(mut module: Module) -> Module {
-    specialise(&mut module);
-    share_repeated_subexpressions(&mut module);
+/// repeated sub-expressions bound once, names made legal everywhere. `every_core`: the
+/// per-function work on rayon's pool (for a key generated for several targets; a key for WGSL
+/// alone stays on its thread, where a hand-off costs more than it saves).
+fn prepare(mut module: Module, every_core: bool) -> Module {
+    if every_core {
+        specialise_on_every_core(&mut module);
+        share_on_every_core(&mut module);
+    } else {
+        specialise(&mut module);
+        share_repeated_subexpressions(&mut module);
+    }
     rename_for_wgsl(&mut module);
     module
 }
@@ -190,7 +197,7 @@ pub fn print_and_validate(
     module: Module,
     variant: &str,
 ) -> Result<(Module, String, SpanTable, Validated), CodegenError> {
-    let module = prepare(module);
+    let module = prepare(module, false);
     let (wgsl, spans, validated) = print_then_validate(&module, variant)?;
     Ok((module, wgsl, spans, validated))
 }
@@ -210,12 +217,13 @@ pub fn generate(
     variant: &str,
     targets: &[Target],
 ) -> Result<Generated, CodegenError> {
-    let module = prepare(module);
     let translated_targets: Vec<Target> = targets
         .iter()
         .copied()
         .filter(|t| !matches!(t, Target::Wgsl | Target::Hlsl))
         .collect();
+    let every_core = !translated_targets.is_empty() || targets.contains(&Target::Hlsl);
+    let module = prepare(module, every_core);
     let bake_entry = |ep: &nimbus_dsl::ir::EntryPoint| {
         backend::bake(&module, &ep.function).map_err(|message| CodegenError::Bake {
             module: module.name.clone(),
@@ -224,33 +232,32 @@ pub fn generate(
             message,
         })
     };
-    let ((printed, hlsl), baked) =
-        if translated_targets.is_empty() && !targets.contains(&Target::Hlsl) {
-            // WGSL alone: nothing to run beside it, and a hand-off to the pool costs more than it
-            // saves.
-            ((print_then_validate(&module, variant), None), Vec::new())
-        } else {
-            rayon::join(
-                || {
-                    rayon::join(
-                        || print_then_validate(&module, variant),
-                        || {
-                            targets
-                                .contains(&Target::Hlsl)
-                                .then(|| crate::hlsl::print_module(&module, variant))
-                        },
-                    )
-                },
-                || {
-                    // Overrides are baked once per entry point and shared by every backend.
-                    if translated_targets.is_empty() {
-                        Vec::new()
-                    } else {
-                        module.entry_points.par_iter().map(bake_entry).collect()
-                    }
-                },
-            )
-        };
+    let ((printed, hlsl), baked) = if !every_core {
+        // WGSL alone: nothing to run beside it, and a hand-off to the pool costs more than it
+        // saves.
+        ((print_then_validate(&module, variant), None), Vec::new())
+    } else {
+        rayon::join(
+            || {
+                rayon::join(
+                    || print_then_validate(&module, variant),
+                    || {
+                        targets
+                            .contains(&Target::Hlsl)
+                            .then(|| crate::hlsl::print_module(&module, variant))
+                    },
+                )
+            },
+            || {
+                // Overrides are baked once per entry point and shared by every backend.
+                if translated_targets.is_empty() {
+                    Vec::new()
+                } else {
+                    module.entry_points.par_iter().map(bake_entry).collect()
+                }
+            },
+        )
+    };
     let (wgsl, spans, validated) = printed?;
     let baked = baked.into_iter().collect::<Result<Vec<_>, _>>()?;
     let constants = backend::default_constants(&module);

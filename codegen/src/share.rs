@@ -24,11 +24,26 @@ use crate::specialise::map_nested;
 pub fn share_repeated_subexpressions(module: &mut nimbus_dsl::ir::Module) {
     let mut seen = FastHashSet::default();
     for f in &mut module.functions {
-        let mut reached_by = FastHashMap::default();
-        count_statements(f, &f.body, &mut reached_by, &mut seen);
-        let body = std::mem::take(&mut f.body);
-        f.body = share_block(f, body, &reached_by, &mut Numbering::default());
+        share_in_function(f, &mut seen);
     }
+}
+
+/// [`share_repeated_subexpressions`], its functions on every core (rayon): a function's values
+/// are its own.
+pub fn share_on_every_core(module: &mut nimbus_dsl::ir::Module) {
+    use rayon::prelude::*;
+    module
+        .functions
+        .par_iter_mut()
+        .for_each_init(FastHashSet::default, |seen, f| share_in_function(f, seen));
+}
+
+/// Binds what a statement of `f` computes more than once (`seen`: scratch space).
+fn share_in_function(f: &mut Function, seen: &mut FastHashSet<ExprId>) {
+    let mut reached_by = FastHashMap::default();
+    count_statements(f, &f.body, &mut reached_by, seen);
+    let body = std::mem::take(&mut f.body);
+    f.body = share_block(f, body, &reached_by, &mut Numbering::default());
 }
 
 /// How many statements reach each expression (a loop or an `if` counts for its header only).

@@ -15,23 +15,38 @@ use nimbus_dsl::ir::{
 
 /// Specialises a recorded module in place.
 pub fn specialise(module: &mut Module) {
-    for f in &mut module.functions {
-        // Folding a `let` to a literal can make further reads literal: fold to the fixed point.
-        fold_to_fixed_point(f);
-        let body = std::mem::take(&mut f.body);
-        f.body = prune_block(f, body);
-        // Unrolled loops leave their counter a literal `let`: fold it away before tidying.
-        fold_to_fixed_point(f);
-        // Pruned branches can leave a `var` never assigned again: as a `let` it may be a literal
-        // that folds further.
-        tidy(f);
-        drop_unread_lets(f);
-        fold_to_fixed_point(f);
-        let body = std::mem::take(&mut f.body);
-        f.body = prune_block(f, body);
-    }
+    module.functions.iter_mut().for_each(specialise_function);
     remove_unused_params(module);
     remove_unreachable(module);
+}
+
+/// [`specialise`], its functions on every core (rayon): each function's folding and pruning
+/// reads nothing of the others.
+pub fn specialise_on_every_core(module: &mut Module) {
+    use rayon::prelude::*;
+    module
+        .functions
+        .par_iter_mut()
+        .for_each(specialise_function);
+    remove_unused_params(module);
+    remove_unreachable(module);
+}
+
+/// What specialisation does within one function.
+fn specialise_function(f: &mut Function) {
+    // Folding a `let` to a literal can make further reads literal: fold to the fixed point.
+    fold_to_fixed_point(f);
+    let body = std::mem::take(&mut f.body);
+    f.body = prune_block(f, body);
+    // Unrolled loops leave their counter a literal `let`: fold it away before tidying.
+    fold_to_fixed_point(f);
+    // Pruned branches can leave a `var` never assigned again: as a `let` it may be a literal
+    // that folds further.
+    tidy(f);
+    drop_unread_lets(f);
+    fold_to_fixed_point(f);
+    let body = std::mem::take(&mut f.body);
+    f.body = prune_block(f, body);
 }
 
 /// `stmt` with the blocks nested in it (an `if`'s arms, a loop's body) passed through `f`.
