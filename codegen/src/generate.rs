@@ -202,6 +202,12 @@ pub fn print_and_validate(
     Ok((module, wgsl, spans, validated))
 }
 
+/// Whether `target` gets a file for an entry point of `stage`: WebGL2 has no compute shaders,
+/// so GLSL ES skips them; every other target takes every entry point.
+fn translates(target: Target, stage: Stage) -> bool {
+    !(target == Target::GlslEs300 && stage == Stage::Compute)
+}
+
 /// One entry point translated to one of naga's targets: the file and its manifest.
 type Translated = Result<(Contents, Option<BindingManifest>), CodegenError>;
 
@@ -261,8 +267,7 @@ pub fn generate(
     let (wgsl, spans, validated) = printed?;
     let baked = baked.into_iter().collect::<Result<Vec<_>, _>>()?;
     let constants = backend::default_constants(&module);
-    // Every (target, entry point) pair, in the order the files are listed. WebGL2 has no
-    // compute shaders; such entry points are skipped for GLSL ES only.
+    // Every (target, entry point) pair, in the order the files are listed.
     let jobs: Vec<(Target, usize)> = translated_targets
         .iter()
         .flat_map(|&target| {
@@ -270,7 +275,7 @@ pub fn generate(
                 .entry_points
                 .iter()
                 .enumerate()
-                .filter(move |(_, ep)| !(target == Target::GlslEs300 && ep.stage == Stage::Compute))
+                .filter(move |(_, ep)| translates(target, ep.stage))
                 .map(move |(i, _)| (target, i))
         })
         .collect();
@@ -334,7 +339,7 @@ pub fn generate(
         let count = module
             .entry_points
             .iter()
-            .filter(|ep| !(target == Target::GlslEs300 && ep.stage == Stage::Compute))
+            .filter(|ep| translates(target, ep.stage))
             .count();
         for ((job_target, i), result) in translated.by_ref().take(count) {
             debug_assert_eq!(job_target, target);
