@@ -102,7 +102,11 @@ fn a_stage_violation_without_a_naga_span_still_names_the_function() {
         });
     })
     .expect("records");
+    // Every target at once takes the parallel path (the lowering beside the print): the
+    // refusal is located the same way.
+    let every = generate(module.clone(), "default", &Target::ALL).expect_err("naga must reject it");
     let err = generate(module, "default", &[Target::Wgsl]).expect_err("naga must reject it");
+    assert_eq!(every.to_string(), err.to_string());
     let CodegenError::Validation {
         origin: Some(origin),
         message,

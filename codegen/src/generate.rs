@@ -2,8 +2,7 @@
 //! every requested target.
 
 use std::collections::BTreeMap;
-
-use rayon::prelude::*;
+use std::sync::OnceLock;
 
 use nimbus_dsl::ir::{ExprKind, Module, Stage, Stmt};
 
@@ -15,7 +14,7 @@ use crate::names::rename_for_wgsl;
 use crate::share::{share_on_every_core, share_repeated_subexpressions};
 use crate::specialise::{specialise, specialise_on_every_core, walk_block};
 use crate::target::Target;
-use crate::validate::{Validated, lower_and_validate};
+use crate::validate::{Validated, explain_refusal, lower_and_validate, lower_checked};
 use crate::wgsl::{SpanTable, print_module};
 
 /// One emitted file.
@@ -230,42 +229,6 @@ pub fn generate(
         .collect();
     let every_core = !translated_targets.is_empty() || targets.contains(&Target::Hlsl);
     let module = prepare(module, every_core);
-    let bake_entry = |ep: &nimbus_dsl::ir::EntryPoint| {
-        backend::bake(&module, &ep.function).map_err(|message| CodegenError::Bake {
-            module: module.name.clone(),
-            variant: variant.to_string(),
-            entry_point: ep.function.clone(),
-            message,
-        })
-    };
-    let ((printed, hlsl), baked) = if !every_core {
-        // WGSL alone: nothing to run beside it, and a hand-off to the pool costs more than it
-        // saves.
-        ((print_then_validate(&module, variant), None), Vec::new())
-    } else {
-        rayon::join(
-            || {
-                rayon::join(
-                    || print_then_validate(&module, variant),
-                    || {
-                        targets
-                            .contains(&Target::Hlsl)
-                            .then(|| crate::hlsl::print_module(&module, variant))
-                    },
-                )
-            },
-            || {
-                // Overrides are baked once per entry point and shared by every backend.
-                if translated_targets.is_empty() {
-                    Vec::new()
-                } else {
-                    module.entry_points.par_iter().map(bake_entry).collect()
-                }
-            },
-        )
-    };
-    let (wgsl, spans, validated) = printed?;
-    let baked = baked.into_iter().collect::<Result<Vec<_>, _>>()?;
     let constants = backend::default_constants(&module);
     // Every (target, entry point) pair, in the order the files are listed.
     let jobs: Vec<(Target, usize)> = translated_targets
@@ -279,10 +242,18 @@ pub fn generate(
                 .map(move |(i, _)| (target, i))
         })
         .collect();
-    let translate = |&(target, i): &(Target, usize)| {
+    let bake_entry = |ep: &nimbus_dsl::ir::EntryPoint| {
+        backend::bake(&module, &ep.function).map_err(|message| CodegenError::Bake {
+            module: module.name.clone(),
+            variant: variant.to_string(),
+            entry_point: ep.function.clone(),
+            message,
+        })
+    };
+    let translate = |baked: &backend::Baked, target: Target, i: usize| {
         let ep = &module.entry_points[i];
         backend::translate(
-            &baked[i],
+            baked,
             &constants,
             &module,
             variant,
@@ -298,11 +269,64 @@ pub fn generate(
             message,
         })
     };
-    let translated: Vec<Translated> = if jobs.is_empty() {
-        Vec::new()
+    // Filled by the tasks below; read in a serial run's order afterwards.
+    let baked: Vec<OnceLock<Result<backend::Baked, CodegenError>>> = module
+        .entry_points
+        .iter()
+        .map(|_| OnceLock::new())
+        .collect();
+    let translated: Vec<OnceLock<Translated>> = jobs.iter().map(|_| OnceLock::new()).collect();
+    let (wgsl, spans, validated, hlsl) = if !every_core {
+        // WGSL alone: nothing to run beside it, and a hand-off to the pool costs more than it
+        // saves.
+        let (wgsl, spans, validated) = print_then_validate(&module, variant)?;
+        (wgsl, spans, validated, None)
     } else {
-        jobs.par_iter().map(translate).collect()
+        let mut printed = None;
+        let mut checked = None;
+        let mut hlsl = None;
+        rayon::scope(|s| {
+            s.spawn(|_| printed = Some(print_module(&module, variant)));
+            s.spawn(|_| checked = Some(lower_checked(&module)));
+            if targets.contains(&Target::Hlsl) {
+                s.spawn(|_| hlsl = Some(crate::hlsl::print_module(&module, variant)));
+            }
+            // Overrides are baked once per entry point and shared by every backend; an entry
+            // point's translations start as soon as its baking is done.
+            for (i, ep) in module.entry_points.iter().enumerate() {
+                if !jobs.iter().any(|&(_, e)| e == i) {
+                    continue;
+                }
+                let (baked, translated, jobs) = (&baked, &translated, &jobs);
+                let (bake_entry, translate) = (&bake_entry, &translate);
+                s.spawn(move |s| {
+                    if let Ok(b) = baked[i].get_or_init(|| bake_entry(ep)) {
+                        for (j, &(target, e)) in jobs.iter().enumerate() {
+                            if e == i {
+                                s.spawn(move |_| {
+                                    translated[j].get_or_init(|| translate(b, target, i));
+                                });
+                            }
+                        }
+                    }
+                });
+            }
+        });
+        let (wgsl, spans) = printed.expect("the print ran in the scope")?;
+        let validated = checked
+            .expect("the lowering ran in the scope")
+            .map_err(|refused| explain_refusal(&module, &wgsl, &spans, variant, refused))?;
+        (wgsl, spans, validated, hlsl)
     };
+    for b in baked {
+        if let Some(Err(e)) = b.into_inner() {
+            return Err(e);
+        }
+    }
+    let translated: Vec<Translated> = translated
+        .into_iter()
+        .map(|t| t.into_inner().expect("every job's entry point was baked"))
+        .collect();
     let mut translated = jobs.into_iter().zip(translated);
     let mut hlsl = hlsl;
     let mut files = Vec::new();

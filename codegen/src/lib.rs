@@ -5,7 +5,8 @@
 //! `backend` (GLSL ES 3.00, GLSL 4.50, MSL, SPIR-V via naga) → `emit`. The `wgsl` printer
 //! writes the same IR as readable WGSL with a span table, for people, snapshots and WebGPU
 //! hosts, and the `hlsl` printer as HLSL in Direct3D 11's binding model; when naga refuses a lowered module, that text is parsed to say which Rust line is at
-//! fault. Codegen knows nothing of wgpu.
+//! fault. A key asked for more than WGSL runs its per-function passes, prints, baking and
+//! translations on every core (rayon; `generate`). Codegen knows nothing of wgpu.
 
 mod backend;
 pub mod bindings;

@@ -24,30 +24,60 @@ pub fn lower_and_validate(
     spans: &SpanTable,
     variant: &str,
 ) -> Result<Validated, CodegenError> {
-    let refused = match lower(ir, Lowering::Whole) {
+    lower_checked(ir).map_err(|refused| explain_refusal(ir, wgsl, spans, variant, refused))
+}
+
+/// Why naga refused a lowered module (before the printed text has located it).
+pub(crate) enum Refusal {
+    /// The lowering itself failed with an error that already says where.
+    Located(CodegenError),
+    /// naga's message; the printed WGSL is to say which Rust line is at fault.
+    Unlocated(String),
+}
+
+/// [`lower_and_validate`] without the printed text: what runs beside the print.
+pub(crate) fn lower_checked(ir: &nimbus_dsl::ir::Module) -> Result<Validated, Refusal> {
+    match lower(ir, Lowering::Whole) {
         Ok(Lowered { module, globals }) => {
             let mut validator = Validator::new(ValidationFlags::all(), Capabilities::default());
             match validator.validate(&module) {
-                Ok(info) => {
-                    return Ok(Validated {
-                        module,
-                        info,
-                        globals,
-                    });
-                }
-                Err(e) => chain(e.as_inner()),
+                Ok(info) => Ok(Validated {
+                    module,
+                    info,
+                    globals,
+                }),
+                Err(e) => Err(Refusal::Unlocated(chain(e.as_inner()))),
             }
         }
-        Err(LowerError::Codegen(e)) => return Err(e),
-        Err(LowerError::Unsupported(what)) => format!("cannot lower {what}"),
+        Err(LowerError::Codegen(e)) => Err(Refusal::Located(e)),
+        Err(LowerError::Unsupported(what)) => {
+            Err(Refusal::Unlocated(format!("cannot lower {what}")))
+        }
+    }
+}
+
+/// The error for a refused module: located through the printed text where naga's validation of
+/// that text finds the fault, else the lowering's own message.
+pub(crate) fn explain_refusal(
+    ir: &nimbus_dsl::ir::Module,
+    wgsl: &str,
+    spans: &SpanTable,
+    variant: &str,
+    refused: Refusal,
+) -> CodegenError {
+    let message = match refused {
+        Refusal::Located(e) => return e,
+        Refusal::Unlocated(message) => message,
     };
     // The text path locates the fault; if it finds none, the lowering is at fault.
-    validate(wgsl, spans, &ir.name, variant)?;
-    Err(CodegenError::Lowering {
+    if let Err(located) = validate(wgsl, spans, &ir.name, variant) {
+        return located;
+    }
+    CodegenError::Lowering {
         module: ir.name.clone(),
         variant: variant.to_string(),
-        message: refused,
-    })
+        message,
+    }
 }
 
 /// The origin of the most specific span among `offsets` (a statement beats a whole function).
