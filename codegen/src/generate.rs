@@ -212,11 +212,12 @@ type Translated = Result<(Contents, Option<BindingManifest>), CodegenError>;
 
 /// Generates `targets` for a recorded module.
 ///
-/// After the shared passes, the work is independent per target and entry point, and runs on
-/// every core (rayon): the WGSL print and its validation, the HLSL print and each entry
-/// point's override baking side by side, then every (target, entry point) translation. Errors
-/// are reported in the order a serial run meets them: the WGSL's, the baking's by entry point,
-/// then by target and entry point.
+/// After the shared passes (per function on every core), the work is independent per target
+/// and entry point and runs in one rayon scope: the WGSL print, the lowering and validation,
+/// the HLSL print and each entry point's override baking side by side, each entry point's
+/// translations starting as soon as its baking is done. A key for WGSL alone stays on its
+/// thread. Errors are reported in the order a serial run meets them: the WGSL's, the
+/// baking's by entry point, then by target and entry point.
 pub fn generate(
     module: Module,
     variant: &str,
@@ -344,7 +345,7 @@ pub fn generate(
             continue;
         }
         if target == Target::Hlsl {
-            // Printed once above, however often the list names it.
+            // The print from the scope; a list that names HLSL twice prints it again.
             let (text, manifest) = match hlsl.take() {
                 Some(printed) => printed?,
                 None => crate::hlsl::print_module(&module, variant)?,
